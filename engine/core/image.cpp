@@ -1,0 +1,118 @@
+#include "core/image.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace envshadow {
+
+ExrContents read_exr(const std::filesystem::path& path) {
+    const std::string name = path.string();
+    if (!std::filesystem::exists(path)) throw InputError(name + ": file not found");
+    try {
+        Imf::InputFile file(name.c_str());
+        const Imath::Box2i window = file.header().dataWindow();
+        const long long width = static_cast<long long>(window.max.x) - window.min.x + 1;
+        const long long height = static_cast<long long>(window.max.y) - window.min.y + 1;
+        if (width <= 0 || height <= 0 || width > kMaxImageWidth || height > kMaxImageHeight)
+            throw InputError(name + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                             " is outside the accepted 1x1.." + std::to_string(kMaxImageWidth) + "x" +
+                             std::to_string(kMaxImageHeight));
+        const Imf::ChannelList& channels = file.header().channels();
+        for (const char* c : {"R", "G", "B"})
+            if (!channels.findChannel(c)) throw InputError(name + ": no " + std::string(c) + " channel (RGB or RGBA expected)");
+
+        ExrContents result;
+        result.had_alpha = channels.findChannel("A") != nullptr;
+        result.image = Image(int(width), int(height), glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+        float* base = &result.image.pixels[0].x;
+        Imf::FrameBuffer frame;
+        const size_t xs = sizeof(glm::vec4), ys = xs * size_t(width);
+        const char* names[4] = {"R", "G", "B", "A"};
+        for (int c = 0; c < 4; ++c)
+            frame.insert(names[c], Imf::Slice::Make(Imf::FLOAT, base + c, window, xs, ys, 1, 1, c == 3 ? 1.0 : 0.0));
+        file.setFrameBuffer(frame);
+        file.readPixels(window.min.y, window.max.y);
+        return result;
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw InputError(name + ": not a readable OpenEXR file (" + std::string(e.what()) + ")");
+    }
+}
+
+void write_exr(const std::filesystem::path& path, const Image& image) {
+    write_atomically(path, [&](const std::filesystem::path& temporary) {
+        try {
+            Imf::Header header(image.width, image.height);
+            header.compression() = Imf::ZIP_COMPRESSION;
+            const char* names[4] = {"R", "G", "B", "A"};
+            for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
+            Imf::OutputFile file(temporary.string().c_str(), header);
+            Imf::FrameBuffer frame;
+            const char* base = reinterpret_cast<const char*>(image.pixels.data());
+            for (int c = 0; c < 4; ++c)
+                frame.insert(names[c], Imf::Slice(Imf::FLOAT, const_cast<char*>(base + c * sizeof(float)),
+                                                  sizeof(glm::vec4), sizeof(glm::vec4) * size_t(image.width)));
+            file.setFrameBuffer(frame);
+            file.writePixels(image.height);
+        } catch (const std::exception& e) {
+            throw InputError(path.string() + ": cannot write EXR (" + std::string(e.what()) + ")");
+        }
+    });
+}
+
+void write_png(const std::filesystem::path& path, const Image8& image) {
+    write_atomically(path, [&](const std::filesystem::path& temporary) {
+        if (!stbi_write_png(temporary.string().c_str(), image.width, image.height, 4, image.rgba.data(), image.width * 4))
+            throw InputError(path.string() + ": cannot write PNG (check the folder exists and is writable)");
+    });
+}
+
+Image8 read_png(const std::filesystem::path& path) {
+    int w = 0, h = 0, n = 0;
+    stbi_uc* data = stbi_load(path.string().c_str(), &w, &h, &n, 4);
+    if (!data) throw InputError(path.string() + ": cannot read image (" + std::string(stbi_failure_reason()) + ")");
+    Image8 image(w, h);
+    std::copy(data, data + size_t(w) * size_t(h) * 4, image.rgba.begin());
+    stbi_image_free(data);
+    return image;
+}
+
+float aces_filmic(float x) {
+    // Narkowicz 2015, "ACES Filmic Tone Mapping Curve".
+    constexpr float a = 2.51f, b = 0.03f, c = 2.43f, d = 0.59f, e = 0.14f;
+    return std::clamp((x * (a * x + b)) / (x * (c * x + d) + e), 0.0f, 1.0f);
+}
+
+float srgb_encode(float linear) {
+    linear = std::clamp(linear, 0.0f, 1.0f);
+    return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+Image8 tonemap_to_srgb8(const Image& linear, float exposure_stops) {
+    Image8 out(linear.width, linear.height);
+    const float scale = std::exp2(exposure_stops);
+    for (size_t i = 0; i < linear.pixels.size(); ++i) {
+        const glm::vec4 p = linear.pixels[i];
+        for (int c = 0; c < 3; ++c) {
+            float v = std::isfinite(p[c]) ? p[c] * scale : 0.0f;
+            out.rgba[i * 4 + c] = std::uint8_t(std::lround(255.0f * srgb_encode(aces_filmic(v))));
+        }
+        out.rgba[i * 4 + 3] = std::uint8_t(std::lround(255.0f * std::clamp(p.a, 0.0f, 1.0f)));
+    }
+    return out;
+}
+
+}  // namespace envshadow

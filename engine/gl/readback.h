@@ -1,0 +1,10 @@
+#pragma once
+#include "core/image.h"
+#include "gl/objects.h"
+
+namespace envshadow::gl {
+
+// Reads colour attachment 0 of `framebuffer` (RGBA float), rows flipped so row 0 is the top.
+Image read_color(const Framebuffer& framebuffer, int width, int height);
+
+}  // namespace envshadow::gl

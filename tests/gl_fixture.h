@@ -1,0 +1,47 @@
+#pragma once
+// One fixture for every GL test: a headless context of the parameter's backend (egl, osmesa) with
+// KHR_debug on; a test fails if GL reported any error by its end.
+#include <memory>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "gl/context.h"
+#include "gl/debug.h"
+#include "gl/shader.h"
+#include "glsl/embedded.h"
+
+namespace envshadow::testing {
+
+class GlTest : public ::testing::TestWithParam<gl::Backend> {
+protected:
+    void SetUp() override {
+        context_ = gl::create_context(GetParam(), gl::ContextOptions{64, 64, /*debug=*/true});
+        gl::reset_debug_errors();
+    }
+    void TearDown() override {
+        if (!context_) return;
+        EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+        EXPECT_EQ(gl::debug_error_count(), 0) << gl::last_debug_error();
+        context_.reset();
+    }
+    static gl::ShaderLibrary project_shaders() {
+        gl::ShaderLibrary library;
+        for (const glsl::File& f : glsl::files()) library.add(f.name, f.source);
+        return library;
+    }
+    gl::Context& context() { return *context_; }
+
+private:
+    std::unique_ptr<gl::Context> context_;
+};
+
+inline std::string backend_name(const ::testing::TestParamInfo<gl::Backend>& info) {
+    return std::string(gl::to_string(info.param));
+}
+
+#define ENVSHADOW_INSTANTIATE_GL_TEST(Suite)                                                        \
+    INSTANTIATE_TEST_SUITE_P(Headless, Suite, ::testing::Values(gl::Backend::egl, gl::Backend::osmesa), \
+                             ::envshadow::testing::backend_name)
+
+}  // namespace envshadow::testing
