@@ -1,0 +1,90 @@
+#pragma once
+// Scenes (DESIGN.md §6): an environment, a camera and objects with materials and optional
+// animation. Loaded from the JSON files in assets/scenes/ or from a bare .gltf/.glb. No GL here.
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+namespace envshadow {
+
+// Albedos (DESIGN.md §2): k_d = rho_d / pi, k_s = rho_s (n + 2) / (2 pi).
+struct Material {
+    glm::vec3 rho_d{0.8f};
+    float rho_s = 0.0f;
+    float shininess = 1.0f;
+};
+
+// Triangles in object space. normals.size() == positions.size(); indices.size() % 3 == 0.
+struct Mesh {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+    std::vector<std::uint32_t> indices;
+    glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
+
+    std::size_t triangle_count() const { return indices.size() / 3; }
+    void compute_bounds();
+};
+
+// Object motion as a function of time t (seconds): world_from_object(t) = motion(t) * transform.
+struct Animation {
+    enum class Kind { none, orbit, path };
+    Kind kind = Kind::none;
+    double period = 10.0;                 // seconds per loop
+    glm::vec3 center{0.0f};               // orbit: centre, axis +Y
+    float radius = 1.0f;                  // orbit
+    float height = 0.0f;                  // orbit: added to the centre's y
+    std::vector<glm::vec3> points;        // path: a closed polyline, visited at constant speed per segment
+    bool face_motion = true;              // turn the object to face along its motion
+
+    glm::mat4 motion_at(double t) const;  // identity for Kind::none
+};
+
+struct Object {
+    std::string name;
+    std::shared_ptr<const Mesh> mesh;
+    glm::mat4 transform{1.0f};  // world_from_object at rest
+    Material material;
+    Animation animation;
+    bool casts_shadows = true;
+
+    glm::mat4 world_from_object(double t) const { return animation.motion_at(t) * transform; }
+};
+
+struct EnvironmentSettings {
+    std::string source = "builtin:sky";  // file path (resolved against the scene file's folder) or builtin:
+    float rotation_degrees = 0.0f;       // about +Y, applied to the map's directions
+    float exposure_stops = 0.0f;         // applied when tone mapping
+};
+
+struct Camera {
+    glm::vec3 position{0.0f, 1.0f, 4.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fov_y_degrees = 45.0f;
+
+    glm::mat4 view_from_world() const;
+    glm::mat4 clip_from_view(float aspect, float near_plane, float far_plane) const;
+};
+
+struct Scene {
+    std::filesystem::path file;
+    EnvironmentSettings environment;
+    Camera camera;
+    std::vector<Object> objects;
+    float ground_height = 0.0f;  // y of the ground plane when there is one; lights under it see nothing
+    bool has_ground = false;
+
+    std::size_t triangle_count() const;
+    // World-space bounds of every object at time t.
+    void bounds_at(double t, glm::vec3& lo, glm::vec3& hi) const;
+};
+
+// Loads a scene JSON, or a .gltf/.glb placed on a ground plane and framed by the camera under the
+// default environment. Throws InputError naming the file and the reason.
+Scene load_scene(const std::filesystem::path& path);
+
+}  // namespace envshadow
