@@ -126,14 +126,10 @@ public:
 
     void object(const json& value, const std::vector<Rule>& rules, const std::string& where) const {
         if (!value.is_object()) fail(where, "expected an object");
-        for (const Rule& rule : rules) {
-            const auto it = value.find(rule.key);
-            if (it == value.end()) {
-                if (rule.required) fail(join(where, rule.key), "required property is missing");
-                continue;
-            }
-            check(*it, rule, join(where, rule.key));
-        }
+        for (const Rule& rule : rules)
+            if (const auto it = value.find(rule.key); it != value.end()) check(*it, rule, join(where, rule.key));
+        for (const Rule& rule : rules)
+            if (rule.required && !value.contains(rule.key)) fail(join(where, rule.key), "required property is missing");
         if (const auto it = value.find("name"); it != value.end() && !it->is_string()) fail(join(where, "name"), "expected a string");
         if (const auto it = value.find("extensions"); it != value.end()) {
             if (!it->is_object()) fail(join(where, "extensions"), "expected an object");

@@ -25,7 +25,7 @@ void expect_well_formed(const Mesh& m) {
     EXPECT_EQ(normals_against_faces(m), 0u);
 }
 
-TEST(BuiltinMeshes, PlaneIsTwoUpwardTrianglesOfTheGivenSize) {
+TEST(SceneBuiltinMeshes, PlaneIsTwoUpwardTrianglesOfTheGivenSize) {
     const Mesh m = make_mesh(PlaneShape{6.0f});
     expect_well_formed(m);
     EXPECT_EQ(m.triangle_count(), 2u);
@@ -35,7 +35,7 @@ TEST(BuiltinMeshes, PlaneIsTwoUpwardTrianglesOfTheGivenSize) {
     EXPECT_EQ(m.bounds_max, glm::vec3(3, 0, 3));
 }
 
-TEST(BuiltinMeshes, SphereIsClosedOutwardAndRound) {
+TEST(SceneBuiltinMeshes, SphereIsClosedOutwardAndRound) {
     const Mesh m = make_mesh(SphereShape{2.0f, 32});
     expect_well_formed(m);
     // 32 around, 16 bands: two polar fans of 32 plus 14 bands of 64.
@@ -51,12 +51,12 @@ TEST(BuiltinMeshes, SphereIsClosedOutwardAndRound) {
     EXPECT_GT(signed_volume(m), 0.97 * ball);
 }
 
-TEST(BuiltinMeshes, SphereTriangleCountFollowsSegments) {
+TEST(SceneBuiltinMeshes, SphereTriangleCountFollowsSegments) {
     EXPECT_EQ(make_mesh(SphereShape{1.0f, 64}).triangle_count(), 2u * 64 * 31);
     EXPECT_EQ(make_mesh(SphereShape{1.0f, 4}).triangle_count(), 2u * 4 * 1);
 }
 
-TEST(BuiltinMeshes, TorusIsClosedWithItsAnalyticVolume) {
+TEST(SceneBuiltinMeshes, TorusIsClosedWithItsAnalyticVolume) {
     const Mesh m = make_mesh(TorusShape{1.0f, 0.25f, 96, 48});
     expect_well_formed(m);
     EXPECT_EQ(m.triangle_count(), 96u * 48 * 2);
@@ -67,7 +67,7 @@ TEST(BuiltinMeshes, TorusIsClosedWithItsAnalyticVolume) {
     EXPECT_NEAR(m.bounds_max.y, 0.25f, 1e-5f);
 }
 
-TEST(BuiltinMeshes, BoxIsClosedWithFlatOutwardFaces) {
+TEST(SceneBuiltinMeshes, BoxIsClosedWithFlatOutwardFaces) {
     const Mesh m = make_mesh(BoxShape{glm::vec3(1.0f, 2.0f, 3.0f)});
     expect_well_formed(m);
     EXPECT_EQ(m.triangle_count(), 12u);
@@ -84,21 +84,21 @@ TEST(BuiltinMeshes, BoxIsClosedWithFlatOutwardFaces) {
     }
 }
 
-TEST(BuiltinMeshes, GeodesicFrequencyPicksTheNearestCount) {
+TEST(SceneBuiltinMeshes, GeodesicFrequencyPicksTheNearestCount) {
     EXPECT_EQ(geodesic_frequency(20), 1);
     EXPECT_EQ(geodesic_frequency(80), 2);
     EXPECT_EQ(geodesic_frequency(15000), 27);  // 14580 (28 gives 15680)
     EXPECT_EQ(geodesic_frequency(1), 1);
 }
 
-TEST(BuiltinMeshes, BlobHasAboutTheAskedTriangleCount) {
+TEST(SceneBuiltinMeshes, BlobHasAboutTheAskedTriangleCount) {
     for (const int target : {500, 2000, 5000, 15000, 60000}) {
         const Mesh m = make_mesh(BlobShape{0.5f, target, 0.25f, 7});
         EXPECT_NEAR(double(m.triangle_count()), double(target), 0.08 * target) << "target " << target;
     }
 }
 
-TEST(BuiltinMeshes, BlobIsClosedOutwardLumpyAndDeterministic) {
+TEST(SceneBuiltinMeshes, BlobIsClosedOutwardLumpyAndDeterministic) {
     const Mesh m = make_mesh(BlobShape{0.5f, 5000, 0.3f, 3});
     expect_well_formed(m);
     EXPECT_EQ(unpaired_edges(m), 0u);
@@ -116,14 +116,14 @@ TEST(BuiltinMeshes, BlobIsClosedOutwardLumpyAndDeterministic) {
     EXPECT_NE(make_mesh(BlobShape{0.5f, 5000, 0.3f, 4}).positions, m.positions);
 }
 
-TEST(BuiltinMeshes, BlobWithoutLumpsIsASphere) {
+TEST(SceneBuiltinMeshes, BlobWithoutLumpsIsASphere) {
     const Mesh m = make_mesh(BlobShape{0.7f, 2000, 0.0f, 1});
     for (const glm::vec3& p : m.positions) EXPECT_NEAR(glm::length(p), 0.7f, 1e-5f);
     for (std::size_t i = 0; i < m.positions.size(); ++i)
         EXPECT_GT(glm::dot(m.normals[i], glm::normalize(m.positions[i])), 0.99f);
 }
 
-TEST(BuiltinMeshes, FigureStandsOnTheGroundAtItsHeight) {
+TEST(SceneBuiltinMeshes, FigureStandsOnTheGroundAtItsHeight) {
     const Mesh m = make_mesh(FigureShape{1.8f, 15000});
     expect_well_formed(m);
     EXPECT_NEAR(double(m.triangle_count()), 15000.0, 0.02 * 15000);
@@ -138,12 +138,12 @@ TEST(BuiltinMeshes, FigureStandsOnTheGroundAtItsHeight) {
     EXPECT_LT(m.bounds_max.x - m.bounds_min.x, 0.6f * 1.8f);
 }
 
-TEST(BuiltinMeshes, FigureFollowsTheAskedTriangleCount) {
+TEST(SceneBuiltinMeshes, FigureFollowsTheAskedTriangleCount) {
     for (const int target : {3000, 15000, 40000})
         EXPECT_NEAR(double(make_mesh(FigureShape{1.0f, target}).triangle_count()), double(target), 0.02 * target);
 }
 
-TEST(BuiltinMeshes, VirusPartsAreClosedAndSpikesReachOut) {
+TEST(SceneBuiltinMeshes, VirusPartsAreClosedAndSpikesReachOut) {
     const VirusShape shape{0.3f, 40, 0.12f, 8};
     const Mesh m = make_mesh(shape);
     expect_well_formed(m);
@@ -157,7 +157,7 @@ TEST(BuiltinMeshes, VirusPartsAreClosedAndSpikesReachOut) {
     EXPECT_LE(reach, 0.3f + 1.3f * 0.12f + 1e-4f);
 }
 
-TEST(VertexNormals, AreAreaWeighted) {
+TEST(SceneVertexNormals, AreAreaWeighted) {
     // Vertex 0 is shared by a triangle of area 2 facing +Z and one of area 1/2 facing +X.
     Mesh m;
     m.positions = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 1, 0}, {0, 0, 1}};
@@ -168,7 +168,7 @@ TEST(VertexNormals, AreAreaWeighted) {
     EXPECT_EQ(m.normals[4], glm::vec3(1, 0, 0));
 }
 
-TEST(VertexNormals, UnusedVertexGetsUp) {
+TEST(SceneVertexNormals, UnusedVertexGetsUp) {
     Mesh m;
     m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 5, 5}};
     m.indices = {0, 1, 2};
