@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -323,6 +324,20 @@ TEST(SceneFile, UnreadableSceneFiles) {
     expect_scene_error(dir / "absent.json", {"no such scene file"});
     std::ofstream(dir / "broken.json") << "{ \"objects\": [ }";
     expect_scene_error(dir / "broken.json", {"invalid JSON", "line 1"});
+}
+
+TEST(SceneFile, TheDocumentedExampleLoads) {
+    std::ifstream doc(fs::path(ENVSHADOW_SOURCE_DIR) / "docs/SCENES.md");
+    const std::string text((std::istreambuf_iterator<char>(doc)), std::istreambuf_iterator<char>());
+    const std::size_t begin = text.find("```json\n");
+    ASSERT_NE(begin, std::string::npos);
+    const std::size_t end = text.find("```", begin + 8);
+    const fs::path path = test_folder() / "example.json";
+    std::ofstream(path) << text.substr(begin + 8, end - begin - 8);
+    const Scene s = load_scene(path);
+    EXPECT_EQ(s.objects.size(), 5u);
+    EXPECT_TRUE(s.has_ground);
+    EXPECT_EQ(s.objects[4].animation.kind, Animation::Kind::orbit);
 }
 
 TEST(SceneFile, BareGlbStandsOnAGroundPlaneInView) {
