@@ -56,7 +56,8 @@ std::vector<unsigned char> read_bytes(const std::filesystem::path& path) {
     if (size > kMaxFileBytes) fail(path, "file is too large (" + std::to_string(size) + " bytes)");
     std::vector<unsigned char> bytes(size);
     std::ifstream in(path, std::ios::binary);
-    if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size))) fail(path, "cannot read the file");
+    if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
+        fail(path, "cannot read the file");
     return bytes;
 }
 
@@ -68,9 +69,12 @@ std::uint32_t read_u32(const unsigned char* p) {
 
 // The JSON chunk of a .glb (header: magic, version, length; then chunks of length, type, data).
 std::string glb_json_chunk(const std::filesystem::path& path, const std::vector<unsigned char>& bytes) {
-    if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0) fail(path, "not a binary glTF file (bad magic)");
-    if (read_u32(&bytes[4]) != 2) fail(path, "binary glTF version " + std::to_string(read_u32(&bytes[4])) + " (need 2)");
-    if (read_u32(&bytes[8]) > bytes.size()) fail(path, "binary glTF is truncated (header says " + std::to_string(read_u32(&bytes[8])) + " bytes)");
+    if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0)
+        fail(path, "not a binary glTF file (bad magic)");
+    if (read_u32(&bytes[4]) != 2)
+        fail(path, "binary glTF version " + std::to_string(read_u32(&bytes[4])) + " (need 2)");
+    if (read_u32(&bytes[8]) > bytes.size())
+        fail(path, "binary glTF is truncated (header says " + std::to_string(read_u32(&bytes[8])) + " bytes)");
     const std::uint32_t json_length = read_u32(&bytes[12]);
     if (std::memcmp(&bytes[16], "JSON", 4) != 0) fail(path, "binary glTF does not start with a JSON chunk");
     if (json_length > bytes.size() - 20) fail(path, "binary glTF JSON chunk runs past the end of the file");
@@ -80,7 +84,8 @@ std::string glb_json_chunk(const std::filesystem::path& path, const std::vector<
 std::string percent_decode(const std::string& uri) {
     std::string out;
     for (std::size_t i = 0; i < uri.size(); ++i) {
-        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) && std::isxdigit(uint8_t(uri[i + 2]))) {
+        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) &&
+            std::isxdigit(uint8_t(uri[i + 2]))) {
             out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
             i += 2;
         } else {
@@ -106,7 +111,8 @@ public:
         std::vector<int> roots;
         if (model_.defaultScene >= 0 || !model_.scenes.empty()) {
             const int scene = std::max(model_.defaultScene, 0);
-            if (std::size_t(scene) >= model_.scenes.size()) fail(path_, "scene " + std::to_string(scene) + " does not exist");
+            if (std::size_t(scene) >= model_.scenes.size())
+                fail(path_, "scene " + std::to_string(scene) + " does not exist");
             roots = model_.scenes[std::size_t(scene)].nodes;
         } else {
             // No scene at all: show every node that is nobody's child.
@@ -137,16 +143,19 @@ private:
         if (node_index < 0 || std::size_t(node_index) >= model_.nodes.size())
             fail(path_, parent_name + " refers to node " + std::to_string(node_index) + ", which does not exist");
         const auto n = std::size_t(node_index);
-        if (state_[n] == Visit::on_path) fail(path_, "node cycle: node " + std::to_string(node_index) + " is its own ancestor");
+        if (state_[n] == Visit::on_path)
+            fail(path_, "node cycle: node " + std::to_string(node_index) + " is its own ancestor");
         if (state_[n] == Visit::done)
-            fail(path_, "node " + std::to_string(node_index) + " has more than one parent (the node graph must be a forest)");
+            fail(path_,
+                 "node " + std::to_string(node_index) + " has more than one parent (the node graph must be a forest)");
         state_[n] = Visit::on_path;
 
         const tinygltf::Node& node = model_.nodes[n];
         const glm::dmat4 world = parent * local_matrix(node);
         if (node.mesh >= 0) {
             if (std::size_t(node.mesh) >= model_.meshes.size())
-                fail(path_, "node " + std::to_string(node_index) + " refers to mesh " + std::to_string(node.mesh) + ", which does not exist");
+                fail(path_, "node " + std::to_string(node_index) + " refers to mesh " + std::to_string(node.mesh) +
+                                ", which does not exist");
             add_mesh(std::size_t(node.mesh), world);
         }
         for (const int child : node.children) visit(child, world, "node " + std::to_string(node_index));
@@ -156,7 +165,8 @@ private:
     static glm::dmat4 local_matrix(const tinygltf::Node& node) {
         if (node.matrix.size() == 16) return glm::make_mat4(node.matrix.data());  // column-major, as glm
         glm::dmat4 m(1.0);
-        if (node.translation.size() == 3) m = glm::translate(m, glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
+        if (node.translation.size() == 3)
+            m = glm::translate(m, glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
         if (node.rotation.size() == 4) {
             const glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);  // w, x, y, z
             m = m * glm::mat4_cast(glm::normalize(q));
@@ -181,11 +191,13 @@ private:
 
         const tinygltf::BufferView& view = model_.bufferViews[std::size_t(a.bufferView)];
         const std::string view_name = "bufferView " + std::to_string(a.bufferView);
-        if (view.buffer < 0 || std::size_t(view.buffer) >= model_.buffers.size()) fail(path_, view_name + " has no valid buffer");
+        if (view.buffer < 0 || std::size_t(view.buffer) >= model_.buffers.size())
+            fail(path_, view_name + " has no valid buffer");
         const std::size_t buffer_size = model_.buffers[std::size_t(view.buffer)].data.size();
         if (view.byteOffset > buffer_size || view.byteLength > buffer_size - view.byteOffset)
-            fail(path_, view_name + " (bytes " + std::to_string(view.byteOffset) + " + " + std::to_string(view.byteLength) +
-                            ") runs past the end of buffer " + std::to_string(view.buffer) + " (" + std::to_string(buffer_size) + " bytes)");
+            fail(path_, view_name + " (bytes " + std::to_string(view.byteOffset) + " + " +
+                            std::to_string(view.byteLength) + ") runs past the end of buffer " +
+                            std::to_string(view.buffer) + " (" + std::to_string(buffer_size) + " bytes)");
 
         const std::size_t element = std::size_t(component_size) * std::size_t(components);
         const std::size_t stride = view.byteStride != 0 ? view.byteStride : element;
@@ -222,7 +234,8 @@ private:
         const AccessorData d = accessor(index, what);
         const tinygltf::Accessor& a = model_.accessors[std::size_t(index)];
         if (a.type != TINYGLTF_TYPE_SCALAR || a.normalized ||
-            (d.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && d.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            (d.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+             d.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
              d.component_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
             fail(path_, what + " (accessor " + std::to_string(index) + ") must be unsigned byte, short or int SCALAR");
         std::vector<std::uint32_t> out(d.count);
@@ -247,11 +260,13 @@ private:
     }
 
     // Triangle lists from the primitive's index order (strips and fans unrolled, degenerate ones dropped).
-    std::vector<std::uint32_t> triangles(int mode, const std::vector<std::uint32_t>& order, const std::string& what) const {
+    std::vector<std::uint32_t> triangles(int mode, const std::vector<std::uint32_t>& order,
+                                         const std::string& what) const {
         std::vector<std::uint32_t> out;
         if (mode == TINYGLTF_MODE_TRIANGLES) {
             if (order.size() % 3 != 0)
-                fail(path_, what + " has " + std::to_string(order.size()) + " vertices, not a multiple of 3 for triangles");
+                fail(path_,
+                     what + " has " + std::to_string(order.size()) + " vertices, not a multiple of 3 for triangles");
             return order;
         }
         if (order.size() < 3) fail(path_, what + " has fewer than 3 vertices");
@@ -283,14 +298,16 @@ private:
             if (mode < TINYGLTF_MODE_POINTS || mode > TINYGLTF_MODE_TRIANGLE_FAN)
                 fail(path_, what + " has an unknown mode " + std::to_string(mode));
             if (mode < TINYGLTF_MODE_TRIANGLES) {
-                log::warn(path_.string() + ": " + what + " is points or lines (mode " + std::to_string(mode) + "): skipped");
+                log::warn(path_.string() + ": " + what + " is points or lines (mode " + std::to_string(mode) +
+                          "): skipped");
                 ++skipped_;
                 continue;
             }
             const auto position_it = prim.attributes.find("POSITION");
             if (position_it == prim.attributes.end()) fail(path_, what + " has no POSITION attribute");
             const AccessorData positions = vec3_accessor(position_it->second, what + " POSITION");
-            if (positions.count > kMaxVertices) fail(path_, what + " has too many vertices (" + std::to_string(positions.count) + ")");
+            if (positions.count > kMaxVertices)
+                fail(path_, what + " has too many vertices (" + std::to_string(positions.count) + ")");
 
             // Size limits before reading: the index count bounds the triangle count.
             const std::size_t order_count = prim.indices >= 0 && std::size_t(prim.indices) < model_.accessors.size()
@@ -324,8 +341,8 @@ private:
             for (std::size_t v = 0; v < source.size(); ++v) {
                 const glm::vec3 local = read_vec3(positions, source[v]);
                 const glm::vec3 w(world * glm::dvec4(glm::dvec3(local), 1.0));
-                if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z) || !std::isfinite(w.x) ||
-                    !std::isfinite(w.y) || !std::isfinite(w.z))
+                if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z) ||
+                    !std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
                     fail(path_, what + " POSITION " + std::to_string(source[v]) + " is not finite");
                 part.positions[v] = w;
             }
@@ -338,7 +355,8 @@ private:
             if (normals_usable) {
                 const AccessorData normals = vec3_accessor(normal_it->second, what + " NORMAL");
                 if (normals.count != positions.count)
-                    fail(path_, what + " has " + std::to_string(normals.count) + " normals for " + std::to_string(positions.count) + " positions");
+                    fail(path_, what + " has " + std::to_string(normals.count) + " normals for " +
+                                    std::to_string(positions.count) + " positions");
                 part.normals.resize(source.size());
                 for (std::size_t v = 0; v < source.size() && normals_usable; ++v) {
                     const glm::dvec3 n = normal_matrix * glm::dvec3(read_vec3(normals, source[v]));
@@ -346,7 +364,8 @@ private:
                     if (!(length > 1e-12) || !std::isfinite(length)) normals_usable = false;
                     part.normals[v] = glm::vec3(n / length);
                 }
-                if (!normals_usable) log::warn(path_.string() + ": " + what + " has zero or non-finite normals: computing them");
+                if (!normals_usable)
+                    log::warn(path_.string() + ": " + what + " has zero or non-finite normals: computing them");
             }
             if (!normals_usable) compute_vertex_normals(part);
 
@@ -417,8 +436,10 @@ GltfModel load_gltf(const std::filesystem::path& path) {
     loader.SetImageLoader(skip_image, nullptr);
     tinygltf::Model model;
     std::string err, warn;
-    const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), base_dir.string())
-                           : loader.LoadASCIIFromString(&model, &err, &warn, json_text.data(), unsigned(json_text.size()), base_dir.string());
+    const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()),
+                                                         base_dir.string())
+                           : loader.LoadASCIIFromString(&model, &err, &warn, json_text.data(),
+                                                        unsigned(json_text.size()), base_dir.string());
     if (!ok) fail(path, one_line(err.empty() ? "tinygltf could not load it" : err));
     if (!err.empty()) fail(path, one_line(err));  // tinygltf reports some errors and still returns true
     if (!warn.empty()) log::warn(path.string() + ": " + one_line(warn));

@@ -18,10 +18,10 @@ enum class Type {
     index,    // integer >= 0 (indices into arrays, counts, byte offsets)
     integer,  // any integer (enums such as componentType, mode)
     boolean,
-    object,          // checked against `children` when given
-    object_array,    // array of objects checked against `children`
+    object,        // checked against `children` when given
+    object_array,  // array of objects checked against `children`
     index_array,
-    number_array,    // exactly `length` numbers when length > 0
+    number_array,  // exactly `length` numbers when length > 0
     string_array,
     index_map,        // object whose values are indices (primitive attributes)
     index_map_array,  // array of index maps (morph targets)
@@ -43,8 +43,10 @@ const std::vector<Rule> kAsset = {{"version", Type::string, nullptr, 0, true},
                                   {"generator", Type::string},
                                   {"copyright", Type::string}};
 const std::vector<Rule> kScene = {{"nodes", Type::index_array}};
-const std::vector<Rule> kNode = {{"children", Type::index_array}, {"mesh", Type::index},
-                                 {"camera", Type::index},         {"skin", Type::index},
+const std::vector<Rule> kNode = {{"children", Type::index_array},
+                                 {"mesh", Type::index},
+                                 {"camera", Type::index},
+                                 {"skin", Type::index},
                                  {"matrix", Type::number_array, nullptr, 16},
                                  {"rotation", Type::number_array, nullptr, 4},
                                  {"scale", Type::number_array, nullptr, 3},
@@ -55,7 +57,8 @@ const std::vector<Rule> kPrimitive = {{"attributes", Type::index_map, nullptr, 0
                                       {"material", Type::index},
                                       {"mode", Type::integer},
                                       {"targets", Type::index_map_array}};
-const std::vector<Rule> kMesh = {{"primitives", Type::object_array, &kPrimitive, 0, true}, {"weights", Type::number_array}};
+const std::vector<Rule> kMesh = {{"primitives", Type::object_array, &kPrimitive, 0, true},
+                                 {"weights", Type::number_array}};
 const std::vector<Rule> kSparseIndices = {{"bufferView", Type::index, nullptr, 0, true},
                                           {"byteOffset", Type::index},
                                           {"componentType", Type::integer, nullptr, 0, true}};
@@ -100,8 +103,10 @@ const std::vector<Rule> kTexture = {{"sampler", Type::index}, {"source", Type::i
 const std::vector<Rule> kImage = {{"uri", Type::string}, {"mimeType", Type::string}, {"bufferView", Type::index}};
 const std::vector<Rule> kSampler = {
     {"magFilter", Type::integer}, {"minFilter", Type::integer}, {"wrapS", Type::integer}, {"wrapT", Type::integer}};
-const std::vector<Rule> kSkin = {{"inverseBindMatrices", Type::index}, {"skeleton", Type::index}, {"joints", Type::index_array}};
-const std::vector<Rule> kCamera = {{"type", Type::string}, {"perspective", Type::object}, {"orthographic", Type::object}};
+const std::vector<Rule> kSkin = {
+    {"inverseBindMatrices", Type::index}, {"skeleton", Type::index}, {"joints", Type::index_array}};
+const std::vector<Rule> kCamera = {
+    {"type", Type::string}, {"perspective", Type::object}, {"orthographic", Type::object}};
 const std::vector<Rule> kRoot = {{"asset", Type::object, &kAsset, 0, true},
                                  {"scene", Type::index},
                                  {"scenes", Type::object_array, &kScene},
@@ -130,7 +135,8 @@ public:
             if (const auto it = value.find(rule.key); it != value.end()) check(*it, rule, join(where, rule.key));
         for (const Rule& rule : rules)
             if (rule.required && !value.contains(rule.key)) fail(join(where, rule.key), "required property is missing");
-        if (const auto it = value.find("name"); it != value.end() && !it->is_string()) fail(join(where, "name"), "expected a string");
+        if (const auto it = value.find("name"); it != value.end() && !it->is_string())
+            fail(join(where, "name"), "expected a string");
         if (const auto it = value.find("extensions"); it != value.end()) {
             if (!it->is_object()) fail(join(where, "extensions"), "expected an object");
             for (const auto& [name, extension] : it->items())
@@ -139,7 +145,9 @@ public:
     }
 
 private:
-    static std::string join(const std::string& where, const std::string& key) { return where.empty() ? key : where + "." + key; }
+    static std::string join(const std::string& where, const std::string& key) {
+        return where.empty() ? key : where + "." + key;
+    }
     static std::string item(const std::string& where, std::size_t i) { return where + "[" + std::to_string(i) + "]"; }
 
     [[noreturn]] void fail(const std::string& where, const std::string& reason) const {
@@ -147,7 +155,8 @@ private:
     }
 
     void index(const json& value, const std::string& where) const {
-        if (!value.is_number_integer() || (value.is_number_integer() && !value.is_number_unsigned() && value.get<long long>() < 0))
+        if (!value.is_number_integer() ||
+            (value.is_number_integer() && !value.is_number_unsigned() && value.get<long long>() < 0))
             fail(where, "expected a non-negative integer");
     }
 
@@ -177,7 +186,8 @@ private:
                 break;
             case Type::object_array:
                 array(value, where);
-                for (std::size_t i = 0; i < value.size(); ++i) object(value[i], rule.children ? *rule.children : kNone, item(where, i));
+                for (std::size_t i = 0; i < value.size(); ++i)
+                    object(value[i], rule.children ? *rule.children : kNone, item(where, i));
                 break;
             case Type::index_array:
                 array(value, where);
@@ -186,7 +196,8 @@ private:
             case Type::number_array:
                 array(value, where);
                 if (rule.length > 0 && value.size() != std::size_t(rule.length))
-                    fail(where, "expected " + std::to_string(rule.length) + " numbers, found " + std::to_string(value.size()));
+                    fail(where,
+                         "expected " + std::to_string(rule.length) + " numbers, found " + std::to_string(value.size()));
                 for (std::size_t i = 0; i < value.size(); ++i)
                     if (!value[i].is_number()) fail(item(where, i), "expected a number");
                 break;

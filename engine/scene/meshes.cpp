@@ -45,14 +45,14 @@ struct Geodesic {
 
 Geodesic make_geodesic(int frequency) {
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-    const std::array<glm::vec3, 12> corners = {
-        glm::vec3(-1, t, 0), glm::vec3(1, t, 0), glm::vec3(-1, -t, 0), glm::vec3(1, -t, 0),
-        glm::vec3(0, -1, t), glm::vec3(0, 1, t), glm::vec3(0, -1, -t), glm::vec3(0, 1, -t),
-        glm::vec3(t, 0, -1), glm::vec3(t, 0, 1), glm::vec3(-t, 0, -1), glm::vec3(-t, 0, 1)};
-    std::array<std::array<std::uint32_t, 3>, 20> faces = {{{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
-                                                          {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                                          {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
-                                                          {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}}};
+    const std::array<glm::vec3, 12> corners = {glm::vec3(-1, t, 0),  glm::vec3(1, t, 0),   glm::vec3(-1, -t, 0),
+                                               glm::vec3(1, -t, 0),  glm::vec3(0, -1, t),  glm::vec3(0, 1, t),
+                                               glm::vec3(0, -1, -t), glm::vec3(0, 1, -t),  glm::vec3(t, 0, -1),
+                                               glm::vec3(t, 0, 1),   glm::vec3(-t, 0, -1), glm::vec3(-t, 0, 1)};
+    std::array<std::array<std::uint32_t, 3>, 20> faces = {{{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                                           {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                                           {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                                           {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}}};
     for (auto& face : faces) {  // counter-clockwise seen from outside
         const glm::vec3 &a = corners[face[0]], &b = corners[face[1]], &c = corners[face[2]];
         if (glm::dot(glm::cross(b - a, c - a), a) < 0.0f) std::swap(face[1], face[2]);
@@ -301,11 +301,11 @@ Mesh make_mesh(const FigureShape& shape) {
         glm::vec3 axis{0.0f, 1.0f, 0.0f};  // direction of radii.y
     };
     std::vector<Part> parts = {
-        {{0.0f, 1.15f, 0.0f}, {0.22f, 0.33f, 0.15f}},   // chest
-        {{0.0f, 0.88f, 0.0f}, {0.19f, 0.14f, 0.13f}},   // hips
-        {{0.0f, 1.47f, 0.0f}, {0.06f, 0.09f, 0.06f}},   // neck
-        {{0.0f, 1.62f, 0.02f}, {0.12f, 0.14f, 0.13f}},  // head
-        {{0.0f, 1.60f, 0.14f}, {0.04f, 0.035f, 0.05f}}, // snout
+        {{0.0f, 1.15f, 0.0f}, {0.22f, 0.33f, 0.15f}},    // chest
+        {{0.0f, 0.88f, 0.0f}, {0.19f, 0.14f, 0.13f}},    // hips
+        {{0.0f, 1.47f, 0.0f}, {0.06f, 0.09f, 0.06f}},    // neck
+        {{0.0f, 1.62f, 0.02f}, {0.12f, 0.14f, 0.13f}},   // head
+        {{0.0f, 1.60f, 0.14f}, {0.04f, 0.035f, 0.05f}},  // snout
     };
     // A limb segment from a to b: an ellipsoid reaching a little past both ends so that joints overlap.
     const auto limb = [&](glm::vec3 a, glm::vec3 b, float radius) {
@@ -314,12 +314,13 @@ Mesh make_mesh(const FigureShape& shape) {
     };
     for (const float side : {-1.0f, 1.0f}) {
         const auto at = [side](float x, float y, float z) { return glm::vec3(side * x, y, z); };
-        parts.push_back({at(0.08f, 1.80f, 0.0f), {0.035f, 0.09f, 0.02f}, glm::normalize(at(0.35f, 1.0f, 0.0f))});  // ear
-        limb(at(0.25f, 1.36f, 0.0f), at(0.40f, 1.08f, 0.06f), 0.065f);  // upper arm
-        limb(at(0.40f, 1.08f, 0.06f), at(0.46f, 0.84f, 0.18f), 0.05f);  // forearm
-        parts.push_back({at(0.47f, 0.80f, 0.20f), {0.05f, 0.07f, 0.04f}});  // hand
-        limb(at(0.10f, 0.86f, 0.0f), at(0.13f, 0.48f, 0.03f), 0.09f);   // thigh
-        limb(at(0.13f, 0.48f, 0.03f), at(0.14f, 0.09f, 0.0f), 0.065f);  // shin
+        parts.push_back(
+            {at(0.08f, 1.80f, 0.0f), {0.035f, 0.09f, 0.02f}, glm::normalize(at(0.35f, 1.0f, 0.0f))});  // ear
+        limb(at(0.25f, 1.36f, 0.0f), at(0.40f, 1.08f, 0.06f), 0.065f);                                 // upper arm
+        limb(at(0.40f, 1.08f, 0.06f), at(0.46f, 0.84f, 0.18f), 0.05f);                                 // forearm
+        parts.push_back({at(0.47f, 0.80f, 0.20f), {0.05f, 0.07f, 0.04f}});                             // hand
+        limb(at(0.10f, 0.86f, 0.0f), at(0.13f, 0.48f, 0.03f), 0.09f);                                  // thigh
+        limb(at(0.13f, 0.48f, 0.03f), at(0.14f, 0.09f, 0.0f), 0.065f);                                 // shin
         parts.push_back({at(0.14f, 0.04f, 0.06f), {0.06f, 0.04f, 0.12f}});  // foot, touching y = 0
     }
 
@@ -328,7 +329,8 @@ Mesh make_mesh(const FigureShape& shape) {
     std::vector<double> share(parts.size());
     double total_area = 0.0;
     for (std::size_t i = 0; i < parts.size(); ++i) {
-        const double a = std::pow(parts[i].radii.x, 1.6), b = std::pow(parts[i].radii.y, 1.6), c = std::pow(parts[i].radii.z, 1.6);
+        const double a = std::pow(parts[i].radii.x, 1.6), b = std::pow(parts[i].radii.y, 1.6),
+                     c = std::pow(parts[i].radii.z, 1.6);
         share[i] = std::pow((a * b + a * c + b * c) / 3.0, 1.0 / 1.6);
         total_area += share[i];
     }
@@ -368,7 +370,8 @@ Mesh make_mesh(const FigureShape& shape) {
         const Part& part = parts[i];
         // Right-handed frame with the ellipsoid's y radius along part.axis (so faces stay outward).
         const glm::vec3 y = part.axis;
-        const glm::vec3 x = std::abs(y.z) < 0.9f ? glm::normalize(glm::cross(y, glm::vec3(0, 0, 1))) : glm::vec3(1, 0, 0);
+        const glm::vec3 x =
+            std::abs(y.z) < 0.9f ? glm::normalize(glm::cross(y, glm::vec3(0, 0, 1))) : glm::vec3(1, 0, 0);
         const glm::vec3 z = glm::cross(x, y);
         const glm::mat3 shape_from_unit(x * part.radii.x, y * part.radii.y, z * part.radii.z);
         const Geodesic g = make_geodesic(frequency[i]);

@@ -25,10 +25,10 @@ struct SphereShape {
 
 // Ring about the Y axis centred on the origin: segments * sides * 2 triangles.
 struct TorusShape {
-    float major_radius = 0.4f;  // centre of the tube from the axis
+    float major_radius = 0.4f;   // centre of the tube from the axis
     float minor_radius = 0.15f;  // tube radius
-    int segments = 64;          // around the Y axis
-    int sides = 32;             // around the tube
+    int segments = 64;           // around the Y axis
+    int sides = 32;              // around the tube
 };
 
 // Axis-aligned box centred on the origin with flat faces: 12 triangles.
@@ -57,7 +57,7 @@ struct FigureShape {
 // Spiky virus (paper Fig. 9): a geodesic body with `spikes` club-shaped spikes (a tapered stalk with
 // a knob), spread evenly over the sphere. Every part is closed.
 struct VirusShape {
-    float radius = 0.3f;         // body
+    float radius = 0.3f;  // body
     int spikes = 48;
     float spike_length = 0.12f;  // from the body surface to the knob's centre
     int detail = 10;             // geodesic frequency of the body (20 detail^2 triangles)

@@ -73,7 +73,9 @@ glm::mat4 Animation::motion_at(double t) const {
     return glm::mat4(1.0f);
 }
 
-glm::mat4 Camera::view_from_world() const { return glm::lookAtRH(position, target, up); }
+glm::mat4 Camera::view_from_world() const {
+    return glm::lookAtRH(position, target, up);
+}
 
 glm::mat4 Camera::clip_from_view(float aspect, float near_plane, float far_plane) const {
     return glm::perspectiveRH_NO(glm::radians(fov_y_degrees), aspect, near_plane, far_plane);

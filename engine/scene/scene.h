@@ -35,14 +35,14 @@ struct Mesh {
 struct Animation {
     enum class Kind { none, orbit, path };
     Kind kind = Kind::none;
-    double period = 10.0;                 // seconds per loop
-    glm::vec3 center{0.0f};               // orbit: centre, axis +Y
-    float radius = 1.0f;                  // orbit
-    float height = 0.0f;                  // orbit: added to the centre's y
-    std::vector<glm::vec3> points;        // path: a closed polyline (last point joins the first), travelled at
-                                          // constant speed: time is proportional to arc length
-    bool face_motion = true;              // turn the object about +Y so that its +Z (glTF's front) faces along
-                                          // its horizontal motion
+    double period = 10.0;           // seconds per loop
+    glm::vec3 center{0.0f};         // orbit: centre, axis +Y
+    float radius = 1.0f;            // orbit
+    float height = 0.0f;            // orbit: added to the centre's y
+    std::vector<glm::vec3> points;  // path: a closed polyline (last point joins the first), travelled at
+                                    // constant speed: time is proportional to arc length
+    bool face_motion = true;        // turn the object about +Y so that its +Z (glTF's front) faces along
+                                    // its horizontal motion
 
     // Translation to the position at time t (times t and t + period give the same), turned to face
     // the motion if face_motion; identity for Kind::none. Orbit: at t = 0 the object is at

@@ -24,7 +24,7 @@ using nlohmann::json;
 namespace fs = std::filesystem;
 
 constexpr const char* kDefaultEnvironmentFile = "/usr/share/blender/datafiles/studiolights/world/courtyard.exr";
-constexpr float kBareModelSize = 2.0f;     // metres: a bare glTF's largest side
+constexpr float kBareModelSize = 2.0f;      // metres: a bare glTF's largest side
 constexpr float kBareGroundFactor = 15.0f;  // ground plane side, in model sizes: room for long shadows
 
 std::string lowercase_extension(const fs::path& path) {
@@ -45,7 +45,8 @@ glm::mat4 fit_standing(const Mesh& mesh, float size) {
 }
 
 // Bounds of the objects that are not the ground, at time t.
-void bounds_without_ground(const Scene& scene, const std::vector<bool>& is_ground, double t, glm::vec3& lo, glm::vec3& hi) {
+void bounds_without_ground(const Scene& scene, const std::vector<bool>& is_ground, double t, glm::vec3& lo,
+                           glm::vec3& hi) {
     Scene others;
     for (std::size_t i = 0; i < scene.objects.size(); ++i)
         if (!is_ground[i]) others.objects.push_back(scene.objects[i]);
@@ -72,7 +73,8 @@ public:
             scene.objects.push_back(object((*objects)[i], "objects[" + std::to_string(i) + "]", ground));
             is_ground.push_back(ground);
             if (ground) {
-                if (scene.has_ground) fail("objects[" + std::to_string(i) + "].ground", "only one object can be the ground");
+                if (scene.has_ground)
+                    fail("objects[" + std::to_string(i) + "].ground", "only one object can be the ground");
                 scene.has_ground = true;
                 scene.ground_height = scene.objects.back().transform[3].y;
             }
@@ -92,7 +94,9 @@ private:
     [[noreturn]] void fail(const std::string& where, const std::string& reason) const {
         throw InputError(file_.string() + ": " + where + ": " + reason);
     }
-    static std::string join(const std::string& where, const std::string& key) { return where.empty() ? key : where + "." + key; }
+    static std::string join(const std::string& where, const std::string& key) {
+        return where.empty() ? key : where + "." + key;
+    }
 
     // Unknown keys are errors: they are nearly always typos.
     void expect_keys(const json& value, const std::string& where, std::initializer_list<const char*> keys) const {
@@ -113,7 +117,8 @@ private:
     }
     float number_in(const json& value, const std::string& where, float lo, float hi) const {
         const float v = number(value, where);
-        if (v < lo || v > hi) fail(where, "must be between " + format(lo) + " and " + format(hi) + ", found " + format(v));
+        if (v < lo || v > hi)
+            fail(where, "must be between " + format(lo) + " and " + format(hi) + ", found " + format(v));
         return v;
     }
     float positive(const json& value, const std::string& where) const {
@@ -122,9 +127,12 @@ private:
         return v;
     }
     int integer_in(const json& value, const std::string& where, int lo, int hi) const {
-        if (!value.is_number() || value.get<double>() != std::floor(value.get<double>())) fail(where, "expected an integer");
+        if (!value.is_number() || value.get<double>() != std::floor(value.get<double>()))
+            fail(where, "expected an integer");
         const double v = value.get<double>();
-        if (v < lo || v > hi) fail(where, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", found " + format(float(v)));
+        if (v < lo || v > hi)
+            fail(where, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", found " +
+                            format(float(v)));
         return int(v);
     }
     bool boolean(const json& value, const std::string& where) const {
@@ -166,7 +174,8 @@ private:
         const json* source = &value;
         if (value.is_object()) {
             expect_keys(value, "environment", {"source", "rotation", "exposure"});
-            if (const auto it = value.find("rotation"); it != value.end()) env.rotation_degrees = number(*it, "environment.rotation");
+            if (const auto it = value.find("rotation"); it != value.end())
+                env.rotation_degrees = number(*it, "environment.rotation");
             if (const auto it = value.find("exposure"); it != value.end())
                 env.exposure_stops = number_in(*it, "environment.exposure", -30.0f, 30.0f);
             const auto it = value.find("source");
@@ -197,10 +206,12 @@ private:
         c.position = vec3(*position, "camera.position");
         c.target = vec3(*target, "camera.target");
         if (const auto it = value.find("up"); it != value.end()) c.up = vec3(*it, "camera.up");
-        if (const auto it = value.find("fov"); it != value.end()) c.fov_y_degrees = number_in(*it, "camera.fov", 1.0f, 170.0f);
+        if (const auto it = value.find("fov"); it != value.end())
+            c.fov_y_degrees = number_in(*it, "camera.fov", 1.0f, 170.0f);
         const glm::vec3 forward = c.target - c.position;
         if (!(glm::length(forward) > 1e-6f)) fail("camera", "position and target are the same point");
-        if (!(glm::length(glm::cross(glm::normalize(forward), c.up)) > 1e-3f)) fail("camera.up", "is parallel to the view direction");
+        if (!(glm::length(glm::cross(glm::normalize(forward), c.up)) > 1e-3f))
+            fail("camera.up", "is parallel to the view direction");
         return c;
     }
 
@@ -238,7 +249,8 @@ private:
             if (auto v = get("segments")) s.segments = integer_in(*v, at("segments"), 3, kMaxSegments);
             if (auto v = get("sides")) s.sides = integer_in(*v, at("sides"), 3, kMaxSegments);
             if (s.minor_radius >= s.major_radius) fail(at("minor_radius"), "must be smaller than major_radius");
-            if (2ll * s.segments * s.sides > kMaxBuiltinTriangles) fail(where, "too many triangles (segments * sides * 2 > 5000000)");
+            if (2ll * s.segments * s.sides > kMaxBuiltinTriangles)
+                fail(where, "too many triangles (segments * sides * 2 > 5000000)");
             mesh = make_mesh(s);
         } else if (type == "box") {
             expect_keys(spec, where, {"type", "size"});
@@ -269,7 +281,8 @@ private:
             if (auto v = get("detail")) s.detail = integer_in(*v, at("detail"), 1, 200);
             mesh = make_mesh(s);
         } else {
-            fail(where + ".type", "unknown built-in mesh \"" + type + "\" (expected plane, sphere, torus, box, blob, figure or virus)");
+            fail(where + ".type",
+                 "unknown built-in mesh \"" + type + "\" (expected plane, sphere, torus, box, blob, figure or virus)");
         }
         auto shared = std::make_shared<const Mesh>(std::move(mesh));
         builtin_cache_.emplace(key, shared);
@@ -314,7 +327,8 @@ private:
         if (const auto it = value.find("rotation"); it != value.end()) m = m * rotation(*it, where + ".rotation");
         if (const auto it = value.find("scale"); it != value.end()) {
             const glm::vec3 s = scalar_or_vec3(*it, where + ".scale");
-            if (!(std::min({s.x, s.y, s.z}) > 0.0f)) fail(where + ".scale", "must be greater than 0 (mirroring is not supported)");
+            if (!(std::min({s.x, s.y, s.z}) > 0.0f))
+                fail(where + ".scale", "must be greater than 0 (mirroring is not supported)");
             m = glm::scale(m, s);
         }
         return m;
@@ -326,10 +340,12 @@ private:
         m.rho_d = default_diffuse;
         if (const auto it = value.find("diffuse"); it != value.end()) {
             m.rho_d = scalar_or_vec3(*it, where + ".diffuse");
-            if (std::min({m.rho_d.r, m.rho_d.g, m.rho_d.b}) < 0.0f || std::max({m.rho_d.r, m.rho_d.g, m.rho_d.b}) > 1.0f)
+            if (std::min({m.rho_d.r, m.rho_d.g, m.rho_d.b}) < 0.0f ||
+                std::max({m.rho_d.r, m.rho_d.g, m.rho_d.b}) > 1.0f)
                 fail(where + ".diffuse", "albedo components must be between 0 and 1");
         }
-        if (const auto it = value.find("specular"); it != value.end()) m.rho_s = number_in(*it, where + ".specular", 0.0f, 1.0f);
+        if (const auto it = value.find("specular"); it != value.end())
+            m.rho_s = number_in(*it, where + ".specular", 0.0f, 1.0f);
         if (const auto it = value.find("shininess"); it != value.end())
             m.shininess = number_in(*it, where + ".shininess", 0.0f, 100000.0f);
         return m;
@@ -345,7 +361,8 @@ private:
             expect_keys(value, where, {"type", "center", "radius", "height", "period", "face_motion"});
             a.kind = Animation::Kind::orbit;
             if (const auto it = value.find("center"); it != value.end()) a.center = vec3(*it, where + ".center");
-            if (const auto it = value.find("radius"); it != value.end()) a.radius = number_in(*it, where + ".radius", 0.0f, 1e6f);
+            if (const auto it = value.find("radius"); it != value.end())
+                a.radius = number_in(*it, where + ".radius", 0.0f, 1e6f);
             if (const auto it = value.find("height"); it != value.end()) a.height = number(*it, where + ".height");
         } else if (type == "path") {
             expect_keys(value, where, {"type", "points", "period", "face_motion"});
@@ -356,18 +373,21 @@ private:
             for (std::size_t i = 0; i < points->size(); ++i)
                 a.points.push_back(vec3((*points)[i], where + ".points[" + std::to_string(i) + "]"));
             double length = 0.0;
-            for (std::size_t i = 0; i < a.points.size(); ++i) length += glm::distance(a.points[i], a.points[(i + 1) % a.points.size()]);
+            for (std::size_t i = 0; i < a.points.size(); ++i)
+                length += glm::distance(a.points[i], a.points[(i + 1) % a.points.size()]);
             if (!(length > 0.0)) fail(where + ".points", "the path has zero length");
         } else {
             fail(where + ".type", "unknown animation \"" + type + "\" (expected orbit or path)");
         }
         if (const auto it = value.find("period"); it != value.end()) a.period = positive(*it, where + ".period");
-        if (const auto it = value.find("face_motion"); it != value.end()) a.face_motion = boolean(*it, where + ".face_motion");
+        if (const auto it = value.find("face_motion"); it != value.end())
+            a.face_motion = boolean(*it, where + ".face_motion");
         return a;
     }
 
     Object object(const json& value, const std::string& where, bool& ground) {
-        expect_keys(value, where, {"name", "model", "mesh", "fit", "transform", "material", "animation", "ground", "casts_shadows"});
+        expect_keys(value, where,
+                    {"name", "model", "mesh", "fit", "transform", "material", "animation", "ground", "casts_shadows"});
         const auto model_it = value.find("model");
         const auto mesh_it = value.find("mesh");
         if ((model_it == value.end()) == (mesh_it == value.end()))
@@ -387,27 +407,36 @@ private:
         if (const auto it = value.find("name"); it != value.end()) object.name = text(*it, where + ".name");
 
         glm::mat4 fit(1.0f);
-        if (const auto it = value.find("fit"); it != value.end()) fit = fit_standing(*object.mesh, positive(*it, where + ".fit"));
+        if (const auto it = value.find("fit"); it != value.end())
+            fit = fit_standing(*object.mesh, positive(*it, where + ".fit"));
         glm::mat4 placement(1.0f);
-        if (const auto it = value.find("transform"); it != value.end()) placement = transform(*it, where + ".transform");
+        if (const auto it = value.find("transform"); it != value.end())
+            placement = transform(*it, where + ".transform");
         object.transform = placement * fit;
 
         object.material.rho_d = default_diffuse;
-        if (const auto it = value.find("material"); it != value.end()) object.material = material(*it, where + ".material", default_diffuse);
-        if (const auto it = value.find("animation"); it != value.end()) object.animation = animation(*it, where + ".animation");
+        if (const auto it = value.find("material"); it != value.end())
+            object.material = material(*it, where + ".material", default_diffuse);
+        if (const auto it = value.find("animation"); it != value.end())
+            object.animation = animation(*it, where + ".animation");
 
         ground = false;
         if (const auto it = value.find("ground"); it != value.end()) ground = boolean(*it, where + ".ground");
         if (ground) {
-            const bool is_plane = mesh_it != value.end() && (mesh_it->is_string() ? *mesh_it == "plane" : (*mesh_it)["type"] == "plane");
+            const bool is_plane =
+                mesh_it != value.end() && (mesh_it->is_string() ? *mesh_it == "plane" : (*mesh_it)["type"] == "plane");
             if (!is_plane) fail(where + ".ground", "only a plane mesh can be the ground");
-            if (object.animation.kind != Animation::Kind::none) fail(where + ".ground", "the ground cannot be animated");
-            const glm::vec3 up = glm::normalize(glm::vec3(glm::inverseTranspose(glm::mat3(object.transform)) * glm::vec3(0, 1, 0)));
-            if (up.y < 0.9999f) fail(where + ".ground", "the ground plane must stay horizontal (rotate it about Y only)");
+            if (object.animation.kind != Animation::Kind::none)
+                fail(where + ".ground", "the ground cannot be animated");
+            const glm::vec3 up =
+                glm::normalize(glm::vec3(glm::inverseTranspose(glm::mat3(object.transform)) * glm::vec3(0, 1, 0)));
+            if (up.y < 0.9999f)
+                fail(where + ".ground", "the ground plane must stay horizontal (rotate it about Y only)");
         }
         // The ground receives shadows but casting them would only stretch every light's shadow frustum.
         object.casts_shadows = !ground;
-        if (const auto it = value.find("casts_shadows"); it != value.end()) object.casts_shadows = boolean(*it, where + ".casts_shadows");
+        if (const auto it = value.find("casts_shadows"); it != value.end())
+            object.casts_shadows = boolean(*it, where + ".casts_shadows");
         return object;
     }
 
@@ -440,7 +469,8 @@ Scene load_bare_model(const fs::path& path) {
     Scene scene;
     scene.file = path;
     std::error_code ec;
-    scene.environment.source = fs::is_regular_file(kDefaultEnvironmentFile, ec) ? kDefaultEnvironmentFile : "builtin:sky";
+    scene.environment.source =
+        fs::is_regular_file(kDefaultEnvironmentFile, ec) ? kDefaultEnvironmentFile : "builtin:sky";
 
     Object ground;
     ground.name = "ground";

@@ -1,9 +1,9 @@
 #include <cmath>
 
+#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/trigonometric.hpp>
-#include <gtest/gtest.h>
 
 #include "scene/meshes.h"
 #include "scene/scene.h"
@@ -11,12 +11,16 @@
 namespace envshadow {
 namespace {
 
-glm::vec3 position_of(const glm::mat4& m) { return glm::vec3(m[3]); }
-glm::vec3 forward_of(const glm::mat4& m) { return glm::vec3(m * glm::vec4(0, 0, 1, 0)); }  // object +Z in world
+glm::vec3 position_of(const glm::mat4& m) {
+    return glm::vec3(m[3]);
+}
+glm::vec3 forward_of(const glm::mat4& m) {
+    return glm::vec3(m * glm::vec4(0, 0, 1, 0));
+}  // object +Z in world
 
 void expect_near(const glm::vec3& a, const glm::vec3& b, float tolerance = 1e-5f) {
-    EXPECT_LT(glm::distance(a, b), tolerance) << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y
-                                              << ", " << b.z << ")";
+    EXPECT_LT(glm::distance(a, b), tolerance)
+        << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y << ", " << b.z << ")";
 }
 
 void expect_same_matrix(const glm::mat4& a, const glm::mat4& b, float tolerance = 1e-4f) {
@@ -34,12 +38,14 @@ Animation orbit() {
     return a;
 }
 
-TEST(SceneAnimation, NoneIsIdentity) { expect_same_matrix(Animation{}.motion_at(3.7), glm::mat4(1.0f)); }
+TEST(SceneAnimation, NoneIsIdentity) {
+    expect_same_matrix(Animation{}.motion_at(3.7), glm::mat4(1.0f));
+}
 
 TEST(SceneAnimation, OrbitStartsOnPlusXAndTurnsTowardsPlusZ) {
     const Animation a = orbit();
     expect_near(position_of(a.motion_at(0.0)), {4, 2.5f, -2});
-    expect_near(position_of(a.motion_at(2.0)), {1, 2.5f, 1});   // a quarter turn
+    expect_near(position_of(a.motion_at(2.0)), {1, 2.5f, 1});    // a quarter turn
     expect_near(position_of(a.motion_at(4.0)), {-2, 2.5f, -2});  // half
     // Facing along the motion: +Z at the start, -X a quarter later.
     expect_near(forward_of(a.motion_at(0.0)), {0, 0, 1});
@@ -121,20 +127,23 @@ TEST(SceneCamera, ProjectionFollowsOpenGlClipConventions) {
 bool inside_frustum(const Camera& c, float aspect, const glm::vec3& lo, const glm::vec3& hi) {
     const glm::mat4 clip_from_world = c.clip_from_view(aspect, 0.01f, 1000.0f) * c.view_from_world();
     for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec4 p = clip_from_world * glm::vec4((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z, 1);
+        const glm::vec4 p = clip_from_world * glm::vec4((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y,
+                                                        (corner & 4) ? hi.z : lo.z, 1);
         if (p.w <= 0 || std::abs(p.x) > p.w || std::abs(p.y) > p.w || std::abs(p.z) > p.w) return false;
     }
     return true;
 }
 
 TEST(SceneCamera, FramingKeepsTheBoxInView) {
-    for (const auto& [lo, hi] : {std::pair{glm::vec3(-1, 0, -1), glm::vec3(1, 2, 1)}, std::pair{glm::vec3(10, 0, 3), glm::vec3(30, 1, 4)},
-                                 std::pair{glm::vec3(0, 0, 0), glm::vec3(0.01f, 5, 0.01f)}}) {
+    for (const auto& [lo, hi] :
+         {std::pair{glm::vec3(-1, 0, -1), glm::vec3(1, 2, 1)}, std::pair{glm::vec3(10, 0, 3), glm::vec3(30, 1, 4)},
+          std::pair{glm::vec3(0, 0, 0), glm::vec3(0.01f, 5, 0.01f)}}) {
         const Camera c = camera_framing(lo, hi, 40.0f);
         EXPECT_GT(c.position.y, 0.5f * (lo.y + hi.y));  // from above
         for (const float aspect : {1.0f, 4.0f / 3.0f, 16.0f / 9.0f}) EXPECT_TRUE(inside_frustum(c, aspect, lo, hi));
         // and not from far away: the box's bounding sphere nearly fills the view
-        EXPECT_LT(glm::distance(c.position, 0.5f * (lo + hi)), 1.2f * 0.5f * glm::distance(lo, hi) / std::sin(glm::radians(20.0f)));
+        EXPECT_LT(glm::distance(c.position, 0.5f * (lo + hi)),
+                  1.2f * 0.5f * glm::distance(lo, hi) / std::sin(glm::radians(20.0f)));
     }
 }
 

@@ -4,8 +4,8 @@
 #include <fstream>
 #include <string>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "core/error.h"
 #include "gltf_writer.h"
@@ -57,9 +57,11 @@ TEST(SceneGltf, EngineNodeTransformsGiveTheIndependentlyComputedBounds) {
 TEST(SceneGltf, TrsParentAndMatrixChildCompose) {
     GltfWriter w;
     const int mesh = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 0, 1}}), w.indices({0, 1, 2}));
-    const int child = w.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1}}});  // +1 in y
+    const int child =
+        w.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1}}});  // +1 in y
     const float h = std::sqrt(0.5f);
-    const int parent = w.node({{"children", {child}}, {"translation", {10, 0, 0}}, {"rotation", {0, h, 0, h}}, {"scale", {2, 2, 2}}});
+    const int parent =
+        w.node({{"children", {child}}, {"translation", {10, 0, 0}}, {"rotation", {0, h, 0, h}}, {"scale", {2, 2, 2}}});
     w.scene({parent});
     const GltfModel model = load_gltf(w.write(test_folder(), "hierarchy"));
     const Mesh& m = *model.mesh;
@@ -138,10 +140,11 @@ TEST(SceneGltf, MissingNormalsOnASpherePointAwayFromItsCentre) {
 TEST(SceneGltf, StripsFansAndListsGiveTheSameFrontFacingQuad) {
     // glTF-Asset-Generator's quad, facing the viewer at +Z, in every triangle mode and index type.
     for (const char* n : {"04", "05", "06", "11", "12", "13", "14", "15"}) {
-        const fs::path file = kModels / "glTF-Asset-Generator/Mesh_PrimitiveMode" / (std::string("Mesh_PrimitiveMode_") + n + ".gltf");
+        const fs::path file =
+            kModels / "glTF-Asset-Generator/Mesh_PrimitiveMode" / (std::string("Mesh_PrimitiveMode_") + n + ".gltf");
         SCOPED_TRACE(file.string());
         const GltfModel model = load_gltf(file);
-    const Mesh& m = *model.mesh;
+        const Mesh& m = *model.mesh;
         EXPECT_EQ(m.triangle_count(), 2u);
         EXPECT_EQ(m.bounds_min, glm::vec3(-0.5f, -0.5f, 0.0f));
         EXPECT_EQ(m.bounds_max, glm::vec3(0.5f, 0.5f, 0.0f));
@@ -152,8 +155,9 @@ TEST(SceneGltf, StripsFansAndListsGiveTheSameFrontFacingQuad) {
 
 TEST(SceneGltf, PointsAndLinesAloneAreNoTriangles) {
     for (const char* n : {"00", "01", "02", "03"})
-        expect_input_error(kModels / "glTF-Asset-Generator/Mesh_PrimitiveMode" / (std::string("Mesh_PrimitiveMode_") + n + ".gltf"),
-                           "no triangles");
+        expect_input_error(
+            kModels / "glTF-Asset-Generator/Mesh_PrimitiveMode" / (std::string("Mesh_PrimitiveMode_") + n + ".gltf"),
+            "no triangles");
 }
 
 TEST(SceneGltf, LinesBesideTrianglesAreSkipped) {
@@ -180,7 +184,8 @@ TEST(SceneGltf, VerticesNoTriangleUsesAreLeftOut) {
 TEST(SceneGltf, BaseColorIsTheTriangleWeightedMean) {
     GltfWriter w;
     const int one = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
-    const int three = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+    const int three = w.mesh(
+        w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
     w.doc["meshes"][one]["primitives"][0]["material"] = 0;
     w.doc["meshes"][three]["primitives"][0]["material"] = 1;
     w.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 0.0, 0.0, 1.0}}}}},
@@ -203,8 +208,10 @@ TEST(SceneGltf, TheDefaultSceneIsTheOneNamedByScene) {
 
 // The malformed models shipped with assimp's tests, each checked for what it really contains.
 TEST(SceneGltfMalformed, IndexOutOfRange) {
-    expect_input_error(kModels / "IndexOutOfRange/IndexOutOfRange.gltf", "index 255 at position 0 is out of range (24 vertices)");
-    expect_input_error(kModels / "IndexOutOfRange/AllIndicesOutOfRange.gltf", "index 65535 at position 0 is out of range");
+    expect_input_error(kModels / "IndexOutOfRange/IndexOutOfRange.gltf",
+                       "index 255 at position 0 is out of range (24 vertices)");
+    expect_input_error(kModels / "IndexOutOfRange/AllIndicesOutOfRange.gltf",
+                       "index 65535 at position 0 is out of range");
 }
 
 TEST(SceneGltfMalformed, MissingBin) {
@@ -218,8 +225,9 @@ TEST(SceneGltfMalformed, RecursiveNodesAreACycleNotAHang) {
 TEST(SceneGltfMalformed, WrongTypes) {
     const fs::path dir = kModels / "wrongTypes";
     expect_input_error(dir / "badArray.gltf", "meshes[0].primitives: expected an array");
-    expect_input_error(dir / "badExtension.gltf",
-                       "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform: expected an object");
+    expect_input_error(
+        dir / "badExtension.gltf",
+        "materials[0].pbrMetallicRoughness.baseColorTexture.extensions.KHR_texture_transform: expected an object");
     expect_input_error(dir / "badNumber.gltf", "materials[0].normalTexture.scale: expected a number");
     expect_input_error(dir / "badObject.gltf", "materials[0].pbrMetallicRoughness: expected an object");
     expect_input_error(dir / "badString.gltf", "name: expected a string");
@@ -233,7 +241,8 @@ TEST(SceneGltfMalformed, BoxWithInfinites) {
 TEST(SceneGltfMalformed, IncorrectVertexArrays) {
     // Mesh 0 is a sound cube; mesh 1 ("TruncatedCube") is a triangle list of 35 vertices. (The file's
     // buffer is also too short for the views that only unused accessors read.)
-    expect_input_error(kModels / "IncorrectVertexArrays/Cube.gltf", "mesh 1 primitive 0 has 35 vertices, not a multiple of 3");
+    expect_input_error(kModels / "IncorrectVertexArrays/Cube.gltf",
+                       "mesh 1 primitive 0 has 35 vertices, not a multiple of 3");
 }
 
 TEST(SceneGltfMalformed, BufferViewPastItsBuffer) {
@@ -241,7 +250,8 @@ TEST(SceneGltfMalformed, BufferViewPastItsBuffer) {
     const int positions = w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
     w.doc["bufferViews"][0]["byteLength"] = 40;
     w.scene({w.node({{"mesh", w.mesh(positions)}})});
-    expect_input_error(w.write(test_folder(), "short"), "bufferView 0 (bytes 0 + 40) runs past the end of buffer 0 (36 bytes)");
+    expect_input_error(w.write(test_folder(), "short"),
+                       "bufferView 0 (bytes 0 + 40) runs past the end of buffer 0 (36 bytes)");
 }
 
 TEST(SceneGltfMalformed, SceneOfTheWrongType) {
@@ -305,7 +315,8 @@ TEST(SceneGltfMalformed, AccessorPastItsView) {
     GltfWriter w;
     const float p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     w.scene({w.node({{"mesh", w.mesh(w.accessor(w.view(p, sizeof p), 5126, 4, "VEC3"))}})});
-    expect_input_error(w.write(test_folder(), "count"), "4 elements from byte 0) runs past the end of bufferView 0 (36 bytes)");
+    expect_input_error(w.write(test_folder(), "count"),
+                       "4 elements from byte 0) runs past the end of bufferView 0 (36 bytes)");
 }
 
 TEST(SceneGltfMalformed, TriangleListNotAMultipleOfThree) {
@@ -327,9 +338,8 @@ TEST(SceneGltfMalformed, AbsurdTriangleCount) {
 TEST(SceneGltfMalformed, SparseAccessorsAreRefused) {
     GltfWriter w;
     const int positions = w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
-    w.doc["accessors"][positions]["sparse"] = {{"count", 1},
-                                               {"indices", {{"bufferView", 0}, {"componentType", 5123}}},
-                                               {"values", {{"bufferView", 0}}}};
+    w.doc["accessors"][positions]["sparse"] = {
+        {"count", 1}, {"indices", {{"bufferView", 0}, {"componentType", 5123}}}, {"values", {{"bufferView", 0}}}};
     w.scene({w.node({{"mesh", w.mesh(positions)}})});
     expect_input_error(w.write(test_folder(), "sparse"), "is sparse");
 }

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include <glm/vec3.hpp>
 #include <gtest/gtest.h>
+#include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
 namespace envshadow::test {
@@ -46,7 +46,8 @@ public:
     }
 
     int accessor(int view_index, int component_type, std::size_t count, const char* type) {
-        doc["accessors"].push_back({{"bufferView", view_index}, {"componentType", component_type}, {"count", count}, {"type", type}});
+        doc["accessors"].push_back(
+            {{"bufferView", view_index}, {"componentType", component_type}, {"count", count}, {"type", type}});
         return int(doc["accessors"].size()) - 1;
     }
 

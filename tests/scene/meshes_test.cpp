@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include <glm/gtc/constants.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/constants.hpp>
 
 #include "mesh_checks.h"
 
@@ -152,7 +152,8 @@ TEST(SceneBuiltinMeshes, VirusPartsAreClosedAndSpikesReachOut) {
     EXPECT_EQ(unpaired_edges(m), 0u);
     EXPECT_GT(signed_volume(m), 0.0);
     // Spikes stick out beyond the body: knob centres at radius + length, knob radius 0.3 * length.
-    const float reach = std::max({-m.bounds_min.x, -m.bounds_min.y, -m.bounds_min.z, m.bounds_max.x, m.bounds_max.y, m.bounds_max.z});
+    const float reach =
+        std::max({-m.bounds_min.x, -m.bounds_min.y, -m.bounds_min.z, m.bounds_max.x, m.bounds_max.y, m.bounds_max.z});
     EXPECT_GT(reach, 0.3f + 0.12f);
     EXPECT_LE(reach, 0.3f + 1.3f * 0.12f + 1e-4f);
 }

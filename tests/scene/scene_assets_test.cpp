@@ -8,8 +8,8 @@
 #include <tuple>
 #include <vector>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "scene/scene.h"
 
@@ -43,7 +43,8 @@ void object_bounds(const Object& o, double t, glm::vec3& lo, glm::vec3& hi) {
 bool inside_frustum(const Camera& c, float aspect, const glm::vec3& lo, const glm::vec3& hi) {
     const glm::mat4 clip_from_world = c.clip_from_view(aspect, 0.01f, 1000.0f) * c.view_from_world();
     for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec4 p = clip_from_world * glm::vec4((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z, 1);
+        const glm::vec4 p = clip_from_world * glm::vec4((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y,
+                                                        (corner & 4) ? hi.z : lo.z, 1);
         if (p.w <= 0 || std::abs(p.x) > p.w || std::abs(p.y) > p.w || std::abs(p.z) > p.w) return false;
     }
     return true;
@@ -160,7 +161,8 @@ TEST(SceneAssets, FlyoverFigureFliesOverTheStandingOneAndLoops) {
     EXPECT_GT(glm::distance(centre_at(0.0), centre_at(1.0)), 0.5f);  // it moves
     for (const double t : {0.0, 0.7, 3.1})
         for (int c = 0; c < 4; ++c)
-            for (int r = 0; r < 4; ++r) EXPECT_NEAR(flying.world_from_object(t)[c][r], flying.world_from_object(t + period)[c][r], 1e-4f);
+            for (int r = 0; r < 4; ++r)
+                EXPECT_NEAR(flying.world_from_object(t)[c][r], flying.world_from_object(t + period)[c][r], 1e-4f);
 
     glm::vec3 standing_lo, standing_hi;
     object_bounds(standing, 0.0, standing_lo, standing_hi);
@@ -199,7 +201,8 @@ TEST(SceneAssets, DefaultSceneHasSeveralMaterials) {
     const Scene s = load_scene(kScenes / "default.json");
     std::set<std::tuple<float, float, float, float, float>> materials;
     for (const Object& o : s.objects)
-        materials.insert({o.material.rho_d.r, o.material.rho_d.g, o.material.rho_d.b, o.material.rho_s, o.material.shininess});
+        materials.insert(
+            {o.material.rho_d.r, o.material.rho_d.g, o.material.rho_d.b, o.material.rho_s, o.material.shininess});
     EXPECT_GE(s.objects.size(), 4u);
     EXPECT_EQ(materials.size(), s.objects.size());
 }

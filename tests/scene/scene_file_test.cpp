@@ -4,8 +4,8 @@
 #include <iterator>
 #include <string>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -43,7 +43,8 @@ void expect_scene_error(const fs::path& file, std::initializer_list<std::string>
         const std::string message = e.what();
         EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << message;
         EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-        for (const std::string& piece : expected) EXPECT_NE(message.find(piece), std::string::npos) << "'" << piece << "' not in: " << message;
+        for (const std::string& piece : expected)
+            EXPECT_NE(message.find(piece), std::string::npos) << "'" << piece << "' not in: " << message;
     }
 }
 
@@ -51,35 +52,51 @@ void expect_scene_error_with(const json& scene, std::initializer_list<std::strin
     expect_scene_error(write_scene(test_folder(), scene), expected);
 }
 
-glm::vec3 world(const Object& o, const glm::vec3& p, double t = 0.0) { return glm::vec3(o.world_from_object(t) * glm::vec4(p, 1)); }
-glm::vec3 world_direction(const Object& o, const glm::vec3& d) { return glm::vec3(o.transform * glm::vec4(d, 0)); }
+glm::vec3 world(const Object& o, const glm::vec3& p, double t = 0.0) {
+    return glm::vec3(o.world_from_object(t) * glm::vec4(p, 1));
+}
+glm::vec3 world_direction(const Object& o, const glm::vec3& d) {
+    return glm::vec3(o.transform * glm::vec4(d, 0));
+}
 
 void expect_near(const glm::vec3& a, const glm::vec3& b, float tolerance = 1e-5f) {
-    EXPECT_LT(glm::distance(a, b), tolerance) << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y
-                                              << ", " << b.z << ")";
+    EXPECT_LT(glm::distance(a, b), tolerance)
+        << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y << ", " << b.z << ")";
 }
 
 bool inside_frustum(const Camera& c, float aspect, const glm::vec3& lo, const glm::vec3& hi) {
     const glm::mat4 clip_from_world = c.clip_from_view(aspect, 0.01f, 1000.0f) * c.view_from_world();
     for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec4 p = clip_from_world * glm::vec4((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z, 1);
+        const glm::vec4 p = clip_from_world * glm::vec4((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y,
+                                                        (corner & 4) ? hi.z : lo.z, 1);
         if (p.w <= 0 || std::abs(p.x) > p.w || std::abs(p.y) > p.w || std::abs(p.z) > p.w) return false;
     }
     return true;
 }
 
 TEST(SceneFile, ReadsEveryPart) {
-    const json scene = {
-        {"description", "test"},
-        {"environment", {{"source", "builtin:sky:elevation=30"}, {"rotation", 45}, {"exposure", -1.5}}},
-        {"camera", {{"position", {1, 2, 3}}, {"target", {0, 0.5, 0}}, {"up", {0, 1, 0}}, {"fov", 35}}},
-        {"objects",
-         {{{"name", "floor"}, {"mesh", {{"type", "plane"}, {"size", 8}}}, {"ground", true}, {"transform", {{"translation", {0, -0.5, 0}}}}},
-          {{"mesh", {{"type", "sphere"}, {"radius", 0.25}, {"segments", 16}}},
-           {"transform", {{"translation", {1, 0.25, 0}}}},
-           {"material", {{"diffuse", {0.1, 0.2, 0.3}}, {"specular", 0.4}, {"shininess", 250}}},
-           {"animation", {{"type", "orbit"}, {"center", {0, 1, 0}}, {"radius", 2}, {"height", 0.5}, {"period", 6}, {"face_motion", false}}}},
-          {{"name", "crate"}, {"mesh", {{"type", "box"}, {"size", {1, 2, 3}}}}, {"casts_shadows", false}, {"material", {{"diffuse", 0.5}}}}}}};
+    const json scene = {{"description", "test"},
+                        {"environment", {{"source", "builtin:sky:elevation=30"}, {"rotation", 45}, {"exposure", -1.5}}},
+                        {"camera", {{"position", {1, 2, 3}}, {"target", {0, 0.5, 0}}, {"up", {0, 1, 0}}, {"fov", 35}}},
+                        {"objects",
+                         {{{"name", "floor"},
+                           {"mesh", {{"type", "plane"}, {"size", 8}}},
+                           {"ground", true},
+                           {"transform", {{"translation", {0, -0.5, 0}}}}},
+                          {{"mesh", {{"type", "sphere"}, {"radius", 0.25}, {"segments", 16}}},
+                           {"transform", {{"translation", {1, 0.25, 0}}}},
+                           {"material", {{"diffuse", {0.1, 0.2, 0.3}}, {"specular", 0.4}, {"shininess", 250}}},
+                           {"animation",
+                            {{"type", "orbit"},
+                             {"center", {0, 1, 0}},
+                             {"radius", 2},
+                             {"height", 0.5},
+                             {"period", 6},
+                             {"face_motion", false}}}},
+                          {{"name", "crate"},
+                           {"mesh", {{"type", "box"}, {"size", {1, 2, 3}}}},
+                           {"casts_shadows", false},
+                           {"material", {{"diffuse", 0.5}}}}}}};
     const Scene s = load_scene(write_scene(test_folder(), scene));
 
     EXPECT_EQ(s.environment.source, "builtin:sky:elevation=30");
@@ -219,13 +236,28 @@ TEST(SceneFile, UnknownKeysNameTheFileAndTheKey) {
         return scene;
     };
     expect_scene_error_with(with([](json& s) { s["objcts"] = json::array(); }), {"objcts: unknown key", "objects"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["materal"] = json::object(); }), {"objects[0].materal: unknown key"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["material"] = {{"shinyness", 3}}; }), {"objects[0].material.shinyness: unknown key"});
+    expect_scene_error_with(with([](json& s) { s["objects"][0]["materal"] = json::object(); }),
+                            {"objects[0].materal: unknown key"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["material"] = {{"shinyness", 3}};
+                            }),
+                            {"objects[0].material.shinyness: unknown key"});
     expect_scene_error_with(with([](json& s) { s["camera"]["fov_y"] = 30; }), {"camera.fov_y: unknown key"});
-    expect_scene_error_with(with([](json& s) { s["environment"] = {{"source", "builtin:sky"}, {"rotate", 3}}; }), {"environment.rotate: unknown key"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["mesh"] = {{"type", "sphere"}, {"radus", 1}}; }), {"objects[0].mesh.radus: unknown key"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["transform"] = {{"rotate", {0, 1, 0}}}; }), {"objects[0].transform.rotate: unknown key"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["animation"] = {{"type", "orbit"}, {"radious", 1}}; }),
+    expect_scene_error_with(with([](json& s) {
+                                s["environment"] = {{"source", "builtin:sky"}, {"rotate", 3}};
+                            }),
+                            {"environment.rotate: unknown key"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "sphere"}, {"radus", 1}};
+                            }),
+                            {"objects[0].mesh.radus: unknown key"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["transform"] = {{"rotate", {0, 1, 0}}};
+                            }),
+                            {"objects[0].transform.rotate: unknown key"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "orbit"}, {"radious", 1}};
+                            }),
                             {"objects[0].animation.radious: unknown key"});
 }
 
@@ -235,14 +267,25 @@ TEST(SceneFile, WrongTypesNameTheFileAndTheKey) {
         change(scene);
         return scene;
     };
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["mesh"] = {{"type", "sphere"}, {"radius", "big"}}; }),
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "sphere"}, {"radius", "big"}};
+                            }),
                             {"objects[0].mesh.radius: expected a number"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["mesh"] = {{"type", "sphere"}, {"segments", 3.5}}; }),
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "sphere"}, {"segments", 3.5}};
+                            }),
                             {"objects[0].mesh.segments: expected an integer"});
-    expect_scene_error_with(with([](json& s) { s["camera"]["position"] = {0, 1}; }), {"camera.position: expected an array of 3 numbers"});
-    expect_scene_error_with(with([](json& s) { s["objects"] = json::object(); }), {"objects: expected a non-empty array"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["ground"] = "yes"; }), {"objects[0].ground: expected true or false"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["material"] = {{"diffuse", {0.5, "red", 0.5}}}; }),
+    expect_scene_error_with(with([](json& s) {
+                                s["camera"]["position"] = {0, 1};
+                            }),
+                            {"camera.position: expected an array of 3 numbers"});
+    expect_scene_error_with(with([](json& s) { s["objects"] = json::object(); }),
+                            {"objects: expected a non-empty array"});
+    expect_scene_error_with(with([](json& s) { s["objects"][0]["ground"] = "yes"; }),
+                            {"objects[0].ground: expected true or false"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["material"] = {{"diffuse", {0.5, "red", 0.5}}};
+                            }),
                             {"objects[0].material.diffuse[1]: expected a number"});
     expect_scene_error_with(with([](json& s) { s["environment"] = 3; }), {"environment: expected a map file"});
     expect_scene_error_with(with([](json& s) { s["objects"][0]["name"] = 7; }), {"objects[0].name: expected a string"});
@@ -255,23 +298,53 @@ TEST(SceneFile, ValuesOutOfRange) {
         change(scene);
         return scene;
     };
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["material"] = {{"diffuse", 1.5}}; }), {"objects[0].material.diffuse", "between 0 and 1"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["material"] = {{"shininess", -1}}; }), {"objects[0].material.shininess"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["mesh"] = {{"type", "sphere"}, {"segments", 5000}}; }), {"segments", "between 4 and 3000"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["mesh"] = {{"type", "torus"}, {"major_radius", 0.2}, {"minor_radius", 0.3}}; }),
-                            {"minor_radius: must be smaller than major_radius"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["mesh"] = {{"type", "blob"}, {"triangles", 10}}; }), {"objects[0].mesh.triangles"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["mesh"] = "teapot"; }), {"unknown built-in mesh \"teapot\""});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["transform"] = {{"scale", {1, -1, 1}}}; }), {"objects[0].transform.scale"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["material"] = {{"diffuse", 1.5}};
+                            }),
+                            {"objects[0].material.diffuse", "between 0 and 1"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["material"] = {{"shininess", -1}};
+                            }),
+                            {"objects[0].material.shininess"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "sphere"}, {"segments", 5000}};
+                            }),
+                            {"segments", "between 4 and 3000"});
+    expect_scene_error_with(
+        with([](json& s) {
+            s["objects"][0]["mesh"] = {{"type", "torus"}, {"major_radius", 0.2}, {"minor_radius", 0.3}};
+        }),
+        {"minor_radius: must be smaller than major_radius"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "blob"}, {"triangles", 10}};
+                            }),
+                            {"objects[0].mesh.triangles"});
+    expect_scene_error_with(with([](json& s) { s["objects"][0]["mesh"] = "teapot"; }),
+                            {"unknown built-in mesh \"teapot\""});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["transform"] = {{"scale", {1, -1, 1}}};
+                            }),
+                            {"objects[0].transform.scale"});
     expect_scene_error_with(with([](json& s) { s["camera"]["fov"] = 0; }), {"camera.fov"});
-    expect_scene_error_with(with([](json& s) { s["camera"]["target"] = s["camera"]["position"]; }), {"camera: position and target are the same point"});
+    expect_scene_error_with(with([](json& s) { s["camera"]["target"] = s["camera"]["position"]; }),
+                            {"camera: position and target are the same point"});
     expect_scene_error_with(with([](json& s) { s["camera"]["up"] = {0, 0, 0}; }), {"camera.up"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["animation"] = {{"type", "orbit"}, {"period", 0}}; }), {"objects[0].animation.period"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["animation"] = {{"type", "path"}, {"points", {{0, 0, 0}}}}; }),
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "orbit"}, {"period", 0}};
+                            }),
+                            {"objects[0].animation.period"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "path"}, {"points", {{0, 0, 0}}}};
+                            }),
                             {"objects[0].animation.points"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["animation"] = {{"type", "path"}, {"points", {{1, 0, 0}, {1, 0, 0}}}}; }),
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "path"}, {"points", {{1, 0, 0}, {1, 0, 0}}}};
+                            }),
                             {"the path has zero length"});
-    expect_scene_error_with(with([](json& s) { s["objects"][0]["animation"] = {{"type", "spin"}}; }), {"unknown animation \"spin\""});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "spin"}};
+                            }),
+                            {"unknown animation \"spin\""});
 }
 
 TEST(SceneFile, ObjectsNeedExactlyOneShape) {
@@ -290,7 +363,8 @@ TEST(SceneFile, GroundRules) {
     expect_scene_error_with(scene, {"objects[1].ground: only one object can be the ground"});
     scene["objects"] = {{{"mesh", "plane"}, {"ground", true}, {"transform", {{"rotation", {10, 0, 0}}}}}};
     expect_scene_error_with(scene, {"objects[0].ground: the ground plane must stay horizontal"});
-    scene["objects"] = {{{"mesh", "plane"}, {"ground", true}, {"transform", {{"rotation", {0, 30, 0}}, {"translation", {0, 2, 0}}}}}};
+    scene["objects"] = {
+        {{"mesh", "plane"}, {"ground", true}, {"transform", {{"rotation", {0, 30, 0}}, {"translation", {0, 2, 0}}}}}};
     const Scene s = load_scene(write_scene(test_folder(), scene));
     EXPECT_TRUE(s.has_ground);
     EXPECT_EQ(s.ground_height, 2.0f);
@@ -358,7 +432,8 @@ TEST(SceneFile, BareGlbStandsOnAGroundPlaneInView) {
     only_model.bounds_at(0.0, lo, hi);
     EXPECT_NEAR(lo.y, 0.0f, 1e-4f);  // standing on the ground
     EXPECT_NEAR(std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 2.0f, 1e-4f);
-    for (const float aspect : {1.0f, 4.0f / 3.0f, 16.0f / 9.0f}) EXPECT_TRUE(inside_frustum(s.camera, aspect, lo, hi)) << aspect;
+    for (const float aspect : {1.0f, 4.0f / 3.0f, 16.0f / 9.0f})
+        EXPECT_TRUE(inside_frustum(s.camera, aspect, lo, hi)) << aspect;
     // The ground reaches well past the model, to catch its shadows.
     EXPECT_GT(ground.mesh->bounds_max.x, 5.0f * std::max(std::abs(lo.x), std::abs(hi.x)));
 
