@@ -399,6 +399,25 @@ bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, in
     return true;  // textures are not used: do not decode them
 }
 
+// tinygltf's file access, limited to regular files: it reads every image and buffer a URI names,
+// and opening a FIFO (or a device) there would block or read for ever.
+bool regular_file_exists(const std::string& path, void*) {
+    std::error_code ec;
+    return std::filesystem::is_regular_file(path, ec);
+}
+
+std::string path_unchanged(const std::string& path, void*) { return path; }
+
+bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+    try {
+        *out = read_bytes(path);
+        return true;
+    } catch (const InputError& e) {
+        if (err) *err += e.what();
+        return false;
+    }
+}
+
 }  // namespace
 
 GltfModel load_gltf(const std::filesystem::path& path) {
@@ -434,6 +453,7 @@ GltfModel load_gltf(const std::filesystem::path& path) {
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skip_image, nullptr);
+    loader.SetFsCallbacks({regular_file_exists, path_unchanged, read_regular_file, nullptr, nullptr});
     tinygltf::Model model;
     std::string err, warn;
     const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()),
