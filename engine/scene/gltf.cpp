@@ -30,6 +30,8 @@ using nlohmann::json;
 
 constexpr std::uintmax_t kMaxFileBytes = 2'000'000'000;  // tinygltf takes unsigned int lengths
 constexpr std::size_t kMaxVertices = 3 * kMaxGltfTriangles;
+constexpr int kMaxNodeDepth = 1000;  // node hierarchy levels: the traversal recurses once per level
+constexpr int kMaxJsonDepth = 64;    // nesting of JSON values: tinygltf converts "extras" recursively
 
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& reason) {
     throw InputError(file.string() + ": " + reason);
@@ -125,7 +127,7 @@ public:
         }
 
         state_.assign(model_.nodes.size(), Visit::never);
-        for (const int root : roots) visit(root, glm::dmat4(1.0), "scene");
+        for (const int root : roots) visit(root, glm::dmat4(1.0), "scene", 1);
 
         if (mesh_.indices.empty()) fail(path_, "no triangles in the default scene");
         mesh_.compute_bounds();
@@ -139,9 +141,12 @@ public:
 private:
     enum class Visit { never, on_path, done };
 
-    void visit(int node_index, const glm::dmat4& parent, const std::string& parent_name) {
+    void visit(int node_index, const glm::dmat4& parent, const std::string& parent_name, int depth) {
         if (node_index < 0 || std::size_t(node_index) >= model_.nodes.size())
             fail(path_, parent_name + " refers to node " + std::to_string(node_index) + ", which does not exist");
+        if (depth > kMaxNodeDepth)
+            fail(path_, "node hierarchy deeper than " + std::to_string(kMaxNodeDepth) + " levels (at node " +
+                            std::to_string(node_index) + ")");
         const auto n = std::size_t(node_index);
         if (state_[n] == Visit::on_path)
             fail(path_, "node cycle: node " + std::to_string(node_index) + " is its own ancestor");
@@ -158,7 +163,7 @@ private:
                                 ", which does not exist");
             add_mesh(std::size_t(node.mesh), world);
         }
-        for (const int child : node.children) visit(child, world, "node " + std::to_string(node_index));
+        for (const int child : node.children) visit(child, world, "node " + std::to_string(node_index), depth + 1);
         state_[n] = Visit::done;
     }
 
@@ -433,7 +438,11 @@ GltfModel load_gltf(const std::filesystem::path& path) {
 
     json document;
     try {
-        document = json::parse(json_text);
+        document = json::parse(json_text, [&](int depth, json::parse_event_t, json&) {
+            if (depth > kMaxJsonDepth)
+                fail(path, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+            return true;
+        });
     } catch (const json::parse_error& e) {
         fail(path, std::string("invalid JSON: ") + e.what());
     }
