@@ -81,6 +81,13 @@ std::string glb_json_chunk(const std::filesystem::path& path, const std::vector<
     return std::string(reinterpret_cast<const char*>(&bytes[20]), json_length);
 }
 
+// nlohmann's message without its "[json.exception.parse_error.101] " prefix.
+std::string json_reason(const json::exception& e) {
+    const std::string what = e.what();
+    const auto bracket = what.find("] ");
+    return what.rfind("[json.exception", 0) == 0 && bracket != std::string::npos ? what.substr(bracket + 2) : what;
+}
+
 std::string percent_decode(const std::string& uri) {
     std::string out;
     for (std::size_t i = 0; i < uri.size(); ++i) {
@@ -415,8 +422,8 @@ GltfModel load_gltf(const std::filesystem::path& path) {
     json document;
     try {
         document = json::parse(json_text);
-    } catch (const json::parse_error& e) {
-        fail(path, std::string("invalid JSON: ") + e.what());
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers too large
+        fail(path, "invalid JSON: " + json_reason(e));
     }
     check_gltf_json(path, document);
 

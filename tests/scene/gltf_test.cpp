@@ -355,6 +355,8 @@ TEST(SceneGltfMalformed, FileProblems) {
     expect_input_error(dir / "absent.glb", "no such file");
     std::ofstream(dir / "text.gltf") << "{ \"asset\": ";
     expect_input_error(dir / "text.gltf", "invalid JSON");
+    std::ofstream(dir / "huge.gltf") << R"({"asset": {"version": "2.0"}, "nodes": [{"translation": [1e999, 0, 0]}]})";
+    expect_input_error(dir / "huge.gltf", "invalid JSON: number overflow");
     std::ofstream(dir / "bad.glb") << "not a glb at all, certainly not";
     expect_input_error(dir / "bad.glb", "bad magic");
     std::ofstream(dir / "model.obj") << "v 0 0 0";
