@@ -1,5 +1,6 @@
 // Scene files (docs/SCENES.md) and bare glTF models as scenes.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
