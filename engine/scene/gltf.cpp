@@ -428,6 +428,11 @@ GltfModel load_gltf(const std::filesystem::path& path) {
         fail(path, "invalid JSON: " + json_reason(e));
     }
     check_gltf_json(path, document);
+    // Extensions that change how geometry is stored; others (materials, textures) can be ignored.
+    for (const auto& name : document.value("extensionsRequired", json::array()))
+        for (const char* unsupported :
+             {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "EXT_meshopt_compression"})
+            if (name == unsupported) fail(path, "requires " + std::string(unsupported) + ", which is not supported");
 
     const std::filesystem::path base_dir = path.parent_path();
     for (std::size_t i = 0; i < document.value("buffers", json::array()).size(); ++i) {

@@ -263,6 +263,11 @@ TEST(SceneGltfMalformed, NoSceneOrEmptyScene) {
     expect_input_error(kModels / "TestNoRootNode/SceneWithoutNodes.gltf", "no triangles");
 }
 
+TEST(SceneGltfMalformed, CompressedGeometryIsRefusedByName) {
+    expect_input_error(kModels / "draco/2CylinderEngine.gltf",
+                       "requires KHR_draco_mesh_compression, which is not supported");
+}
+
 TEST(SceneGltfMalformed, CycleBelowTheRoot) {
     GltfWriter w;
     // 0 -> 1 -> 2 -> 1
