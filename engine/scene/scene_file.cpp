@@ -102,7 +102,8 @@ private:
     // Unknown keys are errors: they are nearly always typos.
     void expect_keys(const json& value, const std::string& where, std::initializer_list<const char*> keys) const {
         if (!value.is_object()) fail(where.empty() ? "scene" : where, "expected an object");
-        for (const auto& [key, unused] : value.items()) {
+        for (const auto& item : value.items()) {
+            const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture those
             if (std::find_if(keys.begin(), keys.end(), [&](const char* k) { return key == k; }) != keys.end()) continue;
             std::string known;
             for (const char* k : keys) known += std::string(known.empty() ? "" : ", ") + k;
