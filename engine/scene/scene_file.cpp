@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 constexpr const char* kDefaultEnvironmentFile = "/usr/share/blender/datafiles/studiolights/world/courtyard.exr";
 constexpr float kBareModelSize = 2.0f;      // metres: a bare glTF's largest side
 constexpr float kBareGroundFactor = 15.0f;  // ground plane side, in model sizes: room for long shadows
+constexpr int kMaxJsonDepth = 64;           // nesting of JSON values: dump() and the reader recurse
 
 std::string lowercase_extension(const fs::path& path) {
     std::string e = path.extension().string();
@@ -455,7 +456,12 @@ Scene load_scene_json(const fs::path& path) {
     if (!in) throw InputError(path.string() + ": cannot read the file");
     json document;
     try {
-        document = json::parse(in);
+        document = json::parse(in, [&](int depth, json::parse_event_t, json&) {
+            if (depth > kMaxJsonDepth)
+                throw InputError(path.string() + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                                 " levels");
+            return true;
+        });
     } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers too large
         std::string what = e.what();
         if (const auto bracket = what.find("] "); what.rfind("[json.exception", 0) == 0 && bracket != std::string::npos)
