@@ -79,6 +79,9 @@ struct Camera {
     glm::mat4 clip_from_view(float aspect, float near_plane, float far_plane) const;
 };
 
+// Largest scene any loader builds, all objects together (README "Input limits").
+inline constexpr std::size_t kMaxSceneTriangles = 50'000'000;
+
 struct Scene {
     std::filesystem::path file;
     EnvironmentSettings environment;

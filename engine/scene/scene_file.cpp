@@ -69,10 +69,17 @@ public:
         const auto objects = document.find("objects");
         if (objects == document.end()) fail("objects", "required: the list of objects");
         if (!objects->is_array() || objects->empty()) fail("objects", "expected a non-empty array of objects");
+        // The sizes built-in meshes ask for, summed before any is built (building them takes seconds).
+        double declared = 0.0;
+        for (const json& o : *objects) declared += declared_triangles(o);
+        if (declared > double(kMaxSceneTriangles)) fail("objects", too_many_triangles());
         std::vector<bool> is_ground;
+        std::size_t triangles = 0;
         for (std::size_t i = 0; i < objects->size(); ++i) {
             bool ground = false;
             scene.objects.push_back(object((*objects)[i], "objects[" + std::to_string(i) + "]", ground));
+            triangles += scene.objects.back().mesh->triangle_count();
+            if (triangles > kMaxSceneTriangles) fail("objects[" + std::to_string(i) + "]", too_many_triangles());
             is_ground.push_back(ground);
             if (ground) {
                 if (scene.has_ground)
@@ -95,6 +102,29 @@ public:
 private:
     [[noreturn]] void fail(const std::string& where, const std::string& reason) const {
         throw InputError(file_.string() + ": " + where + ": " + reason);
+    }
+    static std::string too_many_triangles() {
+        return "the scene has more than " + std::to_string(kMaxSceneTriangles) + " triangles (limit)";
+    }
+    // Triangles a built-in mesh asks for (meshes.h), from its parameters as written: 0 for anything
+    // else, or for values of the wrong type (reported when the mesh is read).
+    static double declared_triangles(const json& object) {
+        const auto mesh = object.is_object() ? object.find("mesh") : object.end();
+        if (!object.is_object() || mesh == object.end() || !mesh->is_object()) return 0.0;
+        const auto get = [&](const char* key, double fallback) {
+            const auto it = mesh->find(key);
+            return it != mesh->end() && it->is_number() ? it->get<double>() : fallback;
+        };
+        const auto type = mesh->find("type");
+        if (type == mesh->end() || !type->is_string()) return 0.0;
+        if (*type == "sphere") {
+            const double segments = get("segments", SphereShape{}.segments);
+            return 2.0 * segments * (segments / 2.0 - 1.0);
+        }
+        if (*type == "torus") return 2.0 * get("segments", TorusShape{}.segments) * get("sides", TorusShape{}.sides);
+        if (*type == "blob") return get("triangles", BlobShape{}.triangles);
+        if (*type == "figure") return get("triangles", FigureShape{}.triangles);
+        return 0.0;
     }
     static std::string join(const std::string& where, const std::string& key) {
         return where.empty() ? key : where + "." + key;
