@@ -354,11 +354,15 @@ private:
             part.positions.resize(source.size());
             for (std::size_t v = 0; v < source.size(); ++v) {
                 const glm::vec3 local = read_vec3(positions, source[v]);
-                const glm::vec3 w(world * glm::dvec4(glm::dvec3(local), 1.0));
+                const glm::dvec3 w(world * glm::dvec4(glm::dvec3(local), 1.0));
                 if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z) ||
                     !std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
                     fail(path_, what + " POSITION " + std::to_string(source[v]) + " is not finite");
-                part.positions[v] = w;
+                // Beyond the limit, sums and extents downstream (bounds, fitting, cameras) overflow.
+                if (std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) > kMaxCoordinate)
+                    fail(path_, what + " POSITION " + std::to_string(source[v]) + 
+                                    " lies beyond 1e12 after its node transforms (coordinate limit)");
+                part.positions[v] = glm::vec3(w);
             }
             if (mirrored)  // a mirroring transform turns counter-clockwise faces clockwise: turn them back
                 for (std::size_t t = 0; t < tris.size(); t += 3) std::swap(tris[t + 1], tris[t + 2]);

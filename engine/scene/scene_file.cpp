@@ -202,6 +202,22 @@ private:
         if (!fs::is_regular_file(path, ec)) fail(where, path.string() + " not found");
     }
 
+    // Coordinates past kMaxCoordinate make bounds, extents and projection fits overflow downstream.
+    void require_within_limit(const glm::vec3& p, const std::string& where) const {
+        if (!(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) <= kMaxCoordinate))
+            fail(where, "lies beyond 1e12 (coordinate limit)");
+    }
+    void require_within_limit(const glm::mat4& world_from_object, const Mesh& mesh, const std::string& where) const {
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::vec3 p(corner & 1 ? mesh.bounds_max.x : mesh.bounds_min.x,
+                              corner & 2 ? mesh.bounds_max.y : mesh.bounds_min.y,
+                              corner & 4 ? mesh.bounds_max.z : mesh.bounds_min.z);
+            const glm::dvec4 w = glm::dmat4(world_from_object) * glm::dvec4(glm::dvec3(p), 1.0);
+            if (!(std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) <= kMaxCoordinate))
+                fail(where, "puts the object beyond 1e12 (coordinate limit)");
+        }
+    }
+
     EnvironmentSettings environment(const json& value) {
         EnvironmentSettings env;
         const json* source = &value;
@@ -238,6 +254,8 @@ private:
         if (target == value.end()) fail("camera.target", "required");
         c.position = vec3(*position, "camera.position");
         c.target = vec3(*target, "camera.target");
+        require_within_limit(c.position, "camera.position");
+        require_within_limit(c.target, "camera.target");
         if (const auto it = value.find("up"); it != value.end()) c.up = vec3(*it, "camera.up");
         if (const auto it = value.find("fov"); it != value.end())
             c.fov_y_degrees = number_in(*it, "camera.fov", 1.0f, 170.0f);
@@ -397,6 +415,8 @@ private:
             if (const auto it = value.find("radius"); it != value.end())
                 a.radius = number_in(*it, where + ".radius", 0.0f, 1e6f);
             if (const auto it = value.find("height"); it != value.end()) a.height = number(*it, where + ".height");
+            require_within_limit(a.center + glm::vec3(a.radius, a.height, a.radius), where);
+            require_within_limit(a.center - glm::vec3(a.radius, -a.height, a.radius), where);
         } else if (type == "path") {
             expect_keys(value, where, {"type", "points", "period", "face_motion"});
             a.kind = Animation::Kind::path;
@@ -405,6 +425,8 @@ private:
                 fail(where + ".points", "expected an array of at least 2 points [x, y, z]");
             for (std::size_t i = 0; i < points->size(); ++i)
                 a.points.push_back(vec3((*points)[i], where + ".points[" + std::to_string(i) + "]"));
+            for (std::size_t i = 0; i < a.points.size(); ++i)
+                require_within_limit(a.points[i], where + ".points[" + std::to_string(i) + "]");
             double length = 0.0;
             for (std::size_t i = 0; i < a.points.size(); ++i)
                 length += glm::distance(a.points[i], a.points[(i + 1) % a.points.size()]);
@@ -446,6 +468,7 @@ private:
         if (const auto it = value.find("transform"); it != value.end())
             placement = transform(*it, where + ".transform");
         object.transform = placement * fit;
+        require_within_limit(object.transform, *object.mesh, where + ".transform");
 
         object.material.rho_d = default_diffuse;
         if (const auto it = value.find("material"); it != value.end())
