@@ -19,7 +19,8 @@ namespace envshadow {
 
 ExrContents read_exr(const std::filesystem::path& path) {
     const std::string name = path.string();
-    if (!std::filesystem::exists(path)) throw InputError(name + ": file not found");
+    std::error_code ec;  // a FIFO or device would block or never end: regular files only
+    if (!std::filesystem::is_regular_file(path, ec)) throw InputError(name + ": file not found");
     try {
         Imf::InputFile file(name.c_str());
         const Imath::Box2i window = file.header().dataWindow();
