@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <string>
 
 #include <ImfChannelList.h>
@@ -16,11 +19,59 @@
 #include "core/error.h"
 
 namespace envshadow {
+namespace {
+
+// Walks the first header's attributes (magic, version, then "name\0type\0" + int32 size + value
+// until an empty name) before OpenEXR does: OpenEXR allocates whatever size an attribute declares
+// (a 240-byte file can ask for 2 GB) and reads the line offset table the data window implies before
+// any size can be checked. Throws InputError for sizes past the end of the file or out of limits.
+void check_exr_header(const std::filesystem::path& path, const std::string& name) {
+    std::ifstream in(path, std::ios::binary);
+    std::error_code ec;
+    const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
+    char magic[8];
+    if (!in.read(magic, 8) || std::memcmp(magic, "\x76\x2f\x31\x01", 4) != 0)
+        throw InputError(name + ": not an OpenEXR file (bad magic number)");
+    auto read_string = [&](std::string& out) {
+        out.clear();
+        for (char c; in.get(c);) {
+            if (c == '\0') return true;
+            if (out.size() >= 255) return false;  // OpenEXR's longest attribute name or type
+            out += c;
+        }
+        return false;
+    };
+    for (std::string attribute, type;;) {
+        if (!read_string(attribute)) throw InputError(name + ": truncated or corrupt OpenEXR header");
+        if (attribute.empty()) return;
+        std::int32_t size = 0;
+        if (!read_string(type) || !in.read(reinterpret_cast<char*>(&size), 4))
+            throw InputError(name + ": truncated or corrupt OpenEXR header");
+        const auto at = static_cast<std::uintmax_t>(in.tellg());
+        if (size < 0 || std::uintmax_t(size) > file_size - std::min(at, file_size))
+            throw InputError(name + ": OpenEXR header attribute '" + attribute + "' claims " + std::to_string(size) +
+                             " bytes, more than the file holds");
+        if (attribute == "dataWindow" && type == "box2i" && size == 16) {
+            std::int32_t box[4];
+            in.read(reinterpret_cast<char*>(box), 16);
+            const long long width = 1ll + box[2] - box[0], height = 1ll + box[3] - box[1];
+            if (width <= 0 || height <= 0 || width > kMaxImageWidth || height > kMaxImageHeight)
+                throw InputError(name + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                                 " is outside the accepted 1x1.." + std::to_string(kMaxImageWidth) + "x" +
+                                 std::to_string(kMaxImageHeight));
+        } else {
+            in.seekg(size, std::ios::cur);
+        }
+    }
+}
+
+}  // namespace
 
 ExrContents read_exr(const std::filesystem::path& path) {
     const std::string name = path.string();
     std::error_code ec;  // a FIFO or device would block or never end: regular files only
     if (!std::filesystem::is_regular_file(path, ec)) throw InputError(name + ": file not found");
+    check_exr_header(path, name);
     try {
         Imf::InputFile file(name.c_str());
         const Imath::Box2i window = file.header().dataWindow();
