@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -217,6 +218,50 @@ TEST(RobustExr, BitFlippedFilesLoadSoundlyOrAreRefused) {
             loads_or_fails_cleanly(file, [&] { expect_sound_image(read_exr(file).image); }, what);
         }
     }
+}
+
+TEST(RobustExr, TheBlenderPhotographsRead) {
+    // DESIGN.md §7: eight 1024x512 maps.
+    int count = 0;
+    for (const auto& entry : fs::directory_iterator("/usr/share/blender/datafiles/studiolights/world")) {
+        if (entry.path().extension() != ".exr") continue;
+        const ExrContents contents = read_exr(entry.path());
+        EXPECT_EQ(contents.image.width, 1024) << entry.path();
+        EXPECT_EQ(contents.image.height, 512) << entry.path();
+        ++count;
+    }
+    EXPECT_EQ(count, 8);
+}
+
+// The offset of a header attribute's int32 size field in an EXR file.
+std::size_t attribute_size_at(const std::vector<std::uint8_t>& bytes, const std::string& name_and_type) {
+    const auto it = std::search(bytes.begin(), bytes.end(), name_and_type.begin(), name_and_type.end());
+    EXPECT_NE(it, bytes.end()) << name_and_type;
+    return std::size_t(it - bytes.begin()) + name_and_type.size();
+}
+
+TEST(RobustExr, HeaderSizesAreCheckedBeforeOpenExrAllocates) {
+    const fs::path dir = fresh_folder();
+    test::write_sample_exr(dir / "whole.exr", 16, 8, 0);
+    const auto whole = test::read_bytes(dir / "whole.exr");
+
+    // An attribute declaring 2 GB in a file of a few hundred bytes (OpenEXR would allocate it).
+    auto bytes = whole;
+    const std::size_t channels = attribute_size_at(bytes, std::string("channels\0chlist\0", 16));
+    const std::uint32_t huge = 0x7ffffff0u;
+    std::memcpy(&bytes[channels], &huge, 4);
+    test::write_bytes(dir / "attribute.exr", bytes);
+    expect_input_error(dir / "attribute.exr", [&] { read_exr(dir / "attribute.exr"); },
+                       "header attribute 'channels' claims 2147483632 bytes, more than the file holds");
+
+    // A data window of 2^31 - 1 rows (OpenEXR would read a line offset table for them).
+    bytes = whole;
+    const std::size_t window = attribute_size_at(bytes, std::string("dataWindow\0box2i\0", 17)) + 4;
+    const std::int32_t box[4] = {0, 0, 15, 2147483646};
+    std::memcpy(&bytes[window], box, 16);
+    test::write_bytes(dir / "window.exr", bytes);
+    expect_input_error(dir / "window.exr", [&] { read_exr(dir / "window.exr"); },
+                       "image size 16x2147483647 is outside the accepted 1x1..16384x16384");
 }
 
 TEST(RobustExr, NonFiniteAndNegativeTexelsAreReadAsTheyAre) {
