@@ -1,6 +1,7 @@
 // Average reflectivity of the paper's modified Phong BRDF over a cell (Barsi et al. §2.3,
 // DESIGN.md §4). The C++ twin is engine/env/brdf.cpp; a GL test keeps the two equal. Multiply the
 // specular averages by k_s = rho_s (n + 2) / (2 pi) and the cosine average by k_d = rho_d / pi.
+#include "constants.glsl"
 
 // The single sample a_s / k_s = cos^n psi_c (the paper's Fig. 7, left): over-bright where a small
 // lobe meets a large cell.

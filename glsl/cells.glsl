@@ -1,8 +1,7 @@
 // Shared by every stage that shades or draws the environment: the lat-long convention (the GLSL
 // mirror of engine/env/latlong.h; tests/render/latlong_glsl_test.cpp keeps the two equal) and the
-// per-light record of the shadow atlas (engine/render/light_record.h is its C++ twin).
-
-const float PI = 3.14159265358979323846;
+// per-light record of the shadow atlas (engine/render/lights.h's LightRecord is its C++ twin).
+#include "constants.glsl"
 
 // Lat-long map: u = (i + 0.5) / W, v = (j + 0.5) / H, row 0 the zenith (+Y);
 // theta = pi v from +Y, phi = 2 pi u, direction = (sin theta cos phi, cos theta, sin theta sin phi).
@@ -12,12 +11,14 @@ vec3 latlong_direction(vec2 uv) {
     return vec3(s * cos(phi), cos(theta), s * sin(phi));
 }
 
-// u in [0, 1), v in [0, 1]; `d` unit length.
+// u in [0, 1), v in [0, 1]; `d` unit length. theta = atan(|d.xz|, d.y) equals latlong.h's
+// acos(d.y) but keeps float precision near the poles; u = 0 at the poles themselves.
 vec2 latlong_uv(vec3 d) {
-    float u = atan(d.z, d.x) / (2.0 * PI);
+    float horizontal = length(d.xz);
+    float u = horizontal > 0.0 ? atan(d.z, d.x) / (2.0 * PI) : 0.0;
     if (u < 0.0) u += 1.0;
     if (u >= 1.0) u -= 1.0;
-    return vec2(u, acos(clamp(d.y, -1.0, 1.0)) / PI);
+    return vec2(u, atan(horizontal, d.y) / PI);
 }
 
 // One directional cell of the environment (Barsi et al. §2): the sum over cells of
