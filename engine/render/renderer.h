@@ -113,6 +113,7 @@ private:
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
     gl::Sampler shadow_sampler_;
     gl::GpuTimer timer_;
+    bool timer_warmed_up_ = false;
 
     std::vector<std::unique_ptr<GpuMesh>> meshes_;
     std::vector<Instance> instances_;
