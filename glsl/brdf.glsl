@@ -3,21 +3,36 @@
 // specular averages by k_s = rho_s (n + 2) / (2 pi) and the cosine average by k_d = rho_d / pi.
 #include "constants.glsl"
 
-// The single sample a_s / k_s = cos^n psi_c (the paper's Fig. 7, left): over-bright where a small
-// lobe meets a large cell.
+// ln(1 - x) for x in [0, 1), by its series where log(1 - x) would lose the digits of a small x
+// (exact for 1 - x >= 1/2).
+float log_one_minus(float x) {
+    if (x >= 0.01) return log(1.0 - x);
+    return -x * (1.0 + x * (0.5 + x * (1.0 / 3.0 + x * (0.25 + x * 0.2))));  // next term x^6/6 < 2e-13
+}
+
+// 1 - e^y for y <= 0, without cancellation for small |y|.
+float one_minus_exp(float y) {
+    if (y < -0.1) return 1.0 - exp(y);
+    return -y * (1.0 + y * (0.5 + y * (1.0 / 6.0 + y * (1.0 / 24.0 + y * (1.0 / 120.0 + y / 720.0)))));
+}
+
+// The single sample a_s / k_s = max(0, cos psi_c)^n (the paper's Fig. 7, left): over-bright where a
+// small lobe meets a large cell. Sharp lobes (n up to 10^4) live where cos psi is near 1; there
+// pow's log2 loses the digits that n multiplies, so c^n = exp(n ln(1 - (1 - c))).
 float average_specular_single(float cos_psi_c, float n) {
-    return pow(max(cos_psi_c, 0.0), n);
+    float c = clamp(cos_psi_c, 0.0, 1.0);
+    return c >= 0.5 ? exp(n * log_one_minus(1.0 - c)) : pow(c, n);
 }
 
 // Exact average of max(0, cos psi)^n over a cap of cosine radius R centred on the mirror
 // direction: (1 - R^{n+1}) / ((n + 1)(1 - R)) (the paper's psi_c = 0 case; R^{n+1} becomes
-// max(R, 0)^{n+1} for caps wider than a hemisphere). Series where 1 - R^{n+1} would cancel.
+// max(R, 0)^{n+1} for caps wider than a hemisphere). 1 - R^{n+1} = 1 - exp((n + 1) ln R) is
+// computed without cancellation, so tiny caps need no special case. Requires R < 1.
 float cap_average_specular(float cos_r, float n) {
     float t = 1.0 - cos_r;  // exact in float for cos_r in [0.5, 1]
     float m = n + 1.0;
-    if (m * t < 1e-3)  // (1 - (1 - t)^m) / (m t) = 1 - (m - 1) t / 2 + (m - 1)(m - 2) t^2 / 6 - ...
-        return 1.0 - 0.5 * (m - 1.0) * t + (m - 1.0) * (m - 2.0) * t * t / 6.0;
-    return (1.0 - pow(max(cos_r, 0.0), m)) / (m * t);
+    if (cos_r <= 0.0) return 1.0 / (m * t);
+    return one_minus_exp(m * log_one_minus(t)) / (m * t);
 }
 
 // Barsi et al.'s blended average: the exact cap average at psi_c = 0 blended towards the single
@@ -27,38 +42,47 @@ float average_specular_blended(float cos_psi_c, float cos_r, float n) {
     float c = clamp(cos_psi_c, -1.0, 1.0);
     if (c <= cos_r) return average_specular_single(c, n);  // psi_c >= r_i (also every c when R = 1)
     float w = (1.0 - c) / (1.0 - cos_r);                     // c > R, so 1 - R > 0
-    return cap_average_specular(cos_r, n) * (1.0 - w) + pow(c, n) * w;
+    return cap_average_specular(cos_r, n) * (1.0 - w) + average_specular_single(c, n) * w;  // c < 0 in caps wider than a hemisphere
 }
 
-// Integral of max(0, cos theta) over a cap of half-angle sigma (sin^2 sigma = s2, sigma <= pi/2)
-// whose centre makes cos theta_c with the normal. Exact: pi s2 cos theta_c while the cap is above
-// the horizon; Snyder's form factor of a spherical cap where it straddles it.
-float cap_integral_clamped_cosine(float cos_theta_c, float cos_r) {
-    float s2 = max(1.0 - cos_r * cos_r, 0.0);
-    if (cos_theta_c * cos_theta_c >= s2) return PI * s2 * max(cos_theta_c, 0.0);
-    float sin_theta_c = sqrt(max(1.0 - cos_theta_c * cos_theta_c, 0.0));
-    if (s2 < 1e-4) {
-        // Tiny cap (sigma < 0.01): the terms below cancel to O(sigma^3) in float; treat the cap as a
-        // flat disc on which cos theta = cos theta_c + a x (a = sin sigma sin theta_c, |x| <= 1),
-        // whose clamped average is exact to O(sigma^2).
-        float a = sqrt(s2) * sin_theta_c;
-        float d = clamp(cos_theta_c / a, -1.0, 1.0), e = sqrt(1.0 - d * d);
-        float average = a / PI * (d * (0.5 * PI + d * e + asin(d)) + 2.0 / 3.0 * e * e * e);
-        return average * 2.0 * PI * (1.0 - cos_r);
-    }
-    float x = cos_r / sqrt(s2);  // cot sigma
-    float y = clamp(-x * cos_theta_c / sin_theta_c, -1.0, 1.0);
-    float sin_theta_sqrt_y = sin_theta_c * sqrt(1.0 - y * y);
-    return (cos_theta_c * acos(y) - x * sin_theta_sqrt_y) * s2 + atan(sin_theta_sqrt_y, x);
+// atan(z) - z, by its series where the difference would cancel in float.
+float atan_minus_identity(float z) {
+    if (abs(z) >= 0.5) return atan(z) - z;
+    // sum over k >= 1 of (-1)^k z^{2k+1} / (2k+1), to k = 12: the rest is under 1e-8 of the sum.
+    float z2 = z * z, sum = 0.0;
+    for (int k = 12; k >= 1; --k) sum = z2 * ((k % 2 == 0 ? 1.0 : -1.0) / float(2 * k + 1) + sum);
+    return z * sum;
 }
 
-// Average of max(0, cos theta) over the cell's cap: exact also for caps straddling the horizon
-// (the "cap" diffuse mode; the paper's centre sample is max(0, cos theta_c)). Caps wider than a
-// hemisphere are the whole sphere (integral pi) minus the opposite cap.
+// acos through atan: llvmpipe's acos is off by ~5e-5, its atan is not.
+float precise_acos(float x) {
+    x = clamp(x, -1.0, 1.0);
+    return atan(sqrt(max((1.0 - x) * (1.0 + x), 0.0)), x);
+}
+
+// Average of max(0, cos theta) over the cell's cap whose centre makes cos theta_c = t with the
+// normal, exact also for caps straddling the horizon (the "cap" diffuse mode; the paper's centre
+// sample is max(0, cos theta_c)). The same closed form as engine/env/brdf.cpp (see the derivation
+// there): with R = cos r, rho^2 = 1 - R^2, s = sin theta_c, q = sqrt(s^2 - R^2) (0 when the cap
+// is wholly above or below the horizon) and cos phi0 = -R t / (rho s),
+//   integral = rho^2 t phi0 - R q + atan2(q, R),
+// rearranged for R > 1/2 as rho^2 (t phi0 + q / R) + (atan(q / R) - q / R) so small caps on the
+// horizon do not cancel. Caps wider than a hemisphere come out of the same formula.
 float average_clamped_cosine(float cos_theta_c, float cos_r) {
-    float t = 1.0 - cos_r;
-    if (t < 1e-6) return max(cos_theta_c, 0.0);  // a point: the centre sample
-    float integral = cos_r >= 0.0 ? cap_integral_clamped_cosine(cos_theta_c, cos_r)
-                                  : PI - cap_integral_clamped_cosine(-cos_theta_c, -cos_r);
-    return max(integral, 0.0) / (2.0 * PI * t);
+    float t = clamp(cos_theta_c, -1.0, 1.0), r = clamp(cos_r, -1.0, 1.0);
+    float one_minus_r = 1.0 - r;
+    if (one_minus_r <= 0.0) return max(t, 0.0);  // a point cap: the centre sample
+    float rho2 = one_minus_r * (1.0 + r);
+    float s = sqrt(max(1.0 - t * t, 0.0));
+    float s_minus_r = one_minus_r - t * t / (1.0 + s);  // s - R without cancellation
+    float q = sqrt(max(s_minus_r * (s + r), 0.0));
+    float phi0 = precise_acos(-r * t / max(sqrt(rho2) * s, 1e-30));
+    float integral;
+    if (r > 0.5) {
+        integral = rho2 * (t * phi0 + q / r) + atan_minus_identity(q / r);
+    } else {
+        float beta0 = atan(q, r);
+        integral = rho2 * t * phi0 - r * q + beta0;
+    }
+    return max(integral, 0.0) / (2.0 * PI * one_minus_r);
 }
