@@ -172,6 +172,47 @@ TEST_P(RendererTest, BlendedSpecularRemovesTheOverBrightPeakOfTheSingleSample) {
     EXPECT_NEAR(peak(single), k_s, 0.05f * k_s);
 }
 
+// A cap-shaped cell of uniform radiance straddling the horizon of a white plane: the "cap" diffuse mode
+// is the exact reflected radiance (integrated here by quadrature over the cap), the paper's centre
+// sample misses most of it.
+TEST_P(RendererTest, CapDiffuseIsExactForACapStraddlingTheHorizon) {
+    const float r = 0.5f, cos_r = std::cos(r);
+    const glm::vec3 centre = glm::normalize(glm::vec3(1.0f, 0.1f, 0.0f));  // 5.7 degrees above the horizon
+    // (1/pi) * integral over the cap of max(0, n.w) dw, n = +Y, in the cap's frame (psi from the centre).
+    const glm::vec3 e1 = glm::normalize(glm::cross(centre, glm::vec3(0, 0, 1))), e2 = glm::cross(centre, e1);
+    double integral = 0.0;
+    const int steps = 600;
+    for (int i = 0; i < steps; ++i)
+        for (int j = 0; j < steps; ++j) {
+            const double cos_psi = 1.0 - (1.0 - cos_r) * (i + 0.5) / steps, sin_psi = std::sqrt(1.0 - cos_psi * cos_psi);
+            const double phi = 2.0 * std::numbers::pi * (j + 0.5) / steps;
+            const glm::dvec3 w = cos_psi * glm::dvec3(centre) + sin_psi * (std::cos(phi) * glm::dvec3(e1) + std::sin(phi) * glm::dvec3(e2));
+            integral += std::max(0.0, w.y);
+        }
+    const double solid_angle = 2.0 * std::numbers::pi * (1.0 - cos_r);
+    const double exact = integral * solid_angle / double(steps * steps) / std::numbers::pi;
+
+    Cell cell;
+    cell.direction = centre;
+    cell.radiance = glm::vec3(float(solid_angle));  // radiance 1 over the cap
+    cell.solid_angle = float(solid_angle);
+    cell.cos_radius = cell.cos_radius_weighted = cos_r;
+    Scene scene;
+    scene.objects.push_back(make_object(interim::plane(4.0f), glm::vec3(0.0f), diffuse(1.0f), false));
+    const CameraView view = look_at({0.0f, 3.0f, 0.5f}, glm::vec3(0.0f), 64, 64);
+    auto centre_pixel = [&](render::DiffuseMode mode) {
+        RenderSettings settings;
+        settings.diffuse = mode;
+        Renderer renderer(settings);
+        renderer.set_scene(scene);
+        renderer.set_lights({cell});
+        renderer.render(0.0, view);
+        return renderer.read_back().at(32, 32).g;
+    };
+    EXPECT_NEAR(centre_pixel(render::DiffuseMode::cap), exact, 0.01 * exact);
+    EXPECT_LT(centre_pixel(render::DiffuseMode::center), 0.8 * exact);
+}
+
 // The three ways of drawing the atlas draw the same depth maps.
 TEST_P(RendererTest, AtlasModesRenderTheSameImage) {
     Scene scene;
