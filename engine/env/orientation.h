@@ -15,7 +15,9 @@ inline glm::mat3 world_from_map(float rotation_degrees) {
 }
 
 // The inverse: a world direction to the map's (for looking up the map).
-inline glm::mat3 map_from_world(float rotation_degrees) { return glm::transpose(world_from_map(rotation_degrees)); }
+inline glm::mat3 map_from_world(float rotation_degrees) {
+    return glm::transpose(world_from_map(rotation_degrees));
+}
 
 inline glm::vec3 world_direction_from_map(const glm::vec3& map_direction, float rotation_degrees) {
     return world_from_map(rotation_degrees) * map_direction;

@@ -1,8 +1,7 @@
 #include "render/gpu_mesh.h"
 
-#include <limits>
-
 #include <glm/common.hpp>
+#include <limits>
 
 namespace envshadow::render {
 
@@ -37,7 +36,9 @@ GpuMesh::GpuMesh(const Mesh& mesh) {
     }
 }
 
-void GpuMesh::draw() const { glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr); }
+void GpuMesh::draw() const {
+    glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
+}
 
 void GpuMesh::draw_instanced(int count) const {
     glDrawElementsInstanced(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr, count);

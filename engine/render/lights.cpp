@@ -7,8 +7,7 @@
 
 namespace envshadow::render {
 
-LightSelection select_lights(std::span<const Cell> cells, const glm::mat3& world_from_map, bool has_ground,
-                             bool skip) {
+LightSelection select_lights(std::span<const Cell> cells, const glm::mat3& world_from_map, bool has_ground, bool skip) {
     LightSelection selection;
     std::vector<WorldLight> lights;
     lights.reserve(cells.size());

@@ -1,13 +1,12 @@
 #pragma once
 // Cells of the environment become the renderer's directional lights: rotated into the world, the
 // ones that cannot change the image dropped, and packed for the GPU. Plain C++, no GL.
-#include <span>
-#include <vector>
-
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <span>
+#include <vector>
 
 #include "env/cells.h"
 
@@ -49,7 +48,6 @@ inline constexpr double kNegligibleShare = 1e-6;
 //    kNegligibleShare of the total luminance (zero-radiance cells always). A pixel changes by at
 //    most that share of what the unshadowed environment would give it (times the ratio of the
 //    material's peak reflectivity to its mean), far under half-float precision and PNG quantisation.
-LightSelection select_lights(std::span<const Cell> cells, const glm::mat3& world_from_map, bool has_ground,
-                             bool skip);
+LightSelection select_lights(std::span<const Cell> cells, const glm::mat3& world_from_map, bool has_ground, bool skip);
 
 }  // namespace envshadow::render

@@ -28,32 +28,48 @@ std::string_view name_of(const std::array<std::pair<Enum, std::string_view>, N>&
     return "?";
 }
 
-constexpr std::array<std::pair<AtlasMode, std::string_view>, 3> kAtlasModes{{
-    {AtlasMode::clip_distances, "clip-distances"},
-    {AtlasMode::viewport_array, "viewport-array"},
-    {AtlasMode::per_tile, "per-tile"}}};
-constexpr std::array<std::pair<PcfKernel, std::string_view>, 2> kPcfKernels{{
-    {PcfKernel::hardware_2x2, "2x2"}, {PcfKernel::wide, "wide"}}};
-constexpr std::array<std::pair<SpecularMode, std::string_view>, 2> kSpecularModes{{
-    {SpecularMode::blended, "blended"}, {SpecularMode::single, "single"}}};
-constexpr std::array<std::pair<CapKind, std::string_view>, 2> kCapKinds{{
-    {CapKind::solid_angle, "solid-angle"}, {CapKind::weighted, "weighted"}}};
-constexpr std::array<std::pair<DiffuseMode, std::string_view>, 2> kDiffuseModes{{
-    {DiffuseMode::center, "center"}, {DiffuseMode::cap, "cap"}}};
+constexpr std::array<std::pair<AtlasMode, std::string_view>, 3> kAtlasModes{
+    {{AtlasMode::clip_distances, "clip-distances"},
+     {AtlasMode::viewport_array, "viewport-array"},
+     {AtlasMode::per_tile, "per-tile"}}};
+constexpr std::array<std::pair<PcfKernel, std::string_view>, 2> kPcfKernels{
+    {{PcfKernel::hardware_2x2, "2x2"}, {PcfKernel::wide, "wide"}}};
+constexpr std::array<std::pair<SpecularMode, std::string_view>, 2> kSpecularModes{
+    {{SpecularMode::blended, "blended"}, {SpecularMode::single, "single"}}};
+constexpr std::array<std::pair<CapKind, std::string_view>, 2> kCapKinds{
+    {{CapKind::solid_angle, "solid-angle"}, {CapKind::weighted, "weighted"}}};
+constexpr std::array<std::pair<DiffuseMode, std::string_view>, 2> kDiffuseModes{
+    {{DiffuseMode::center, "center"}, {DiffuseMode::cap, "cap"}}};
 }  // namespace
 
-std::string_view to_string(AtlasMode mode) { return name_of(kAtlasModes, mode); }
-std::string_view to_string(PcfKernel kernel) { return name_of(kPcfKernels, kernel); }
-std::string_view to_string(SpecularMode mode) { return name_of(kSpecularModes, mode); }
-std::string_view to_string(CapKind kind) { return name_of(kCapKinds, kind); }
-std::string_view to_string(DiffuseMode mode) { return name_of(kDiffuseModes, mode); }
+std::string_view to_string(AtlasMode mode) {
+    return name_of(kAtlasModes, mode);
+}
+std::string_view to_string(PcfKernel kernel) {
+    return name_of(kPcfKernels, kernel);
+}
+std::string_view to_string(SpecularMode mode) {
+    return name_of(kSpecularModes, mode);
+}
+std::string_view to_string(CapKind kind) {
+    return name_of(kCapKinds, kind);
+}
+std::string_view to_string(DiffuseMode mode) {
+    return name_of(kDiffuseModes, mode);
+}
 
-AtlasMode parse_atlas_mode(std::string_view name, std::string_view option) { return parse(kAtlasModes, name, option); }
-PcfKernel parse_pcf_kernel(std::string_view name, std::string_view option) { return parse(kPcfKernels, name, option); }
+AtlasMode parse_atlas_mode(std::string_view name, std::string_view option) {
+    return parse(kAtlasModes, name, option);
+}
+PcfKernel parse_pcf_kernel(std::string_view name, std::string_view option) {
+    return parse(kPcfKernels, name, option);
+}
 SpecularMode parse_specular_mode(std::string_view name, std::string_view option) {
     return parse(kSpecularModes, name, option);
 }
-CapKind parse_cap_kind(std::string_view name, std::string_view option) { return parse(kCapKinds, name, option); }
+CapKind parse_cap_kind(std::string_view name, std::string_view option) {
+    return parse(kCapKinds, name, option);
+}
 DiffuseMode parse_diffuse_mode(std::string_view name, std::string_view option) {
     return parse(kDiffuseModes, name, option);
 }

@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
-#include <string>
-
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/matrix.hpp>
+#include <map>
+#include <string>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -105,8 +104,8 @@ void Renderer::build_programs() {
     if (settings_.diffuse == DiffuseMode::cap) shade_defines.push_back("DIFFUSE_CAP");
     if (settings_.specular == SpecularMode::single) shade_defines.push_back("SPECULAR_SINGLE");
     if (settings_.pcf == PcfKernel::wide) shade_defines.push_back("PCF_WIDE");
-    shade_program_ = library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}},
-                                    shade_defines);
+    shade_program_ =
+        library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
     if (!background_program_)
         background_program_ =
             library_.build({{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
@@ -327,7 +326,8 @@ void Renderer::draw_background(const CameraView& view) {
     if (!settings_.background || !environment_) return;
     gl::ScopedPass pass(&timer_, "background");
     // Directions only: the view's rotation, not its translation.
-    const glm::mat4 direction_from_clip = glm::inverse(view.clip_from_view * glm::mat4(glm::mat3(view.view_from_world)));
+    const glm::mat4 direction_from_clip =
+        glm::inverse(view.clip_from_view * glm::mat4(glm::mat3(view.view_from_world)));
     const glm::mat3 map_from_world_matrix = map_from_world(rotation_degrees_);
     const GLuint program = background_program_.id();
     background_program_.use();
@@ -384,6 +384,8 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     return stats;
 }
 
-Image Renderer::read_back() const { return gl::read_color(target_, color_.width(), color_.height()); }
+Image Renderer::read_back() const {
+    return gl::read_color(target_, color_.width(), color_.height());
+}
 
 }  // namespace envshadow::render

@@ -13,12 +13,11 @@
 //
 // render() allocates nothing per frame unless the image size, light count or settings changed.
 #include <cstddef>
-#include <memory>
-#include <vector>
-
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
+#include <memory>
+#include <vector>
 
 #include "core/image.h"
 #include "env/cells.h"

@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-
 #include <glm/geometric.hpp>
+#include <limits>
 
 #include "core/error.h"
 
@@ -18,8 +17,7 @@ AtlasLayout plan_atlas(int tiles, int tile_size, int max_texture_size) {
     while (layout.columns * layout.columns < layout.tile_count) layout.columns *= 2;
     layout.rows = (layout.tile_count + layout.columns - 1) / layout.columns;
     layout.tile_size = tile_size;
-    while (layout.tile_size > kMinTileSize &&
-           (layout.width() > max_texture_size || layout.height() > max_texture_size))
+    while (layout.tile_size > kMinTileSize && (layout.width() > max_texture_size || layout.height() > max_texture_size))
         layout.tile_size = std::max(kMinTileSize, layout.tile_size / 2);
     if (layout.width() > max_texture_size || layout.height() > max_texture_size)
         throw PlatformError("shadow atlas of " + std::to_string(layout.tile_count) + " tiles of " +

@@ -2,11 +2,10 @@
 // Where each cell's depth map lives in the shadow atlas, and the orthographic projection that fills
 // it (DESIGN.md §5). Plain C++, no GL: tested headless.
 #include <cstddef>
-#include <span>
-#include <string>
-
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
+#include <span>
+#include <string>
 
 namespace envshadow::render {
 
@@ -21,7 +20,9 @@ struct AtlasLayout {
 
     int width() const { return columns * tile_size; }
     int height() const { return rows * tile_size; }
-    std::size_t bytes(int depth_bits) const { return std::size_t(width()) * std::size_t(height()) * std::size_t(depth_bits / 8); }
+    std::size_t bytes(int depth_bits) const {
+        return std::size_t(width()) * std::size_t(height()) * std::size_t(depth_bits / 8);
+    }
 };
 
 inline constexpr int kMinTileSize = 128;

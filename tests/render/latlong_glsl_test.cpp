@@ -1,10 +1,9 @@
 // glsl/cells.glsl's lat-long functions agree with engine/env/latlong.h, the one written convention.
 #include <cmath>
-#include <random>
-#include <vector>
-
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
+#include <random>
+#include <vector>
 
 #include "env/latlong.h"
 #include "gl/objects.h"
@@ -73,7 +72,8 @@ TEST_P(LatLongGlslTest, DirectionAndUvMatchLatlongH) {
     for (unsigned i = 0; i < count; ++i) {
         const glm::vec2 uv(inputs[2 * i]);
         const glm::dvec3 expected_direction = latlong::direction(uv.x, uv.y);
-        EXPECT_LT(glm::length(glm::dvec3(glm::vec3(outputs[2 * i])) - expected_direction), 1e-5) << "uv " << uv.x << " " << uv.y;
+        EXPECT_LT(glm::length(glm::dvec3(glm::vec3(outputs[2 * i])) - expected_direction), 1e-5)
+            << "uv " << uv.x << " " << uv.y;
         const glm::dvec3 d(glm::vec3(inputs[2 * i + 1]));
         const glm::dvec2 expected_uv = latlong::uv(glm::normalize(d));
         const glm::vec2 got(outputs[2 * i + 1]);

@@ -1,11 +1,12 @@
 // Cells to world lights: the rotation and which lights may be skipped.
-#include <vector>
+#include "render/lights.h"
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+#include <vector>
+
 #include "env/orientation.h"
-#include "render/lights.h"
 
 namespace envshadow::render {
 namespace {

@@ -1,13 +1,14 @@
 // The shadow atlas's tiling and the per-light orthographic fit, without GL.
-#include <array>
-#include <cmath>
-#include <vector>
+#include "render/shadow_atlas_layout.h"
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <vector>
+
 #include "core/error.h"
-#include "render/shadow_atlas_layout.h"
 
 namespace envshadow::render {
 namespace {
