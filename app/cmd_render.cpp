@@ -103,11 +103,11 @@ int run_render(const RenderOptions& o) {
             if (!image) image = renderer.read_back();  // the first mode's first frame
         }
 
-    std::printf("scene %s, %dx%d, %s on %s\n", o.scene.c_str(), o.width, o.height, std::string(gl::to_string(context->backend())).c_str(),
-                context->renderer().c_str());
-    std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n", std::string(to_string(decomposition.method)).c_str(),
-                decomposition.cells.size(), decomposition.width, decomposition.height, map.source.c_str(),
-                decomposition.seconds);
+    std::printf("scene %s, %dx%d, %s on %s\n", o.scene.c_str(), o.width, o.height,
+                std::string(gl::to_string(context->backend())).c_str(), context->renderer().c_str());
+    std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n",
+                std::string(to_string(decomposition.method)).c_str(), decomposition.cells.size(), decomposition.width,
+                decomposition.height, map.source.c_str(), decomposition.seconds);
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
@@ -132,6 +132,10 @@ int run_render(const RenderOptions& o) {
         std::printf("wrote %s\n", o.exr.c_str());
     }
     if (!o.out.empty()) {
+        // The PNG is for looking at: opaque where the environment was drawn behind the objects (the
+        // EXR keeps alpha as the object mask).
+        if (!o.no_background)
+            for (glm::vec4& pixel : image->pixels) pixel.a = 1.0f;
         write_png(o.out, tonemap_to_srgb8(*image, scene.environment.exposure_stops));
         std::printf("wrote %s\n", o.out.c_str());
     }
@@ -167,7 +171,8 @@ Command add_render_command(CLI::App& parent) {
     app->add_flag("--per-tile-atlas", o->per_tile_atlas, "Draw the shadow atlas one tile at a time (baseline)");
     app->add_option("--atlas", o->atlas, "clip-distances, viewport-array, per-tile, or all (times each, interleaved)")
         ->check(CLI::IsMember({"clip-distances", "viewport-array", "per-tile", "all"}));
-    app->add_option("--frames", o->frames, "Frames to render; GPU times are their medians")->check(CLI::Range(1, 10000));
+    app->add_option("--frames", o->frames, "Frames to render; GPU times are their medians")
+        ->check(CLI::Range(1, 10000));
     app->add_flag("--no-background", o->no_background, "Leave the background transparent black");
     return {app, [o] { return run_render(*o); }};
 }
