@@ -124,9 +124,12 @@ void Renderer::set_settings(const RenderSettings& settings) {
 void Renderer::set_scene(const Scene& scene) {
     meshes_.clear();
     instances_.clear();
+    instance_of_object_.clear();
     std::map<const Mesh*, const GpuMesh*> uploaded;
     for (const Object& object : scene.objects) {
+        instance_of_object_.push_back(-1);
         if (!object.mesh || object.mesh->indices.empty()) continue;
+        instance_of_object_.back() = int(instances_.size());
         auto [it, added] = uploaded.emplace(object.mesh.get(), nullptr);
         if (added) {
             meshes_.push_back(std::make_unique<GpuMesh>(*object.mesh));
@@ -141,6 +144,11 @@ void Renderer::set_scene(const Scene& scene) {
     has_ground_ = scene.has_ground;
     rotation_degrees_ = scene.environment.rotation_degrees;
     select_lights();
+}
+
+void Renderer::set_material(std::size_t object, const Material& material) {
+    if (object < instance_of_object_.size() && instance_of_object_[object] >= 0)
+        instances_[std::size_t(instance_of_object_[object])].object.material = material;
 }
 
 void Renderer::set_environment(const EnvironmentMap& map) {

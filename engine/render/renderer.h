@@ -68,6 +68,8 @@ public:
     // Uploads the meshes (each shared mesh once) and keeps the objects (materials, transforms,
     // animation) and the environment's rotation. The scene may be destroyed afterwards.
     void set_scene(const Scene& scene);
+    // Changes the material of scene.objects[object] (as given to set_scene) without re-uploading.
+    void set_material(std::size_t object, const Material& material);
     // The lat-long map drawn behind the objects.
     void set_environment(const EnvironmentMap& map);
     // Rotation of the map about +Y (env/orientation.h); set_scene sets the scene's.
@@ -116,6 +118,7 @@ private:
 
     std::vector<std::unique_ptr<GpuMesh>> meshes_;
     std::vector<Instance> instances_;
+    std::vector<int> instance_of_object_;  // index into instances_ per scene object; -1: no triangles
     bool has_ground_ = false;
     float rotation_degrees_ = 0.0f;
 
