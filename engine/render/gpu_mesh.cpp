@@ -1,7 +1,8 @@
 #include "render/gpu_mesh.h"
 
-#include <glm/common.hpp>
 #include <limits>
+
+#include <glm/common.hpp>
 
 namespace envshadow::render {
 

@@ -1,12 +1,13 @@
 #pragma once
 // Cells of the environment become the renderer's directional lights: rotated into the world, the
 // ones that cannot change the image dropped, and packed for the GPU. Plain C++, no GL.
+#include <span>
+#include <vector>
+
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
-#include <span>
-#include <vector>
 
 #include "env/cells.h"
 

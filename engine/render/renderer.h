@@ -11,13 +11,15 @@
 //   FrameStats stats = renderer.render(time, camera_view(scene.camera, width, height));
 //   Image linear = renderer.read_back();
 //
-// render() allocates nothing per frame unless the image size, light count or settings changed.
+// render() creates no GL objects and reuses its buffers from frame to frame; only a change of image
+// size, light count or settings reallocates (the returned pass-time list is the one per-frame vector).
 #include <cstddef>
+#include <memory>
+#include <vector>
+
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
-#include <memory>
-#include <vector>
 
 #include "core/image.h"
 #include "env/cells.h"

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <glm/geometric.hpp>
 #include <limits>
+
+#include <glm/geometric.hpp>
 
 #include "core/error.h"
 

@@ -2,10 +2,11 @@
 // Where each cell's depth map lives in the shadow atlas, and the orthographic projection that fills
 // it (DESIGN.md §5). Plain C++, no GL: tested headless.
 #include <cstddef>
-#include <glm/mat4x4.hpp>
-#include <glm/vec3.hpp>
 #include <span>
 #include <string>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
 
 namespace envshadow::render {
 

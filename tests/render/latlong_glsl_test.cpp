@@ -1,9 +1,10 @@
 // glsl/cells.glsl's lat-long functions agree with engine/env/latlong.h, the one written convention.
 #include <cmath>
-#include <glm/geometric.hpp>
-#include <glm/vec4.hpp>
 #include <random>
 #include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
 #include "env/latlong.h"
 #include "gl/objects.h"

@@ -1,12 +1,11 @@
 // Cells to world lights: the rotation and which lights may be skipped.
-#include "render/lights.h"
-
-#include <gtest/gtest.h>
-
-#include <glm/geometric.hpp>
 #include <vector>
 
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
 #include "env/orientation.h"
+#include "render/lights.h"
 
 namespace envshadow::render {
 namespace {

@@ -1,9 +1,8 @@
 // Option names and range checks of the renderer's settings.
-#include "render/render_settings.h"
-
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "render/render_settings.h"
 
 namespace envshadow::render {
 namespace {

@@ -1,14 +1,13 @@
 // The shadow atlas's tiling and the per-light orthographic fit, without GL.
-#include "render/shadow_atlas_layout.h"
-
-#include <gtest/gtest.h>
-
 #include <array>
 #include <cmath>
-#include <glm/geometric.hpp>
 #include <vector>
 
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
 #include "core/error.h"
+#include "render/shadow_atlas_layout.h"
 
 namespace envshadow::render {
 namespace {
