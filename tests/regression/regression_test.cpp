@@ -70,6 +70,9 @@ struct Case {
     std::string backend;
 };
 
+// Keeps ctest's test names readable (gtest would print the struct's bytes).
+void PrintTo(const Case& c, std::ostream* out) { *out << c.scene << "/" << c.backend; }
+
 class Regression : public ::testing::TestWithParam<Case> {};
 
 TEST_P(Regression, MatchesGolden) {
@@ -90,7 +93,7 @@ std::vector<Case> all_cases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Regression, ::testing::ValuesIn(all_cases()),
-                         [](const ::testing::TestParamInfo<Case>& info) { return info.param.scene + "_" + info.param.backend; });
+                         [](const ::testing::TestParamInfo<Case>& p) { return p.param.scene + "_" + p.param.backend; });
 
 TEST(RegressionSuite, CoversEveryScene) {
     ASSERT_FALSE(scene_names().empty());
