@@ -26,7 +26,8 @@ constexpr double kPi = std::numbers::pi;
 constexpr int kPilotRounds = 8;      // rounds that only plan how many rounds a pixel needs
 constexpr int kMinRounds = 16;       // the reported standard error has at least 15 degrees of freedom
 constexpr double kPlanMargin = 1.5;  // rounds planned for 1.5x the pilot's variance
-constexpr int kGrid = 6;             // per round, 6 x 6 jittered samples of each strategy in use
+constexpr int kGrid = 6;             // per pilot round, 6 x 6 jittered samples of each strategy in use
+constexpr int kLargestGrid = 24;     // rounds of hard pixels use up to 24 x 24 (stratification pays more)
 
 // xoshiro256** seeded through splitmix64: independent streams per pixel, whatever the thread order.
 class Random {
@@ -74,10 +75,16 @@ struct SurfacePoint {
     double offset = 0.0;  // shadow rays start this far off the triangle, on the side they leave towards
 };
 
-// Sample counts of the three strategies per round (DESIGN.md §2's lobes, the map's light).
+// Sample counts of the strategies per round: the map's light (EnvironmentSampler), the cosine lobe and
+// the Phong lobe (DESIGN.md §2's two terms).
 struct Allocation {
-    int environment = 0, cosine = 0, phong = 0;
-    int total() const { return environment + cosine + phong; }
+    int grid = kGrid;  // each strategy in use draws grid x grid jittered samples
+    int light = 0, cosine = 0, phong = 0;
+    int total() const { return light + cosine + phong; }
+    Allocation with_grid(int g) const {
+        const auto scale = [&](int count) { return count ? g * g : 0; };
+        return {g, scale(light), scale(cosine), scale(phong)};
+    }
 };
 
 class PixelIntegrator {
@@ -85,12 +92,12 @@ public:
     PixelIntegrator(const Scene& scene, const EnvironmentSampler& environment, const RayTracer& tracer)
         : scene_(scene), environment_(environment), tracer_(tracer) {}
 
-    enum class Strategy { environment, cosine, phong };
+    enum class Strategy { light, cosine, phong };
 
     // One sample's share of the estimate of L = integral of L_env (k_d cos theta' + k_s cos^n psi) V dw over
     // cos theta' > 0. The two terms are estimated apart, each by multiple importance sampling (the power
-    // heuristic, Veach 1997, beta = 2) over the strategies that suit it: the diffuse term by the map and the
-    // cosine lobe, the specular term by the map and the Phong lobe; a sample adds
+    // heuristic, Veach 1997, beta = 2) over the strategies that suit it: the diffuse term by the map's light
+    // and the cosine lobe, the specular term by the map's light and the Phong lobe; a sample adds
     //   f_term w_s / (N_s p_s),  w_s = (N_s p_s)^2 / sum over the term's strategies k of (N_k p_k)^2,
     // and one shadow ray serves both terms.
     glm::dvec3 contribution(const SurfacePoint& s, const Allocation& a, Strategy strategy, const glm::dvec3& w,
@@ -101,26 +108,16 @@ public:
         if (scene_.has_ground && w.y < 0.0) return glm::dvec3(0.0);
         const double cos_psi = s.k_s > 0.0 ? glm::dot(s.mirror, w) : 0.0;
         const double lobe = cos_psi > 0.0 ? std::pow(cos_psi, s.shininess) : 0.0;
-        double environment_pdf = 0.0;
-        const glm::dvec3 radiance = environment_.radiance_and_pdf(w, environment_pdf);
-        const double light = a.environment * environment_pdf;
+        double light_pdf = 0.0;
+        const glm::dvec3 radiance = environment_.radiance_and_pdf(w, light_pdf);
+        const double light = a.light * light_pdf;
         const double cosine = a.cosine * cos_theta / kPi;
         const double phong = a.phong * (s.shininess + 1.0) / (2.0 * kPi) * lobe;
-        double diffuse_weight = 0.0, specular_weight = 0.0;  // w_s / (N_s p_s) of each term
-        switch (strategy) {
-            case Strategy::environment:
-                if (light > 0.0) {
-                    diffuse_weight = light / (light * light + cosine * cosine);
-                    specular_weight = light / (light * light + phong * phong);
-                }
-                break;
-            case Strategy::cosine:
-                if (cosine > 0.0) diffuse_weight = cosine / (light * light + cosine * cosine);
-                break;
-            case Strategy::phong:
-                if (phong > 0.0) specular_weight = phong / (light * light + phong * phong);
-                break;
-        }
+        const double own = strategy == Strategy::light ? light : strategy == Strategy::cosine ? cosine : phong;
+        if (!(own > 0.0)) return glm::dvec3(0.0);
+        // w_s / (N_s p_s) for each term; a lobe's samples serve only their own term.
+        const double diffuse_weight = strategy == Strategy::phong ? 0.0 : own / (light * light + cosine * cosine);
+        const double specular_weight = strategy == Strategy::cosine ? 0.0 : own / (light * light + phong * phong);
         const glm::dvec3 weighted = radiance * (s.k_d * (cos_theta * diffuse_weight) + s.k_s * lobe * specular_weight);
         if (weighted.r <= 0.0 && weighted.g <= 0.0 && weighted.b <= 0.0) return glm::dvec3(0.0);
         const double side = glm::dot(s.geometric_normal, w) >= 0.0 ? 1.0 : -1.0;
@@ -130,17 +127,17 @@ public:
     }
 
     // One round: an unbiased estimate of the pixel's radiance, independent of the other rounds. Each
-    // strategy draws from a jittered kGrid x kGrid grid on the unit square.
+    // strategy draws from a jittered a.grid x a.grid grid on the unit square.
     glm::dvec3 round(const SurfacePoint& s, const Allocation& a, Random& random, long long& rays) const {
         glm::dvec3 sum(0.0);
         const auto jittered = [&](int k, double& xi1, double& xi2) {
-            xi1 = (k % kGrid + random.uniform()) / kGrid;
-            xi2 = (k / kGrid + random.uniform()) / kGrid;
+            xi1 = (k % a.grid + random.uniform()) / a.grid;
+            xi2 = (k / a.grid + random.uniform()) / a.grid;
         };
         double xi1, xi2;
-        for (int k = 0; k < a.environment; ++k) {
+        for (int k = 0; k < a.light; ++k) {
             jittered(k, xi1, xi2);
-            sum += contribution(s, a, Strategy::environment, environment_.sample(xi1, xi2).direction, rays);
+            sum += contribution(s, a, Strategy::light, environment_.sample(xi1, xi2).direction, rays);
         }
         for (int k = 0; k < a.cosine; ++k) {  // cosine-weighted about the normal (Malley)
             jittered(k, xi1, xi2);
@@ -243,7 +240,7 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                 s.offset = 1e-5 * (tracer.extent() + glm::length(s.position));
 
                 Allocation allocation;
-                allocation.environment = environment.can_sample() ? kGrid * kGrid : 0;
+                allocation.light = environment.can_sample() ? kGrid * kGrid : 0;
                 allocation.cosine = (s.k_d.r > 0.0 || s.k_d.g > 0.0 || s.k_d.b > 0.0) ? kGrid * kGrid : 0;
                 allocation.phong = s.k_s > 0.0 ? kGrid * kGrid : 0;
                 if (environment.luminance_integral() <= 0.0 || allocation.cosine + allocation.phong == 0) {
@@ -253,27 +250,43 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
 
                 Random random(options.seed * 0x9e3779b97f4a7c15ull + std::uint64_t(y) * std::uint64_t(width) +
                               std::uint64_t(x));
-                // A pilot plans the number of rounds; fresh rounds, independent of that decision, give
-                // the value and its error (stopping on the same rounds that are reported would favour
-                // runs whose spread happened to look small).
+                // A pilot plans the rounds; fresh rounds, independent of that decision, give the value and
+                // its error (stopping on the rounds that are reported would favour runs whose spread happened
+                // to look small). A pixel that needs many rounds takes larger ones (grid 12 or 24): a finer
+                // stratification cuts the variance per sample where edges and shadows make it high; a second
+                // pilot at that size plans them.
                 const double target = options.target_error;
-                const long long round_cap = std::max<long long>(kMinRounds, options.max_samples / allocation.total());
-                RoundStatistics pilot;
-                for (int k = 0; k < kPilotRounds; ++k) pilot.add(integrator.round(s, allocation, random, rays));
+                long long samples = 0;
+                const auto run = [&](const Allocation& a, long long count, RoundStatistics& into) {
+                    for (long long k = 0; k < count; ++k) into.add(integrator.round(s, a, random, rays));
+                    samples += count * a.total();
+                };
                 // Rounds for every channel's standard error to reach target * max(value, dark floor).
-                const auto rounds_for = [&](const RoundStatistics& r) {
+                const auto rounds_for = [&](const RoundStatistics& r, const Allocation& a) {
+                    const long long cap = std::max<long long>(kMinRounds, options.max_samples / a.total());
                     const glm::dvec3 goal = target * glm::max(r.mean(), glm::dvec3(dark_floor));
                     const glm::dvec3 rounds = kPlanMargin * r.variance() / (goal * goal);
                     const double most = std::max({rounds.r, rounds.g, rounds.b});
-                    return most < double(round_cap) ? (long long)std::ceil(most) : round_cap;
+                    return most < double(cap) ? std::max<long long>(kMinRounds, (long long)std::ceil(most)) : cap;
                 };
+                RoundStatistics pilot;
+                run(allocation, kPilotRounds, pilot);
+                long long planned = rounds_for(pilot, allocation);
+                // At least as good as independent samples, a round g times finer needs at most 1/g^2 the rounds.
+                int grid = kGrid;
+                while (grid < kLargestGrid &&
+                       double(planned) * double(kGrid * kGrid) / double(4 * grid * grid) >= kMinRounds)
+                    grid *= 2;
+                if (grid != kGrid) {
+                    allocation = allocation.with_grid(grid);
+                    RoundStatistics second_pilot;
+                    run(allocation, kPilotRounds, second_pilot);
+                    planned = rounds_for(second_pilot, allocation);
+                }
                 RoundStatistics rounds;
-                const long long planned = std::max<long long>(kMinRounds, rounds_for(pilot));
-                for (long long k = 0; k < planned; ++k) rounds.add(integrator.round(s, allocation, random, rays));
+                run(allocation, planned, rounds);
                 // The pilot misjudged (its variance is a 7-degree-of-freedom estimate): one top-up.
-                const long long needed = rounds_for(rounds);
-                for (long long k = rounds.count(); k < needed; ++k)
-                    rounds.add(integrator.round(s, allocation, random, rays));
+                run(allocation, std::max<long long>(0, rounds_for(rounds, allocation) - rounds.count()), rounds);
 
                 out.value = rounds.mean();
                 // The rounds' spread cannot show what no sample met (a small occluder all samples passed by):
@@ -281,7 +294,7 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                 const glm::dvec3 resolution = out.value / double(rounds.count() * allocation.total());
                 out.standard_error =
                     glm::sqrt(rounds.standard_error() * rounds.standard_error() + resolution * resolution);
-                out.samples = (kPilotRounds + rounds.count()) * allocation.total();
+                out.samples = samples;
                 out.dark = true;  // unless some channel is above the floor: then its relative error counts
                 for (int c = 0; c < 3; ++c) {
                     if (out.value[c] < dark_floor) continue;

@@ -21,7 +21,7 @@ namespace envshadow::reference {
 struct ReferenceOptions {
     int width = 640, height = 360;
     double time = 0.0;                // seconds, for animated objects
-    long long max_samples = 1 << 16;  // per pixel; a pixel that reaches it stops with whatever error it has
+    long long max_samples = 1 << 18;  // per pixel (roughly); a pixel that reaches it stops with the error it has
     double target_error = 0.0025;     // relative standard error at which a pixel stops (half the 0.5% promise,
                                       // so that the noise of the error estimate itself cannot break it)
     std::uint64_t seed = 1;

@@ -76,44 +76,50 @@ TEST(EnvironmentSampler, FilteredLookupIsBilinearBetweenTexelCentres) {
                 1e-3);
 }
 
-// Sums over the map, made here: integral of lum dw, and of max(0, lum - mean) dw.
-struct MapSums {
-    double luminance = 0.0, excess = 0.0, mean = 0.0;
-};
-MapSums sums(const EnvironmentMap& map) {
-    MapSums result;
+// The sampled weight, written here from its definition: max(0, lum - mean).
+double mean_of(const EnvironmentMap& map) {
+    double integral = 0.0;
     for (int j = 0; j < map.height; ++j)
         for (int i = 0; i < map.width; ++i)
-            result.luminance +=
+            integral +=
                 latlong::luminance(glm::dvec3(map.at(i, j))) * latlong::texel_solid_angle(j, map.width, map.height);
-    result.mean = result.luminance / (4.0 * std::numbers::pi);
+    return integral / (4.0 * std::numbers::pi);
+}
+double excess(const glm::vec3& rgb, double mean) {
+    return std::max(0.0, latlong::luminance(glm::dvec3(rgb)) - mean);
+}
+double excess_integral(const EnvironmentMap& map) {
+    const double mean = mean_of(map);
+    double integral = 0.0;
     for (int j = 0; j < map.height; ++j)
         for (int i = 0; i < map.width; ++i)
-            result.excess += std::max(0.0, latlong::luminance(glm::dvec3(map.at(i, j))) - result.mean) *
-                             latlong::texel_solid_angle(j, map.width, map.height);
-    return result;
+            integral += excess(map.at(i, j), mean) * latlong::texel_solid_angle(j, map.width, map.height);
+    return integral;
 }
 
-TEST(EnvironmentSampler, DensityIsLuminanceAboveTheMeanOverItsIntegral) {
+TEST(EnvironmentSampler, DensityIsTheLightAboveTheMean) {
     const EnvironmentMap map = test_map();
     const EnvironmentSampler sampler(map, 30.0);
-    const MapSums expected = sums(map);
-    EXPECT_NEAR(sampler.luminance_integral(), expected.luminance, 1e-9 * expected.luminance);
-    EXPECT_NEAR(sampler.mean_luminance(), expected.mean, 1e-9 * expected.mean);
+    const double mean = mean_of(map), integral = excess_integral(map);
+    EXPECT_NEAR(sampler.mean_luminance(), mean, 1e-9 * mean);
+    EXPECT_NEAR(sampler.luminance_integral(), 4.0 * std::numbers::pi * mean, 1e-9 * mean);
     std::mt19937_64 random(7);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
     for (int k = 0; k < 2000; ++k) {
         const reference::EnvironmentSample s = sampler.sample(uniform(random), uniform(random));
         EXPECT_NEAR(glm::length(s.direction), 1.0, 1e-12);
-        const double lum = latlong::luminance(sampler.radiance(s.direction));
-        const double density = (lum - expected.mean) / expected.excess;
-        EXPECT_GT(lum, expected.mean);  // only texels brighter than the mean are chosen
+        const double density = excess(glm::vec3(sampler.radiance(s.direction)), mean) / integral;
+        EXPECT_GT(density, 0.0);  // only texels brighter than the mean are chosen
         EXPECT_NEAR(s.pdf, density, 1e-9 * density);
         EXPECT_NEAR(sampler.pdf(s.direction), density, 1e-9 * density);
+        double looked_up = 0.0;
+        EXPECT_EQ(sampler.radiance_and_pdf(s.direction, looked_up), sampler.radiance(s.direction));
+        EXPECT_EQ(looked_up, sampler.pdf(s.direction));
     }
     // Texels at or below the mean have density 0: the dark band and the black patch.
-    EXPECT_EQ(sampler.pdf(latlong::texel_direction(3, 8, map.width, map.height)), 0.0);
-    EXPECT_EQ(sampler.pdf(latlong::texel_direction(11, 12, map.width, map.height)), 0.0);
+    const glm::dmat3 world_from_map = reference::world_from_map(30.0);
+    EXPECT_EQ(sampler.pdf(world_from_map * latlong::texel_direction(3, 8, map.width, map.height)), 0.0);
+    EXPECT_EQ(sampler.pdf(world_from_map * latlong::texel_direction(11, 12, map.width, map.height)), 0.0);
 }
 
 TEST(EnvironmentSampler, EstimatesIntegralsWithoutBias) {
@@ -121,12 +127,12 @@ TEST(EnvironmentSampler, EstimatesIntegralsWithoutBias) {
     // radiance (RGB) and g = 1 (their solid angle), from stratified draws.
     const EnvironmentMap map = test_map();
     const EnvironmentSampler sampler(map, -45.0);
-    const double mean = sums(map).mean;
+    const double mean = mean_of(map);
     glm::dvec3 integral(0.0);
     double bright_solid_angle = 0.0;
     for (int j = 0; j < map.height; ++j) {
         for (int i = 0; i < map.width; ++i) {
-            if (latlong::luminance(glm::dvec3(map.at(i, j))) <= mean) continue;
+            if (excess(map.at(i, j), mean) <= 0.0) continue;
             const double dw = latlong::texel_solid_angle(j, map.width, map.height);
             integral += glm::dvec3(map.at(i, j)) * dw;
             bright_solid_angle += dw;
@@ -143,19 +149,17 @@ TEST(EnvironmentSampler, EstimatesIntegralsWithoutBias) {
         estimate += sampler.radiance(s.direction) / s.pdf / double(count);
         solid_angle += 1.0 / s.pdf / double(count);
     }
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(estimate[c] / integral[c], 1.0, 2e-3) << c;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(estimate[c] / integral[c], 1.0, 3e-3) << c;
     EXPECT_NEAR(solid_angle / bright_solid_angle, 1.0, 2e-2);
     EXPECT_GT(bright_solid_angle, 0.0);
 }
 
 TEST(EnvironmentSampler, StrataFollowTheImportanceOfTheTexels) {
-    // The sun texel holds a known share of the sampled importance; a grid of points lands in it in that share.
+    // The sun texel holds a known share of the sampled weight; a grid of points lands in it in that share.
     const EnvironmentMap map = test_map();
     const EnvironmentSampler sampler(map, 0.0);
-    const MapSums total = sums(map);
-    const double sun = (latlong::luminance(glm::dvec3(map.at(5, 3))) - total.mean) *
-                       latlong::texel_solid_angle(3, map.width, map.height);
-    const double share = sun / total.excess;
+    const double sun = excess(map.at(5, 3), mean_of(map)) * latlong::texel_solid_angle(3, map.width, map.height);
+    const double share = sun / excess_integral(map);
     const int count = 10000;
     int hits = 0;
     for (int k = 0; k < count; ++k) {
@@ -166,7 +170,7 @@ TEST(EnvironmentSampler, StrataFollowTheImportanceOfTheTexels) {
     EXPECT_GT(share, 0.1);
 }
 
-TEST(EnvironmentSampler, BlackOrUniformMapsAreNotSampled) {
+TEST(EnvironmentSampler, BlackOrUniformMapsHaveNothingToSample) {
     EnvironmentMap map;
     map.width = 8;
     map.height = 4;
@@ -176,7 +180,7 @@ TEST(EnvironmentSampler, BlackOrUniformMapsAreNotSampled) {
     EXPECT_EQ(black.pdf(glm::dvec3(0, 1, 0)), 0.0);
     map.texels.assign(32, glm::vec3(3.0f));
     const EnvironmentSampler uniform(map, 0.0);
-    EXPECT_FALSE(uniform.can_sample());  // nothing above the mean: the BRDF's strategies do it all
+    EXPECT_FALSE(uniform.can_sample());  // nothing above the mean, despite rounding: the BRDF's strategies do it all
     EXPECT_NEAR(uniform.mean_luminance(), 3.0, 1e-12);
 }
 

@@ -173,7 +173,8 @@ TEST(Reference, DiscAboveAPlaneShadowsItByTheFormFactor) {
     // factor F = (1 - (h^2 + d^2 - a^2) / sqrt((h^2 + d^2 + a^2)^2 - 4 a^2 d^2)) / 2 of the cosine-weighted
     // hemisphere (d = 0: sin^2 atan(a/h)), so under uniform radiance 1 the plane shows rho_d (1 - F).
     const double a = 1.0, h = 1.0;
-    Scene scene = scene_looking_at({0.0f, 0.5f, 3.5f}, {0.0f, 0.0f, 0.0f}, 50.0f);
+    // From just above the disc's plane: the plane under the disc shows, the disc is seen edge-on from above.
+    Scene scene = scene_looking_at({0.0f, 1.3f, 3.5f}, {0.0f, 0.0f, 0.0f}, 50.0f);
     Material plane_material;
     plane_material.rho_d = glm::vec3(0.9f);
     scene.objects.push_back(object(square(40.0f), glm::mat4(1.0f), plane_material));
@@ -185,7 +186,9 @@ TEST(Reference, DiscAboveAPlaneShadowsItByTheFormFactor) {
     int shadowed = 0;
     const int checked = expect_matches(result, [&](int x, int y) -> std::optional<glm::dvec3> {
         const Ray ray = camera_ray(scene, x, y, options.width, options.height);
-        if (ray.direction.y >= 0.0) return std::nullopt;  // the disc's underside or nothing: not the plane
+        if (ray.direction.y >= 0.0) return std::nullopt;  // the sky
+        const glm::dvec3 on_disc = ray.origin + (h - ray.origin.y) / ray.direction.y * ray.direction;
+        if (on_disc.x * on_disc.x + on_disc.z * on_disc.z < a * a * 1.0001) return std::nullopt;  // the disc
         const glm::dvec3 p = ray.origin - ray.origin.y / ray.direction.y * ray.direction;
         const double d2 = p.x * p.x + p.z * p.z;
         const double form_factor =
