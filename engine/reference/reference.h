@@ -2,12 +2,18 @@
 // Ground truth for the renderer (DESIGN.md §6 `envshadow reference`): per pixel, the full integral
 //   L = integral over the sphere of L_env(w) (k_d cos theta' + k_s cos^n psi) V(x, w) dw   (cos theta' > 0)
 // with the renderer's camera, geometry, shading normals, BRDF (DESIGN.md §2) and environment rotation.
+// The renderer's conventions, held here too: camera rays through pixel centres (row 0 at the top); the
+// interpolated shading normal, turned towards the viewer; the environment alone lights (no
+// interreflection: V = 0 where an object blocks); only objects with casts_shadows block; a scene with a
+// ground plane hides every direction below the horizon (Scene::ground_height: "lights under it see
+// nothing"); the map is constant over each texel (the function the decomposition sums).
 // Monte Carlo with known error: each pixel takes rounds of samples from three strategies (the map's
 // light above its mean, see EnvironmentSampler; the cosine lobe; the Phong lobe; each a jittered grid per
 // round); the diffuse term combines the map's and the cosine's samples, the specular term the map's and
-// the Phong lobe's (power heuristic). Rounds are independent, so their spread gives the standard error. A pilot of
-// 8 rounds plans how many fresh rounds bring every channel's standard error below `target_error` of
-// its value; the value and its error come from those fresh rounds only (one top-up if the plan fell short).
+// the Phong lobe's (power heuristic). Rounds are independent, so their spread gives the standard error.
+// A pilot of 8 rounds plans how many fresh rounds bring every channel's standard error below
+// `target_error` of its value; the value and its error come from those fresh rounds only (one top-up if
+// the plan fell short). Pixels that need many rounds take finer ones (12 x 12, 24 x 24 per strategy).
 // The reported error adds value / N (N samples in those rounds) to the rounds' spread: what no sample met
 // leaves no spread, and a feature of weight 1/N can go unseen.
 #include <cstdint>

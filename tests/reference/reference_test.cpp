@@ -201,6 +201,33 @@ TEST(Reference, DiscAboveAPlaneShadowsItByTheFormFactor) {
     expect_half_percent_errors(result.statistics);
 }
 
+TEST(Reference, GroundHidesTheLowerHemisphereAndNonCastersCastNothing) {
+    // A scene with a ground plane hides every direction below the horizon (Scene::ground_height), even
+    // without a ground mesh: under radiance 1 a white sphere's point of normal n then receives the upper
+    // half of its cosine lobe, (1 + n_y) / 2 (irradiance from a uniform sky on a tilted plane). A disc
+    // above it that casts no shadows changes nothing.
+    Scene scene = scene_looking_at({0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 40.0f);
+    scene.has_ground = true;
+    scene.ground_height = -1.0f;
+    Material white;
+    white.rho_d = glm::vec3(1.0f);
+    scene.objects.push_back(object(sphere(1.0f, 192, 96), glm::mat4(1.0f), white));
+    Object parasol = object(disc(2.0f, 64), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.5f, 0.0f)), white);
+    parasol.casts_shadows = false;
+    scene.objects.push_back(parasol);
+    const ReferenceOptions options = small(48);
+    const ReferenceImage result = reference::render_reference(scene, uniform_map(), options);
+    const int checked = expect_matches(result, [&](int x, int y) -> std::optional<glm::dvec3> {
+        const Ray ray = camera_ray(scene, x, y, options.width, options.height);
+        const double b = glm::dot(ray.origin, ray.direction), c = glm::dot(ray.origin, ray.origin) - 1.0;
+        if (b * b - c <= 0.0) return std::nullopt;  // misses the sphere
+        const glm::dvec3 normal = ray.origin + (-b - std::sqrt(b * b - c)) * ray.direction;
+        if (std::abs(glm::length(normal) - 1.0) > 1e-6) return std::nullopt;
+        return glm::dvec3((1.0 + normal.y) / 2.0);
+    });
+    EXPECT_GT(checked, 400);
+}
+
 TEST(Reference, BackgroundShowsTheRotatedMap) {
     // Radiance 1.5 + cos(2 pi u) per column. Looking along -Z through the centre of a 33 x 33 picture:
     // unrotated, -Z is u = 3/4, between two columns whose average is 1.5; rotated by 90 degrees the map's
