@@ -90,7 +90,7 @@ std::vector<Case> all_cases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Regression, ::testing::ValuesIn(all_cases()),
-                         [](const ::testing::TestParamInfo<Case>& info) { return info.param.scene + "_" + info.param.backend; });
+                         [](const ::testing::TestParamInfo<Case>& p) { return p.param.scene + "_" + p.param.backend; });
 
 TEST(RegressionSuite, CoversEveryScene) {
     ASSERT_FALSE(scene_names().empty());
