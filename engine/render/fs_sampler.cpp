@@ -9,7 +9,7 @@
 namespace envshadow::render {
 
 namespace {
-constexpr int kWorkGroupSize = 64;  // local_size_x of fs_importance.comp and fs_lights.comp
+constexpr int kWorkGroupSize = 64;       // local_size_x of fs_importance.comp and fs_lights.comp
 constexpr int kComponentsPerSample = 1;  // fs_sampler.geom emits one uint per sample
 
 GLint get_integer(GLenum name) {
@@ -19,8 +19,8 @@ GLint get_integer(GLenum name) {
 }
 
 // Texture and buffer binding points, matching the layout qualifiers of the fs_* shaders.
-constexpr GLuint kRowSumsBinding = 0, kCountsBinding = 1;                               // fs_sampler.geom
-constexpr GLuint kSamplesBinding = 0, kLightCountsBinding = 1, kLightsBinding = 2;      // fs_lights.comp
+constexpr GLuint kRowSumsBinding = 0, kCountsBinding = 1;                           // fs_sampler.geom
+constexpr GLuint kSamplesBinding = 0, kLightCountsBinding = 1, kLightsBinding = 2;  // fs_lights.comp
 }  // namespace
 
 int FsGeometryLimits::vertices_per_invocation() const {
@@ -42,14 +42,17 @@ FsDiffusionWeights fs_diffusion_weights(FsWeighting weighting, int samples, int 
     return {next, 0.6 * (1.0 - next), 0.4 * (1.0 - next)};
 }
 
-int fs_capacity(int samples) { return samples + samples / 4 + 16; }
+int fs_capacity(int samples) {
+    return samples + samples / 4 + 16;
+}
 
 FsSampler::FsSampler(const gl::ShaderLibrary& shaders, FsSamplerOptions options)
     : shaders_(shaders), options_(options), limits_(query_geometry_limits()) {
     if (limits_.max_storage_blocks < 2)
-        throw PlatformError("Floyd-Steinberg GPU sampler: the geometry shader needs 2 storage blocks, "
-                            "GL_MAX_GEOMETRY_SHADER_STORAGE_BLOCKS is " +
-                            std::to_string(limits_.max_storage_blocks) + "; use the CPU method fs instead");
+        throw PlatformError(
+            "Floyd-Steinberg GPU sampler: the geometry shader needs 2 storage blocks, "
+            "GL_MAX_GEOMETRY_SHADER_STORAGE_BLOCKS is " +
+            std::to_string(limits_.max_storage_blocks) + "; use the CPU method fs instead");
     if (options_.vertices_per_invocation < 0)
         throw UsageError("Floyd-Steinberg GPU sampler: vertices per invocation must be positive");
     importance_program_ = shaders.build({{GL_COMPUTE_SHADER, "fs_importance.comp"}});
@@ -87,7 +90,8 @@ void FsSampler::prepare(const gl::Texture& environment, int samples) {
         width * height > (1 << 21))  // texel indices are packed into 21 bits (glsl/fs_common.glsl)
         throw UsageError("Floyd-Steinberg GPU sampler: importance map of " + std::to_string(width) + "x" +
                          std::to_string(height) + " for an environment of " + std::to_string(environment.width()) +
-                         "x" + std::to_string(environment.height()) + " (it may not be larger, nor above 2048x1024, and its width must be a multiple of 16)");
+                         "x" + std::to_string(environment.height()) +
+                         " (it may not be larger, nor above 2048x1024, and its width must be a multiple of 16)");
     if (importance_.width() != width || importance_.height() != height) {
         importance_ = gl::Texture::create_2d(GL_R32F, width, height);
         radiance_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
@@ -179,8 +183,8 @@ std::vector<Cell> FsSampler::read_lights() const {
     std::vector<Cell> cells;
     cells.reserve(lights.size());
     for (const FsGpuLight& light : lights)
-        cells.push_back({light.direction, light.radiance, light.solid_angle, light.cos_radius,
-                         light.cos_radius_weighted});
+        cells.push_back(
+            {light.direction, light.radiance, light.solid_angle, light.cos_radius, light.cos_radius_weighted});
     return cells;
 }
 

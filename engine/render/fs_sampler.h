@@ -38,9 +38,9 @@ static_assert(sizeof(FsGpuLight) == 48);
 
 // The head of the count buffer (glsl/fs_common.glsl FS_COUNTS_MEMBERS, std430).
 struct FsCounts {
-    std::uint32_t light_count = 0;   // valid entries of the light buffer: min(lights_found, capacity)
-    std::uint32_t samples = 0;       // K: the samples those lights carry (multiplicities summed)
-    float importance_sum = 0.0f;     // S
+    std::uint32_t light_count = 0;  // valid entries of the light buffer: min(lights_found, capacity)
+    std::uint32_t samples = 0;      // K: the samples those lights carry (multiplicities summed)
+    float importance_sum = 0.0f;    // S
     std::uint32_t capacity = 0;
     std::uint32_t rows_scanned = 0;  // the importance map's height unless the scan was cut short
     std::uint32_t lights_found = 0;  // above capacity: lights were dropped (K counts only those kept)
@@ -98,9 +98,9 @@ struct FsSamplerOptions {
 };
 
 struct FsSampleRequest {
-    int samples = 128;                 // M, the number of samples wanted (1 .. 2047)
-    glm::mat3 world_from_map{1.0f};    // the scene's environment rotation
-    float radiance_scale = 1.0f;       // exposure
+    int samples = 128;               // M, the number of samples wanted (1 .. 2047)
+    glm::mat3 world_from_map{1.0f};  // the scene's environment rotation
+    float radiance_scale = 1.0f;     // exposure
 };
 
 class FsSampler {
@@ -121,7 +121,7 @@ public:
     //                   indirect draw's instance count with glCopyNamedBufferSubData).
     const gl::Buffer& light_buffer() const { return lights_; }
     const gl::Buffer& count_buffer() const { return counts_; }
-    const gl::Buffer& sample_buffer() const { return samples_; }  // uint texel index per sample
+    const gl::Buffer& sample_buffer() const { return samples_; }   // uint texel index per sample
     const gl::Texture& importance() const { return importance_; }  // r32f
     int capacity() const { return capacity_; }
     glm::ivec2 importance_size() const { return {importance_.width(), importance_.height()}; }
@@ -129,7 +129,7 @@ public:
 
     // Read back; these wait for the GPU.
     FsCounts read_counts() const;
-    std::vector<Cell> read_lights() const;            // world-space cells, scan order
+    std::vector<Cell> read_lights() const;  // world-space cells, scan order
     struct Sample {
         glm::ivec2 texel;  // importance map texel (i, j)
         int multiplicity;  // samples on it

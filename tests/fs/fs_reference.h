@@ -72,9 +72,9 @@ struct ReferenceSample {
 // one sample per threshold crossed, floor((e - S/2M) / (S/M)) + 1 of them, and the error drops by
 // that many times S / M. Double precision.
 inline std::vector<ReferenceSample> reference_floyd_steinberg(const std::vector<double>& importance, int width,
-                                                               int height, int samples,
-                                                               DiffusionWeights weights = kListingWeights,
-                                                               bool multi_level = false) {
+                                                              int height, int samples,
+                                                              DiffusionWeights weights = kListingWeights,
+                                                              bool multi_level = false) {
     double sum = 0.0;
     for (double value : importance) sum += value;
     const double threshold = sum / (2.0 * samples);

@@ -119,16 +119,16 @@ TEST_P(FsSamplerTest, ImportanceMapIsLuminanceTimesSolidAngleSummedOverTheBlock)
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnAnAnalyticSky) {
     const EnvironmentMap sky = analytic_sky(256, sun_direction(0.6, 2.0));
-    expect_reference_samples(project_shaders(), upload(sky), importance_map(sky), 256, 128,
-                             FsSamplerOptions{256, 128}, "sky 256x128");
+    expect_reference_samples(project_shaders(), upload(sky), importance_map(sky), 256, 128, FsSamplerOptions{256, 128},
+                             "sky 256x128");
 }
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnCityAtFullResolution) {
     const EnvironmentMap city = city_map();
     ASSERT_EQ(city.width, 1024);
     // 0 x 0: the environment's own resolution.
-    expect_reference_samples(project_shaders(), upload(city), importance_map(city), 1024, 512,
-                             FsSamplerOptions{0, 0}, "city 1024x512");
+    expect_reference_samples(project_shaders(), upload(city), importance_map(city), 1024, 512, FsSamplerOptions{0, 0},
+                             "city 1024x512");
 }
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnCityDownsampledOnTheGpu) {
@@ -201,13 +201,15 @@ TEST_P(FsSamplerTest, LightsCarryTheirShareOfSTheTexelColourAndTheirCaps) {
         // Luminance m S / K, in the texel's colour.
         const glm::dvec3 texel = sky.at(t.x, t.y);
         const glm::dvec3 expected_radiance = texel * (exposure * sum * share / latlong::luminance(texel));
-        EXPECT_LT(glm::length(glm::dvec3(light.radiance) - expected_radiance), 1e-5 * glm::length(expected_radiance)) << k;
+        EXPECT_LT(glm::length(glm::dvec3(light.radiance) - expected_radiance), 1e-5 * glm::length(expected_radiance))
+            << k;
         EXPECT_NEAR(light.solid_angle, 4.0 * pi * share, 1e-6);
         EXPECT_NEAR(light.cos_radius, 1.0 - 2.0 * share, 1e-6);
         // The radiance-weighted cap: the solid angle over which this texel's radiance carries the
         // light's share of S, at most the light's solid angle.
         const double texel_solid_angle = latlong::texel_solid_angle(t.y, 256, 128);
-        const double local = std::min(4.0 * pi * share, sum * share * texel_solid_angle / importance[size_t(t.y) * 256 + t.x]);
+        const double local =
+            std::min(4.0 * pi * share, sum * share * texel_solid_angle / importance[size_t(t.y) * 256 + t.x]);
         EXPECT_NEAR(light.cos_radius_weighted, 1.0 - local / (2.0 * pi), 1e-5) << k;
         if (samples[k].multiplicity > 3) {
             ++sun_lights;  // a sun: a cap no larger than about its texel
