@@ -65,7 +65,8 @@ void BM_FsSampler(benchmark::State& state) {
         sampler.sample(s.city, render::FsSampleRequest{samples});
         glQueryCounter(end.id(), GL_TIMESTAMP);
         glFinish();
-        walls.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_begin).count());
+        const std::chrono::duration<double, std::milli> wall = std::chrono::steady_clock::now() - wall_begin;
+        walls.push_back(wall.count());
         GLuint64 begin_ns = 0, end_ns = 0;
         glGetQueryObjectui64v(begin.id(), GL_QUERY_RESULT, &begin_ns);
         glGetQueryObjectui64v(end.id(), GL_QUERY_RESULT, &end_ns);
