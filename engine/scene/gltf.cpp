@@ -3,7 +3,9 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -79,6 +81,13 @@ std::string glb_json_chunk(const std::filesystem::path& path, const std::vector<
     if (std::memcmp(&bytes[16], "JSON", 4) != 0) fail(path, "binary glTF does not start with a JSON chunk");
     if (json_length > bytes.size() - 20) fail(path, "binary glTF JSON chunk runs past the end of the file");
     return std::string(reinterpret_cast<const char*>(&bytes[20]), json_length);
+}
+
+// nlohmann's message without its "[json.exception.parse_error.101] " prefix.
+std::string json_reason(const json::exception& e) {
+    const std::string what = e.what();
+    const auto bracket = what.find("] ");
+    return what.rfind("[json.exception", 0) == 0 && bracket != std::string::npos ? what.substr(bracket + 2) : what;
 }
 
 std::string percent_decode(const std::string& uri) {
@@ -415,10 +424,15 @@ GltfModel load_gltf(const std::filesystem::path& path) {
     json document;
     try {
         document = json::parse(json_text);
-    } catch (const json::parse_error& e) {
-        fail(path, std::string("invalid JSON: ") + e.what());
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers too large
+        fail(path, "invalid JSON: " + json_reason(e));
     }
     check_gltf_json(path, document);
+    // Extensions that change how geometry is stored; others (materials, textures) can be ignored.
+    for (const auto& name : document.value("extensionsRequired", json::array()))
+        for (const char* unsupported :
+             {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "EXT_meshopt_compression"})
+            if (name == unsupported) fail(path, "requires " + std::string(unsupported) + ", which is not supported");
 
     const std::filesystem::path base_dir = path.parent_path();
     for (std::size_t i = 0; i < document.value("buffers", json::array()).size(); ++i) {

@@ -1,5 +1,6 @@
 // Scene files (docs/SCENES.md) and bare glTF models as scenes.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -454,7 +455,7 @@ Scene load_scene_json(const fs::path& path) {
     json document;
     try {
         document = json::parse(in);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers too large
         std::string what = e.what();
         if (const auto bracket = what.find("] "); what.rfind("[json.exception", 0) == 0 && bracket != std::string::npos)
             what = what.substr(bracket + 2);  // drop nlohmann's "[json.exception.parse_error.101] "

@@ -70,6 +70,9 @@ struct Case {
     std::string backend;
 };
 
+// Keeps ctest's test names readable (gtest would print the struct's bytes).
+void PrintTo(const Case& c, std::ostream* out) { *out << c.scene << "/" << c.backend; }
+
 class Regression : public ::testing::TestWithParam<Case> {};
 
 TEST_P(Regression, MatchesGolden) {

@@ -263,6 +263,11 @@ TEST(SceneGltfMalformed, NoSceneOrEmptyScene) {
     expect_input_error(kModels / "TestNoRootNode/SceneWithoutNodes.gltf", "no triangles");
 }
 
+TEST(SceneGltfMalformed, CompressedGeometryIsRefusedByName) {
+    expect_input_error(kModels / "draco/2CylinderEngine.gltf",
+                       "requires KHR_draco_mesh_compression, which is not supported");
+}
+
 TEST(SceneGltfMalformed, CycleBelowTheRoot) {
     GltfWriter w;
     // 0 -> 1 -> 2 -> 1
@@ -355,6 +360,8 @@ TEST(SceneGltfMalformed, FileProblems) {
     expect_input_error(dir / "absent.glb", "no such file");
     std::ofstream(dir / "text.gltf") << "{ \"asset\": ";
     expect_input_error(dir / "text.gltf", "invalid JSON");
+    std::ofstream(dir / "huge.gltf") << R"({"asset": {"version": "2.0"}, "nodes": [{"translation": [1e999, 0, 0]}]})";
+    expect_input_error(dir / "huge.gltf", "invalid JSON: number overflow");
     std::ofstream(dir / "bad.glb") << "not a glb at all, certainly not";
     expect_input_error(dir / "bad.glb", "bad magic");
     std::ofstream(dir / "model.obj") << "v 0 0 0";

@@ -398,6 +398,8 @@ TEST(SceneFile, UnreadableSceneFiles) {
     expect_scene_error(dir / "absent.json", {"no such scene file"});
     std::ofstream(dir / "broken.json") << "{ \"objects\": [ }";
     expect_scene_error(dir / "broken.json", {"invalid JSON", "line 1"});
+    std::ofstream(dir / "overflow.json") << R"({"objects": [{"mesh": {"type": "sphere", "radius": 1e400}}]})";
+    expect_scene_error(dir / "overflow.json", {"invalid JSON: number overflow"});
 }
 
 TEST(SceneFile, TheDocumentedExampleLoads) {
