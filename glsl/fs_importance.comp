@@ -1,7 +1,7 @@
 #version 450 core
 // Importance map of the Floyd-Steinberg sampler (seed 000 §1.3.2, light source sampling): the
 // luminance of the radiance integrated over each texel's solid angle, I = lum(sum L dw), at the
-// importance map's resolution. Each importance texel sums the environment texels whose centres it
+// importance map's resolution, and the importance-weighted direction sum (for the texel's centroid). Each importance texel sums the environment texels whose centres it
 // contains (an exact box of f x f texels when the sizes divide). One work group per importance row
 // also reduces the row's sum, so that the sampler adds H row sums instead of W x H texels for S.
 #include "fs_common.glsl"
@@ -10,7 +10,8 @@ layout(local_size_x = 64) in;
 
 layout(binding = 0) uniform sampler2D u_environment;  // lat-long RGB(A), texel (i, j) = map texel (i, j)
 layout(binding = 0, r32f) uniform writeonly image2D u_importance;
-layout(binding = 1, rgba32f) uniform writeonly image2D u_radiance;  // sum L dw over the texel (RGB)
+layout(binding = 1, rgba32f) uniform writeonly image2D u_radiance;  // sum L dw over the texel (RGB), I (a)
+layout(binding = 2, rgba32f) uniform writeonly image2D u_moments;   // sum of lum(L) dw w (xyz), sum dw (w)
 layout(std430, binding = 0) writeonly buffer FsRowSums { double row_sum[]; };
 
 shared double partial_sums[64];
@@ -31,16 +32,24 @@ void main() {
     for (int column = int(gl_LocalInvocationID.x); column < size.x; column += 64) {
         const int env_column_begin = block_start(column, env_size.x, size.x);
         const int env_column_end = block_start(column + 1, env_size.x, size.x);
-        vec3 radiance = vec3(0.0);
+        vec3 radiance = vec3(0.0), importance_direction = vec3(0.0);
+        float solid_angle = 0.0;
         for (int y = env_row_begin; y < env_row_end; ++y) {
-            vec3 row_radiance = vec3(0.0);
-            for (int x = env_column_begin; x < env_column_end; ++x)
-                row_radiance += max(texelFetch(u_environment, ivec2(x, y), 0).rgb, vec3(0.0));  // DESIGN §2: clamp negatives
-            radiance += row_radiance * fs_texel_solid_angle(y, env_size);
+            const float texel_solid_angle = fs_texel_solid_angle(y, env_size);
+            vec3 row_radiance = vec3(0.0), row_direction = vec3(0.0);
+            for (int x = env_column_begin; x < env_column_end; ++x) {
+                const vec3 texel = max(texelFetch(u_environment, ivec2(x, y), 0).rgb, vec3(0.0));  // DESIGN §2: clamp negatives
+                row_radiance += texel;
+                row_direction += fs_luminance(texel) * fs_texel_direction(ivec2(x, y), env_size);
+            }
+            radiance += row_radiance * texel_solid_angle;
+            importance_direction += row_direction * texel_solid_angle;
+            solid_angle += texel_solid_angle * float(env_column_end - env_column_begin);
         }
         const float importance = fs_luminance(radiance);
         imageStore(u_importance, ivec2(column, row), vec4(importance));
         imageStore(u_radiance, ivec2(column, row), vec4(radiance, importance));
+        imageStore(u_moments, ivec2(column, row), vec4(importance_direction, solid_angle));
         row_importance += double(importance);
     }
 

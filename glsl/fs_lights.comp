@@ -1,7 +1,8 @@
 #version 450 core
 // Turns the Floyd-Steinberg samples (fs_sampler.geom) into lights once their number K is known
 // (DESIGN.md §5). A light of multiplicity m (m of the K samples on one texel) gets the texel's
-// direction; radiance of luminance m S / K in the texel's colour (the estimator L / p of seed 000 §1.2
+// importance-weighted mean direction (its centre where it has no importance: as the CPU's
+// centroid_direction does, falling back on the centre rather than the solid-angle mean); radiance of luminance m S / K in the texel's colour (the estimator L / p of seed 000 §1.2
 // for a texel chosen with p = I / S, over K samples); a cap of solid angle m 4 pi / K (cos_radius);
 // and, as its radiance-weighted cap, the solid angle over which the texel's own radiance integrates
 // to that luminance, m (S / K) dw / I, at most m 4 pi / K: a texel-sized cap for a sun, 4 pi / K
@@ -11,6 +12,7 @@
 layout(local_size_x = 64) in;
 
 layout(binding = 0) uniform sampler2D u_radiance;  // sum L dw (rgb) and importance (a) per importance texel
+layout(binding = 1) uniform sampler2D u_moments;   // sum lum(L) dw w (xyz) per importance texel
 layout(std430, binding = 0) readonly buffer FsSamples { uint captured_sample[]; };
 layout(std430, binding = 1) readonly buffer FsCounts { FS_COUNTS_MEMBERS };
 layout(std430, binding = 2) writeonly buffer FsLights { FsLight lights[]; };
@@ -36,7 +38,11 @@ void main() {
         : solid_angle;
 
     FsLight light;
-    light.direction = normalize(u_world_from_map * fs_texel_direction(texel, size));
+    const vec3 importance_direction = texelFetch(u_moments, texel, 0).xyz;
+    const vec3 map_direction = length(importance_direction) > 1e-9 * texel_importance && texel_importance > 0.0
+        ? normalize(importance_direction)
+        : fs_texel_direction(texel, size);
+    light.direction = normalize(u_world_from_map * map_direction);
     light.solid_angle = solid_angle;
     light.radiance = chromaticity * (u_radiance_scale * light_importance);
     light.cos_radius = 1.0 - solid_angle / (2.0 * FS_PI);

@@ -42,6 +42,18 @@ FsDiffusionWeights fs_diffusion_weights(FsWeighting weighting, int samples, int 
     return {next, 0.6 * (1.0 - next), 0.4 * (1.0 - next)};
 }
 
+int fs_block_size(int width, int height, int samples) {
+    constexpr long long kBlocksPerSample = 64;
+    int block = 1;
+    while (block < height) {
+        const long long coarser =
+            (long long)((width + 2 * block - 1) / (2 * block)) * ((height + 2 * block - 1) / (2 * block));
+        if (coarser < kBlocksPerSample * samples) break;
+        block *= 2;
+    }
+    return block;
+}
+
 int fs_capacity(int samples) {
     return samples + samples / 4 + 16;
 }
@@ -71,7 +83,8 @@ const gl::Program& FsSampler::sampler_program(int width, int vertices) {
         std::vector<std::string> defines = {"FS_IMPORTANCE_WIDTH " + std::to_string(width),
                                             "FS_MAX_VERTICES " + std::to_string(vertices)};
         if (!options_.double_precision_scan) defines.push_back("FS_SCAN_FLOAT");
-        if (options_.merge_samples_per_texel) defines.push_back("FS_MERGE");
+        if (options_.weighting == FsWeighting::adaptive_blocks) defines.push_back("FS_ADAPTIVE");
+        else if (options_.merge_samples_per_texel) defines.push_back("FS_MERGE");
         sampler_program_ = shaders_.build(
             {{GL_VERTEX_SHADER, "fs_sampler.vert"}, {GL_GEOMETRY_SHADER, "fs_sampler.geom"}}, defines, {"fs_texel"});
         sampler_program_width_ = width;
@@ -84,9 +97,19 @@ void FsSampler::prepare(const gl::Texture& environment, int samples) {
     if (samples < 1 || samples > 2047)
         throw UsageError("Floyd-Steinberg GPU sampler: " + std::to_string(samples) + " samples asked, 1..2047 allowed");
     const bool native = options_.importance_width == 0 && options_.importance_height == 0;
-    const int width = native ? environment.width() : options_.importance_width;
-    const int height = native ? environment.height() : options_.importance_height;
-    if (width < 16 || height < 1 || width % 16 != 0 || width > environment.width() || height > environment.height() ||
+    int width = native ? environment.width() : options_.importance_width;
+    int height = native ? environment.height() : options_.importance_height;
+    if (options_.weighting == FsWeighting::adaptive_blocks) {
+        const int block = fs_block_size(environment.width(), environment.height(), samples);
+        if (environment.width() % block != 0 || environment.height() % block != 0)
+            throw UsageError("Floyd-Steinberg GPU sampler: the CPU method's blocks of " + std::to_string(block) + "x" +
+                             std::to_string(block) + " do not divide the environment's " +
+                             std::to_string(environment.width()) + "x" + std::to_string(environment.height()));
+        width = environment.width() / block;
+        height = environment.height() / block;
+    }
+    const bool unrolled = options_.weighting == FsWeighting::adaptive_blocks || width % 16 == 0;
+    if (width < 1 || height < 1 || !unrolled || width > environment.width() || height > environment.height() ||
         width * height > (1 << 21))  // texel indices are packed into 21 bits (glsl/fs_common.glsl)
         throw UsageError("Floyd-Steinberg GPU sampler: importance map of " + std::to_string(width) + "x" +
                          std::to_string(height) + " for an environment of " + std::to_string(environment.width()) +
@@ -95,6 +118,7 @@ void FsSampler::prepare(const gl::Texture& environment, int samples) {
     if (importance_.width() != width || importance_.height() != height) {
         importance_ = gl::Texture::create_2d(GL_R32F, width, height);
         radiance_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
+        moments_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
         row_sums_ = gl::Buffer::create(sizeof(double) * size_t(height));
     }
     const int capacity = fs_capacity(samples);
@@ -124,6 +148,7 @@ void FsSampler::sample(const gl::Texture& environment, const FsSampleRequest& re
         glBindSampler(0, 0);
         glBindImageTexture(0, importance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
         glBindImageTexture(1, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(2, moments_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, row_sums_.id());
         glDispatchCompute(1, GLuint(height), 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
@@ -158,6 +183,8 @@ void FsSampler::sample(const gl::Texture& environment, const FsSampleRequest& re
         glUniformMatrix3fv(0, 1, GL_FALSE, &request.world_from_map[0][0]);
         glUniform1f(1, request.radiance_scale);
         radiance_.bind(0);
+        moments_.bind(1);
+        glBindSampler(1, 0);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSamplesBinding, samples_.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightCountsBinding, counts_.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, lights_.id());

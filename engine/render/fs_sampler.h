@@ -4,11 +4,12 @@
 // environment may rotate, change exposure, be swapped or animate. docs/FS_GPU.md has the design.
 //
 //   1. fs_importance.comp  environment texture -> importance map I = lum(sum L dw) at the chosen
-//                          resolution (default 256 x 128), and its row sums;
+//                          resolution (default 256 x 128), its row sums and each texel's
+//                          importance-weighted direction;
 //   2. fs_sampler.geom     one geometry-shader invocation scans the map (serpentine error diffusion,
 //                          threshold S / 2M) and emits each sample's texel index into a transform
 //                          feedback buffer; it writes K and S into the count buffer;
-//   3. fs_lights.comp      one light per sample texel (m of the K samples): texel direction,
+//   3. fs_lights.comp      one light per sample texel (m of the K samples): texel centroid,
 //                          radiance of luminance m S / K in the texel's colour, a cap of solid angle
 //                          m 4 pi / K.
 #include <cstdint>
@@ -75,7 +76,17 @@ enum class FsWeighting {
     // spacing sqrt(N / M): next = 1 - sqrt(M / N) (at least 3/8); the rest split 3 : 2 between below
     // and below-next as in the listing.
     warmup_matched,
+    // The CPU method fs's rules (engine/env, sites_floyd_steinberg), so that `fs` and `fs-gpu` give the
+    // same samples: the environment in blocks of B x B texels (fs_block_size) as the importance map,
+    // whatever importance_width/height say; the share along the row adapts per block,
+    // clamp(1 - I / (S/M), 3/8, 15/16); no carry across rows, the diagonal wraps around the seam, the
+    // last row passes everything along; one sample per texel (merge_samples_per_texel is ignored).
+    adaptive_blocks,
 };
+
+// The CPU method fs's block size for M samples of a width x height map: a power of two, the largest that
+// keeps at least 64 blocks per sample (engine/env/sites.h kBlocksPerSample).
+int fs_block_size(int width, int height, int samples);
 
 // The weights `weighting` gives for M samples of a width x height importance map.
 FsDiffusionWeights fs_diffusion_weights(FsWeighting weighting, int samples, int width, int height);
@@ -145,7 +156,7 @@ private:
     FsGeometryLimits limits_;
     gl::Program importance_program_, lights_program_, sampler_program_;
     int sampler_program_width_ = 0, sampler_program_vertices_ = 0;
-    gl::Texture importance_, radiance_;
+    gl::Texture importance_, radiance_, moments_;
     gl::Buffer row_sums_, counts_, samples_, lights_;
     gl::TransformFeedback feedback_;
     gl::VertexArray empty_vao_;

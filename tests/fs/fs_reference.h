@@ -103,6 +103,88 @@ inline int total_samples(const std::vector<ReferenceSample>& samples) {
     return total;
 }
 
+// The CPU method fs's rules (engine/env sites_floyd_steinberg; transcribed here until it lands on main,
+// then the test compares with it directly): blocks of B x B texels (B from block_size), the share
+// along the row clamp(1 - I_block / (S/M), 3/8, 15/16) and the rest 3 : 2 below and below-next, the
+// next texel's share going below at the row's end, the diagonal wrapping around the seam, nothing
+// carried across rows, everything along the row in the last row. Texel importance in float, as
+// there; sums and the scan in double. Returns the chosen blocks and their importance-weighted mean
+// directions.
+inline int block_size(int width, int height, int samples) {
+    int block = 1;
+    while (block < height) {
+        const long long coarser =
+            (long long)((width + 2 * block - 1) / (2 * block)) * ((height + 2 * block - 1) / (2 * block));
+        if (coarser < 64LL * samples) break;
+        block *= 2;
+    }
+    return block;
+}
+
+struct BlockSample {
+    glm::ivec2 block;
+    glm::dvec3 direction;
+};
+
+inline std::vector<BlockSample> reference_adaptive_blocks(const EnvironmentMap& map, int samples) {
+    const int width = map.width, height = map.height, block = block_size(width, height, samples);
+    const int columns = (width + block - 1) / block, rows = (height + block - 1) / block;
+    std::vector<double> blocks(size_t(columns) * rows, 0.0);
+    std::vector<glm::dvec3> moments(blocks.size(), glm::dvec3(0.0));
+    double total = 0.0;
+    for (int j = 0; j < height; ++j) {
+        const double solid_angle = latlong::texel_solid_angle(j, width, height);
+        for (int i = 0; i < width; ++i) {
+            const double w = float(latlong::luminance(glm::dvec3(map.at(i, j))) * solid_angle);
+            blocks[size_t(j / block) * columns + i / block] += w;
+            moments[size_t(j / block) * columns + i / block] += w * latlong::texel_direction(i, j, width, height);
+            total += w;
+        }
+    }
+    const double threshold = total / (2.0 * samples);
+    std::vector<double> row_error(size_t(columns), 0.0), next_row_error(size_t(columns), 0.0);
+    std::vector<BlockSample> chosen;
+    double carried = 0.0;
+    for (int by = 0; by < rows; ++by) {
+        const int step = by % 2 == 0 ? 1 : -1;
+        const bool last_row = by == rows - 1;
+        for (int n = 0; n < columns; ++n) {
+            const int bx = step > 0 ? n : columns - 1 - n;
+            const size_t b = size_t(by) * columns + bx;
+            double e = blocks[b] + row_error[size_t(bx)] + carried;
+            carried = 0.0;
+            if (e > threshold) {
+                const glm::ivec2 centre(std::min(width - 1, bx * block + block / 2),
+                                        std::min(height - 1, by * block + block / 2));
+                const double length = glm::length(moments[b]);
+                chosen.push_back({{bx, by},
+                                  length > 1e-9 * blocks[b] && blocks[b] > 0.0
+                                      ? moments[b] / length
+                                      : latlong::texel_direction(centre.x, centre.y, width, height)});
+                e -= 2.0 * threshold;
+            }
+            const bool last_in_row = n == columns - 1;
+            const double along = std::clamp(1.0 - blocks[b] / (2.0 * threshold), 0.375, 15.0 / 16.0);
+            const double below = (1.0 - along) * 0.6, diagonal = (1.0 - along) * 0.4;
+            const int below_next = (bx + step + columns) % columns;
+            if (!last_row) {
+                if (!last_in_row) {
+                    carried = along * e;
+                    next_row_error[size_t(bx)] += below * e;
+                } else {
+                    next_row_error[size_t(bx)] += (along + below) * e;
+                }
+                next_row_error[size_t(below_next)] += diagonal * e;
+            } else if (!last_in_row) {
+                carried = e;
+            }
+        }
+        std::swap(row_error, next_row_error);
+        std::fill(next_row_error.begin(), next_row_error.end(), 0.0);
+    }
+    return chosen;
+}
+
 // An analytic sky: a blue gradient above the horizon, grey ground, a sun disc of `sun_radiance`
 // (yellowish) and angular radius `sun_radius` (radians) about `sun`.
 inline EnvironmentMap analytic_sky(int width, glm::dvec3 sun, double sun_radiance = 2000.0, double sun_radius = 0.02) {

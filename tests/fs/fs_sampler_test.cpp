@@ -139,6 +139,47 @@ TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnCityDownsampledOnTheGpu) {
                              FsSamplerOptions{}, "city 1024x512 -> 256x128");
 }
 
+// The CPU method's rules (FsWeighting::adaptive_blocks) against their transcription: same blocks in
+// the same order, directions at the blocks' importance-weighted means.
+void expect_adaptive_block_samples(const gl::ShaderLibrary& shaders, const EnvironmentMap& map, const std::string& what) {
+    FsSamplerOptions options;
+    options.weighting = render::FsWeighting::adaptive_blocks;
+    FsSampler sampler(shaders, options);
+    const gl::Texture environment = upload(map);
+    for (int samples : {32, 64, 128}) {
+        const std::string name = what + " adaptive blocks M=" + std::to_string(samples);
+        sampler.sample(environment, FsSampleRequest{samples});
+        const int block = block_size(map.width, map.height, samples);
+        ASSERT_EQ(sampler.importance_size(), glm::ivec2(map.width / block, map.height / block)) << name;
+        EXPECT_EQ(sampler.read_counts().rows_scanned, std::uint32_t(map.height / block)) << name;
+        const std::vector<FsSampler::Sample> gpu = sampler.read_samples();
+        const std::vector<Cell> lights = sampler.read_lights();
+        const std::vector<BlockSample> reference = reference_adaptive_blocks(map, samples);
+        ASSERT_EQ(gpu.size(), reference.size()) << name;
+        EXPECT_GE(double(reference.size()), 0.9 * samples) << name;
+        int differing = 0;
+        for (size_t k = 0; k < gpu.size(); ++k) {
+            const glm::ivec2 d = glm::abs(gpu[k].texel - reference[k].block);
+            EXPECT_LE(std::max(d.x, d.y), 1) << name << ": sample " << k;
+            EXPECT_EQ(gpu[k].multiplicity, 1) << name;
+            if (d == glm::ivec2(0)) {  // the same block: the same mean direction, to float precision
+                EXPECT_GT(glm::dot(glm::dvec3(lights[k].direction), reference[k].direction), 1.0 - 1e-9 - 1e-6) << name;
+            } else {
+                ++differing;
+            }
+        }
+        EXPECT_LE(differing, int(gpu.size()) / 8 + 1) << name;
+    }
+}
+
+TEST_P(FsSamplerTest, CpuMethodRulesGiveTheSameBlocksOnAnAnalyticSky) {
+    expect_adaptive_block_samples(project_shaders(), analytic_sky(1024, sun_direction(0.6, 2.0)), "sky 1024x512");
+}
+
+TEST_P(FsSamplerTest, CpuMethodRulesGiveTheSameBlocksOnCity) {
+    expect_adaptive_block_samples(project_shaders(), city_map(), "city 1024x512");
+}
+
 // The listing's weights spread the error so thinly when M is far below the texel count that most of
 // it never becomes a sample (the warm-up of seed 000 §1.3.1); the warm-up-matched ones do not.
 TEST_P(FsSamplerTest, ListingWeightsLoseMostSamplesOnCityWhereWarmUpMatchedKeepThem) {
