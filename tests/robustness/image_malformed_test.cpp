@@ -262,6 +262,16 @@ TEST(RobustExr, HeaderSizesAreCheckedBeforeOpenExrAllocates) {
     test::write_bytes(dir / "window.exr", bytes);
     expect_input_error(dir / "window.exr", [&] { read_exr(dir / "window.exr"); },
                        "image size 16x2147483647 is outside the accepted 1x1..16384x16384");
+
+    // Tiles of 16 x 15.5 million texels (OpenEXR would allocate a 1.5 GB tile buffer).
+    test::write_sample_exr(dir / "tiled.exr", 40, 20, 0, test::ExrLayout::tiled);
+    bytes = test::read_bytes(dir / "tiled.exr");
+    const std::size_t tiles = attribute_size_at(bytes, std::string("tiles\0tiledesc\0", 15)) + 4;
+    const std::uint32_t tile_size[2] = {16, 0x00ed105e};
+    std::memcpy(&bytes[tiles], tile_size, 8);
+    test::write_bytes(dir / "tile.exr", bytes);
+    expect_input_error(dir / "tile.exr", [&] { read_exr(dir / "tile.exr"); },
+                       "OpenEXR chunks (tiles or line blocks) over 1 GiB");
 }
 
 TEST(RobustExr, NonFiniteAndNegativeTexelsAreReadAsTheyAre) {
