@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <string_view>
@@ -80,6 +81,8 @@ EnvironmentMap load_radiance_hdr(const std::string& path) {
 }
 
 EnvironmentMap load_file(const std::string& path) {
+    std::error_code ec;  // opening a FIFO would block for ever, a device never end
+    if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": file not found or not a regular file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": file not found or not readable");
     std::array<char, 4> magic{};
