@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "env/environment.h"
 #include "scene/scene.h"
 
 namespace envshadow::fuzz {
@@ -69,6 +70,15 @@ inline void check_mesh(const Mesh& mesh) {
         if (!finite(mesh.normals[v])) finding("non-finite normal");
     }
     if (!finite(mesh.bounds_min) || !finite(mesh.bounds_max)) finding("non-finite bounds");
+}
+
+// What every consumer of an EnvironmentMap relies on (env/environment.h).
+inline void check_environment(const EnvironmentMap& map) {
+    if (map.width < 2 || map.width != 2 * map.height || map.width > kMaxEnvironmentWidth)
+        finding("map of " + std::to_string(map.width) + "x" + std::to_string(map.height));
+    if (map.texels.size() != std::size_t(map.width) * std::size_t(map.height)) finding("texel count");
+    for (const glm::vec3& t : map.texels)
+        if (!finite(t) || t.r < 0.0f || t.g < 0.0f || t.b < 0.0f) finding("negative or non-finite texel");
 }
 
 }  // namespace envshadow::fuzz
