@@ -18,6 +18,10 @@ scripts/install-deps.sh
 if [ $sanitize -eq 1 ]; then
   export ENVSHADOW_BUILD_DIR="$root/build-asan"
   scripts/build.sh -DENVSHADOW_WERROR=ON -DENVSHADOW_SANITIZE=ON -DENVSHADOW_BUILD_BENCHMARKS=OFF
+  # Leaks count, except those Mesa's drivers keep until exit (docs/ROBUSTNESS.md explains the file).
+  export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
+  export LSAN_OPTIONS="suppressions=$root/tests/robustness/lsan_mesa.supp:print_suppressions=0"
+  export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 else
   scripts/build.sh -DENVSHADOW_WERROR=ON
 fi
