@@ -410,6 +410,31 @@ TEST_P(RendererTest, SetMaterialChangesOneObjectWithoutANewScene) {
     EXPECT_FLOAT_EQ(after.at(left.x, left.y).g, before.at(left.x, left.y).g);
 }
 
+// Map-space cells are turned by the scene's environment rotation; world-space ones (the GPU sampler's)
+// are not: the same lights either way give the same image.
+TEST_P(RendererTest, WorldSpaceCellsAreNotRotatedAgain) {
+    Scene scene;
+    scene.environment.rotation_degrees = 90.0f;
+    scene.has_ground = true;
+    scene.objects.push_back(make_object(mesh_of(PlaneShape{6.0f}), glm::vec3(0.0f), diffuse(0.8f), false));
+    scene.objects.push_back(
+        make_object(mesh_of(BoxShape{glm::vec3(0.8f)}), glm::vec3(0.0f, 0.4f, 0.0f), diffuse(0.5f)));
+    const std::vector<Cell> map_cells = cells_of("builtin:sky", 24);
+    std::vector<Cell> world_cells = map_cells;
+    for (Cell& c : world_cells) c.direction = world_direction_from_map(c.direction, 90.0f);
+    const CameraView view = look_at({1.0f, 4.0f, 4.0f}, glm::vec3(0.0f), 96, 64);
+    auto render_with = [&](const std::vector<Cell>& cells, Renderer::CellSpace space) {
+        Renderer renderer;
+        renderer.set_scene(scene);
+        renderer.set_lights(cells, space);
+        renderer.render(0.0, view);
+        return renderer.read_back();
+    };
+    const Image from_map = render_with(map_cells, Renderer::CellSpace::map);
+    EXPECT_GT(object_psnr(render_with(world_cells, Renderer::CellSpace::world), from_map), 50.0);
+    EXPECT_LT(object_psnr(render_with(world_cells, Renderer::CellSpace::map), from_map), 30.0);  // turned twice
+}
+
 TEST_P(RendererTest, ReportsTheAtlasAndThePasses) {
     Scene scene;
     scene.objects.push_back(make_object(mesh_of(SphereShape{0.5f, 32}), glm::vec3(0.0f), diffuse(0.5f)));
