@@ -60,4 +60,28 @@ Image8 side_by_side(const Image8& a, const Image8& b) {
     return out;
 }
 
+HdrDifference compare_hdr(const Image& a, const Image& reference, const std::vector<bool>& mask) {
+    if (a.width != reference.width || a.height != reference.height)
+        throw InputError("image sizes differ: " + std::to_string(a.width) + "x" + std::to_string(a.height) + " vs " +
+                         std::to_string(reference.width) + "x" + std::to_string(reference.height));
+    if (!mask.empty() && mask.size() != reference.pixels.size()) throw InputError("mask size differs from the image");
+    HdrDifference d;
+    double err = 0.0, ref = 0.0, peak = 0.0;
+    for (size_t i = 0; i < reference.pixels.size(); ++i) {
+        if (!mask.empty() && !mask[i]) continue;
+        ++d.pixels;
+        for (int c = 0; c < 3; ++c) {
+            const double e = double(a.pixels[i][c]) - double(reference.pixels[i][c]);
+            err += e * e;
+            ref += double(reference.pixels[i][c]) * reference.pixels[i][c];
+            peak = std::max(peak, double(reference.pixels[i][c]));
+        }
+    }
+    if (d.pixels == 0) return d;
+    const double n = 3.0 * double(d.pixels);
+    d.relative_rmse = ref > 0.0 ? std::sqrt(err / n) / std::sqrt(ref / n) : (err > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+    d.psnr = err > 0.0 ? 10.0 * std::log10(peak * peak / (err / n)) : std::numeric_limits<double>::infinity();
+    return d;
+}
+
 }  // namespace envshadow

@@ -1,8 +1,11 @@
 #pragma once
-// Differences of 8-bit (tone-mapped) pictures for the regression screenshots: mean and max absolute
-// difference and the share of pixels over a per-pixel threshold, checked against a Tolerance (never
-// exact bytes). Accuracy against ground truth (linear HDR) is engine/reference/image_compare.h.
+// Image differences, two ways:
+//   - for regression screenshots (8-bit, tone-mapped): mean and max absolute difference and the
+//     share of pixels over a per-pixel threshold, checked against a Tolerance (never exact bytes);
+//   - for accuracy (linear HDR): relative RMSE and PSNR over a mask of object pixels.
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "core/image.h"
 
@@ -32,5 +35,14 @@ ImageDifference compare_images(const Image8& a, const Image8& b, int pixel_thres
 
 // [a | b | |a - b| amplified] for a person to look at when a comparison fails.
 Image8 side_by_side(const Image8& a, const Image8& b);
+
+struct HdrDifference {
+    double relative_rmse = 0.0;  // sqrt(mean |a - b|^2) / sqrt(mean |b|^2) over masked RGB, b = reference
+    double psnr = 0.0;           // dB, peak = max of b over the mask
+    long pixels = 0;             // pixels in the mask
+};
+
+// Over pixels where mask[i] is true (all pixels when the mask is empty). Throws InputError on size mismatch.
+HdrDifference compare_hdr(const Image& a, const Image& reference, const std::vector<bool>& mask = {});
 
 }  // namespace envshadow

@@ -51,5 +51,16 @@ TEST(ImageCompare, SideBySideHoldsBothImagesAndTheAmplifiedDifference) {
     EXPECT_EQ(out.at(4, 0)[0], 80);  // 4 x 20
 }
 
+TEST(ImageCompare, HdrRelativeRmseOverTheMask) {
+    Image reference(2, 1, glm::vec4(2.0f, 2.0f, 2.0f, 1.0f));
+    Image a = reference;
+    a.at(0, 0) = glm::vec4(2.2f, 2.2f, 2.2f, 1.0f);  // 10% off
+    a.at(1, 0) = glm::vec4(100.0f);                   // masked out
+    const HdrDifference d = compare_hdr(a, reference, {true, false});
+    EXPECT_EQ(d.pixels, 1);
+    EXPECT_NEAR(d.relative_rmse, 0.1, 1e-6);
+    EXPECT_NEAR(d.psnr, 10.0 * std::log10(4.0 / 0.04), 1e-4);
+}
+
 }  // namespace
 }  // namespace envshadow
