@@ -15,7 +15,6 @@
 #include "env/environment.h"
 #include "env/orientation.h"
 #include "gl_fixture.h"
-#include "interim_fixtures.h"
 #include "render/renderer.h"
 #include "scene/meshes.h"
 
@@ -48,11 +47,9 @@ std::shared_ptr<Mesh> mesh_of(const Shape& shape) {
     return std::make_shared<Mesh>(make_mesh(shape));
 }
 
-// The cells of a builtin environment.
-// TODO(render): decompose(load_environment(environment), {Method::lloyd, lights, 1}).cells once
-// engine/env's decomposition is on main (interim_fixtures.h stands in until then).
+// The cells of a builtin environment (Lloyd relaxation, seed 1).
 std::vector<Cell> cells_of(const std::string& environment, int lights) {
-    return interim::cells_of(environment, lights);
+    return decompose(load_environment(environment), DecomposeOptions{Method::lloyd, lights, 1}).cells;
 }
 
 // Fibonacci directions over the upper hemisphere.
