@@ -17,7 +17,11 @@
 #include "core/image.h"
 #include "env/cells.h"
 #include "env/environment.h"
+#include "env/orientation.h"
 #include "gl/context.h"
+#include "gl/shader.h"
+#include "glsl/embedded.h"
+#include "render/fs_sampler.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
@@ -66,8 +70,8 @@ std::vector<render::AtlasMode> atlas_modes(const RenderOptions& o, const render:
 int run_render(const RenderOptions& o) {
     if (o.out.empty() && o.exr.empty()) throw UsageError("render: give --out OUT.png and/or --exr OUT.exr");
     if (!std::isfinite(o.time)) throw UsageError("--time must be a finite number of seconds");
-    if (o.method == "fs-gpu") throw UsageError("--method fs-gpu: the GPU Floyd-Steinberg path is not built yet");
-    const Method method = parse_method(o.method);
+    const bool fs_gpu = o.method == "fs-gpu";  // Floyd-Steinberg on the GPU (render/fs_sampler.h)
+    const Method method = fs_gpu ? Method::fs : parse_method(o.method);
     render::RenderSettings settings = settings_from(o);
     const std::vector<render::AtlasMode> modes = atlas_modes(o, settings);
     settings.atlas = modes.front();
@@ -75,13 +79,35 @@ int run_render(const RenderOptions& o) {
     Scene scene = load_scene(o.scene);
     if (!o.env.empty()) scene.environment.source = o.env;
     const EnvironmentMap map = load_environment(scene.environment.source);
-    const Decomposition decomposition = decompose(map, DecomposeOptions{method, o.lights, o.seed});
+    std::size_t cell_count = 0;
+    double decomposition_seconds = 0.0;
+    std::optional<Decomposition> decomposition;
+    if (!fs_gpu) {
+        decomposition = decompose(map, DecomposeOptions{method, o.lights, o.seed});
+        cell_count = decomposition->cells.size();
+        decomposition_seconds = decomposition->seconds;
+    }
 
     auto context = gl::create_context(gl::parse_backend(o.backend));
     render::Renderer renderer(settings);
     renderer.set_scene(scene);
     renderer.set_environment(map);
-    renderer.set_lights(decomposition.cells);
+    if (fs_gpu) {
+        // One read-back of the sampler's lights (docs/FS_GPU.md, "Wiring into the renderer", step 1);
+        // they are world-space already. Timed to the end of the read-back.
+        gl::ShaderLibrary shaders;
+        for (const glsl::File& file : glsl::files()) shaders.add(file.name, file.source);
+        render::FsSampler sampler(shaders);
+        const auto start = std::chrono::steady_clock::now();
+        sampler.sample(renderer.environment_texture(),
+                       render::FsSampleRequest{o.lights, world_from_map(scene.environment.rotation_degrees), 1.0f});
+        std::vector<Cell> cells = sampler.read_lights();
+        decomposition_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        cell_count = cells.size();
+        renderer.set_lights(std::move(cells), render::Renderer::CellSpace::world);
+    } else {
+        renderer.set_lights(decomposition->cells);
+    }
     const render::CameraView view = render::camera_view(scene, o.width, o.height, o.time);
 
     // Per mode and pass, the GPU milliseconds of every measured frame.
@@ -106,8 +132,8 @@ int run_render(const RenderOptions& o) {
     std::printf("scene %s, %dx%d, %s on %s\n", o.scene.c_str(), o.width, o.height,
                 std::string(gl::to_string(context->backend())).c_str(), context->renderer().c_str());
     std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n",
-                std::string(to_string(decomposition.method)).c_str(), decomposition.cells.size(), decomposition.width,
-                decomposition.height, map.source.c_str(), decomposition.seconds);
+                fs_gpu ? "fs-gpu" : std::string(to_string(method)).c_str(), cell_count, map.width, map.height,
+                map.source.c_str(), decomposition_seconds);
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
@@ -150,7 +176,7 @@ Command add_render_command(CLI::App& parent) {
     app->add_option("--scene", o->scene, "Scene JSON, or a .gltf/.glb")->required();
     app->add_option("--env", o->env, "Environment map (.exr/.hdr or builtin:...), overriding the scene's");
     app->add_option("--lights", o->lights, "Number of cells (lights)")->check(CLI::Range(1, 256));
-    app->add_option("--method", o->method, "Decomposition: lloyd, ccvt, mediancut, random, fs");
+    app->add_option("--method", o->method, "Decomposition: lloyd, ccvt, mediancut, random, fs, fs-gpu");
     app->add_option("--seed", o->seed, "Seed of the decomposition");
     app->add_option("--width", o->width, "Image width")->check(CLI::Range(16, 8192));
     app->add_option("--height", o->height, "Image height")->check(CLI::Range(16, 8192));
