@@ -272,11 +272,11 @@ TEST_P(FsSamplerTest, ShadersConsumeTheLightBufferWithTheCountFromTheGpu) {
 #include "fs_common.glsl"
 layout(local_size_x = 1) in;
 layout(std430, binding = 1) readonly buffer FsCounts { FS_COUNTS_MEMBERS };
-layout(std430, binding = 2) readonly buffer FsLights { FsLight lights[]; };
+layout(std430, binding = 2) readonly buffer FsLights { FsLight fs_lights[]; };
 layout(std430, binding = 3) writeonly buffer Result { vec4 radiance_sum; uint lights_seen; };
 void main() {
     vec3 sum = vec3(0.0);
-    for (uint k = 0; k < light_count; ++k) sum += lights[k].radiance;
+    for (uint k = 0; k < light_count; ++k) sum += fs_lights[k].radiance;
     radiance_sum = vec4(sum, 0.0);
     lights_seen = light_count;
 }
