@@ -86,6 +86,9 @@ public:
     Image read_back() const;
 
     const gl::Texture& color_texture() const { return color_; }
+    // The lat-long map given to set_environment (RGB32F, texel (i, j) = map texel (i, j)): what the GPU
+    // Floyd-Steinberg sampler (fs_sampler.h) reads.
+    const gl::Texture& environment_texture() const { return environment_; }
     const gl::Texture& atlas_texture() const { return atlas_depth_; }
     const gl::Framebuffer& framebuffer() const { return target_; }
     const AtlasLayout& atlas_layout() const { return layout_; }
