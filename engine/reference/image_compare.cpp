@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/image_compare.h"
 
 namespace envshadow::reference {
 namespace {
@@ -41,27 +42,12 @@ std::vector<bool> selection(const Image& a, const Image& b, const Image8* mask, 
 
 Comparison compare_images(const Image& a, const Image& b, const Image8* mask, const std::string& what) {
     const std::vector<bool> selected = selection(a, b, mask, what);
-    double error2 = 0.0, reference2 = 0.0, peak = 0.0;
-    Comparison result;
-    for (std::size_t k = 0; k < selected.size(); ++k) {
-        if (!selected[k]) continue;
-        ++result.pixels;
-        for (int c = 0; c < 3; ++c) {
-            const double va = a.pixels[k][c], vb = b.pixels[k][c];
-            error2 += (vb - va) * (vb - va);
-            reference2 += va * va;
-            peak = std::max(peak, va);
-        }
-    }
-    if (result.pixels == 0)
+    const HdrDifference d = compare_hdr(b, a, selected);  // a is the reference
+    if (d.pixels == 0)
         throw InputError(prefix(what) + "no pixels to compare (no alpha > 0.5 in the first image, or an empty mask)");
-    if (!std::isfinite(error2) || !std::isfinite(reference2))
+    if (std::isnan(d.relative_rmse) || std::isnan(d.psnr))
         throw InputError(prefix(what) + "non-finite pixel values");
-    result.rel_rmse = reference2 > 0.0 ? std::sqrt(error2 / reference2)
-                                       : (error2 > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
-    const double mse = error2 / (3.0 * double(result.pixels));
-    result.psnr = mse > 0.0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
-    return result;
+    return {d.relative_rmse, d.psnr, d.pixels};
 }
 
 Image8 relative_error_image(const Image& a, const Image& b, const Image8* mask, double full_scale) {
