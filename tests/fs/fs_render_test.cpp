@@ -1,8 +1,7 @@
 // `--method fs-gpu` end to end: the renderer lit by lights the GPU sampler makes from the renderer's own
-// environment texture, every frame. A box on a ground plane under a sky whose sun moves from +X to -X:
-// the box's shadow must move to the other side.
-// (builtin:sky's sun moves with --time once engine/env's loader is on main; until then the sky is the
-// test's analytic one, with the sun placed directly.)
+// environment texture, every frame. A box on a ground plane under builtin:sky at 9 h and at 15 h: the
+// ground beside the box away from the sun is in its shadow, towards the sun it is lit, and the shadow
+// turns with the sun.
 #include <memory>
 #include <numbers>
 
@@ -10,6 +9,7 @@
 #include <glm/ext/matrix_transform.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "env/environment.h"
 #include "fs_reference.h"
 #include "gl_fixture.h"
 #include "render/fs_sampler.h"
@@ -38,39 +38,46 @@ glm::ivec2 pixel_of(const render::CameraView& view, glm::vec3 p) {
 
 float luminance(const glm::vec4& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
-TEST_P(FsRenderTest, BoxShadowFollowsTheSunWithLightsSampledOnTheGpu) {
+TEST_P(FsRenderTest, BoxShadowFollowsBuiltinSkysSunWithLightsSampledOnTheGpu) {
     Scene scene;
     scene.has_ground = true;
     scene.objects.push_back(object(make_mesh(PlaneShape{8.0f}), glm::vec3(0.0f), false));
     scene.objects.push_back(object(make_mesh(BoxShape{glm::vec3(1.0f)}), glm::vec3(0.0f, 0.5f, 0.0f), true));
     render::Renderer renderer;
-    renderer.set_scene(scene);
+    renderer.set_scene(scene);  // environment rotation 0: map directions are world directions
     render::FsSampler sampler(project_shaders());
 
-    render::CameraView view;
-    view.eye = {0.0f, 4.0f, 4.0f};
+    render::CameraView view;  // from above, so the ground all around the box is in view
+    view.eye = {0.0f, 6.0f, 0.5f};
     view.view_from_world = glm::lookAt(view.eye, glm::vec3(0.0f), glm::vec3(0, 1, 0));
-    view.clip_from_view = glm::perspective(glm::radians(40.0f), 192.0f / 128.0f, 0.1f, 50.0f);
-    view.width = 192;
-    view.height = 128;
-    const glm::ivec2 east = pixel_of(view, {0.9f, 0.0f, 0.0f}), west = pixel_of(view, {-0.9f, 0.0f, 0.0f});
+    view.clip_from_view = glm::perspective(glm::radians(40.0f), 1.0f, 0.1f, 50.0f);
+    view.width = view.height = 160;
 
-    // Morning: sun low in +X (azimuth 0); afternoon: low in -X (azimuth pi). Environment rotation 0:
-    // map directions are world directions.
-    float east_over_west[2] = {0.0f, 0.0f};
-    const double azimuths[2] = {0.0, std::numbers::pi};
+    // Ground 0.9 m from the box's centre, towards and away from the sun's horizontal direction.
+    glm::vec3 away_at[2];
     for (int t = 0; t < 2; ++t) {
-        renderer.set_environment(analytic_sky(256, sun_direction(0.5, azimuths[t]), 5000.0));
+        SkyParameters sky;
+        sky.time_hours = t == 0 ? 9.0 : 15.0;
+        const glm::dvec3 sun = envshadow::sun_direction(sky);
+        const glm::vec3 horizontal = glm::normalize(glm::vec3(float(sun.x), 0.0f, float(sun.z)));
+        away_at[t] = -0.9f * horizontal;
+
+        renderer.set_environment(load_environment("builtin:sky:width=512,time=" + std::to_string(sky.time_hours)));
         sampler.sample(renderer.environment_texture(), render::FsSampleRequest{64});
         renderer.set_lights(sampler.read_lights());
         renderer.render(0.0, view);
         const Image image = renderer.read_back();
-        ASSERT_EQ(image.at(east.x, east.y).a, 1.0f);
-        ASSERT_EQ(image.at(west.x, west.y).a, 1.0f);
-        east_over_west[t] = luminance(image.at(east.x, east.y)) / luminance(image.at(west.x, west.y));
+        const glm::ivec2 towards = pixel_of(view, 0.9f * horizontal), away = pixel_of(view, away_at[t]);
+        ASSERT_EQ(image.at(towards.x, towards.y).a, 1.0f);
+        ASSERT_EQ(image.at(away.x, away.y).a, 1.0f);
+        const float lit = luminance(image.at(towards.x, towards.y));
+        EXPECT_LT(luminance(image.at(away.x, away.y)), 0.5f * lit) << sky.time_hours << " h";
+        if (t == 1) {  // where the morning shadow fell is in the sun by the afternoon
+            const glm::ivec2 morning_shadow = pixel_of(view, away_at[0]);
+            EXPECT_GT(luminance(image.at(morning_shadow.x, morning_shadow.y)), 0.8f * lit);
+        }
     }
-    EXPECT_GT(east_over_west[0], 2.0f);  // sun in the east: the shadow falls west of the box
-    EXPECT_LT(east_over_west[1], 0.5f);  // sun in the west: it falls east
+    ASSERT_LT(glm::dot(away_at[0], away_at[1]), 0.0f);  // the sun turned by more than 90 degrees
 }
 
 ENVSHADOW_INSTANTIATE_GL_TEST(FsRenderTest);
