@@ -2,9 +2,8 @@
 // Importance of an environment map's texels (DESIGN.md §2): I = lum(L) * dw, dw the exact texel solid
 // angle. The sampling and decomposition methods read only this; the map's RGB is read again by the
 // per-cell integration.
-#include <vector>
-
 #include <glm/vec3.hpp>
+#include <vector>
 
 #include "env/environment.h"
 
@@ -28,10 +27,10 @@ private:
 
 struct ImportanceMap {
     int width = 0, height = 0;
-    std::vector<float> importance;       // I per texel (j * width + i), finite and >= 0
+    std::vector<float> importance;        // I per texel (j * width + i), finite and >= 0
     std::vector<double> row_solid_angle;  // exact solid angle of one texel of row j
     TexelDirections directions;
-    double total = 0.0;                   // sum of I (> 0)
+    double total = 0.0;  // sum of I (> 0)
     // The map carries no luminance at all (all black): importance fell back to the texel solid
     // angle, so every method still gives well-defined cells (uniform by solid angle).
     bool uniform_fallback = false;

@@ -1,10 +1,10 @@
 // Site placement without relaxation: random, Floyd-Steinberg, median cut; and the importance sampler
 // the relaxations start from.
+#include "env/sites.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include "env/sites.h"
 
 namespace envshadow {
 namespace {
@@ -12,7 +12,9 @@ namespace {
 constexpr double kMaxAlongWeight = 15.0 / 16.0;
 }  // namespace
 
-double uniform01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
+double uniform01(std::mt19937_64& rng) {
+    return double(rng() >> 11) * 0x1.0p-53;
+}
 
 std::vector<std::size_t> sample_distinct_texels(const ImportanceMap& importance, int count, std::mt19937_64& rng) {
     const std::size_t texels = importance.texel_count();
@@ -41,9 +43,10 @@ std::vector<std::size_t> sample_distinct_texels(const ImportanceMap& importance,
         for (long attempt = 0; chosen.size() < size_t(count) && attempt < 64L * count + 1024; ++attempt) {
             const double x = uniform01(rng) * rows;
             const std::size_t j = std::min<std::size_t>(
-                size_t(importance.height) - 1, std::size_t(std::upper_bound(row_cdf.begin(), row_cdf.end(), x) - row_cdf.begin()));
-            const std::size_t i = std::min<std::size_t>(size_t(importance.width) - 1,
-                                                        std::size_t(uniform01(rng) * importance.width));
+                size_t(importance.height) - 1,
+                std::size_t(std::upper_bound(row_cdf.begin(), row_cdf.end(), x) - row_cdf.begin()));
+            const std::size_t i =
+                std::min<std::size_t>(size_t(importance.width) - 1, std::size_t(uniform01(rng) * importance.width));
             take(j * size_t(importance.width) + i);
         }
         for (std::size_t t = 0; chosen.size() < size_t(count) && t < texels; ++t) take(t);  // tiny maps
@@ -72,7 +75,8 @@ std::vector<glm::dvec3> floyd_steinberg_samples(const ImportanceMap& grid, std::
     const int width = grid.width, height = grid.height;
     int block = 1;
     while (block < height) {
-        const long long coarser = (long long)((width + 2 * block - 1) / (2 * block)) * ((height + 2 * block - 1) / (2 * block));
+        const long long coarser =
+            (long long)((width + 2 * block - 1) / (2 * block)) * ((height + 2 * block - 1) / (2 * block));
         if (coarser < (long long)kBlocksPerSample * count) break;
         block *= 2;
     }
@@ -134,7 +138,8 @@ std::vector<glm::dvec3> floyd_steinberg_samples(const ImportanceMap& grid, std::
         CellMoments m;
         for (int j = by * block; j < std::min(height, (by + 1) * block); ++j)
             for (int i = bx * block; i < std::min(width, (bx + 1) * block); ++i)
-                m.add(weight[size_t(j) * size_t(width) + size_t(i)], grid.row_solid_angle[size_t(j)], grid.directions(i, j));
+                m.add(weight[size_t(j) * size_t(width) + size_t(i)], grid.row_solid_angle[size_t(j)],
+                      grid.directions(i, j));
         const int ci = std::min(width - 1, bx * block + block / 2), cj = std::min(height - 1, by * block + block / 2);
         samples.push_back(centroid_direction(m, grid.directions(ci, cj)));
     }
@@ -212,11 +217,14 @@ bool split_region(const Region& r, int left, int right, const ImportanceTable& t
             int lo_at = first, hi_at = last;
             while (lo_at < hi_at) {
                 const int mid = lo_at + (hi_at - lo_at) / 2;
-                if (left_sum(mid) >= fraction * total) hi_at = mid;
-                else lo_at = mid + 1;
+                if (left_sum(mid) >= fraction * total)
+                    hi_at = mid;
+                else
+                    lo_at = mid + 1;
             }
             at = lo_at;
-            if (at > first && std::abs(left_sum(at - 1) - fraction * total) <= std::abs(left_sum(at) - fraction * total))
+            if (at > first &&
+                std::abs(left_sum(at - 1) - fraction * total) <= std::abs(left_sum(at) - fraction * total))
                 --at;
         } else {
             at = std::clamp(lo + int(std::lround(fraction * (hi - lo))), first, last);
