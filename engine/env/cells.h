@@ -2,13 +2,14 @@
 // Directional cells of an environment map (DESIGN.md §3): the output of every decomposition method,
 // and what the renderer turns into lights.
 #include <cstdint>
+#include <glm/vec3.hpp>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include <glm/vec3.hpp>
-
 #include "env/environment.h"
+#include "env/importance.h"
 
 namespace envshadow {
 
@@ -24,10 +25,17 @@ enum class Method { lloyd, ccvt, mediancut, random, fs };
 std::string_view to_string(Method method);
 Method parse_method(std::string_view name);  // throws UsageError
 
+// How texels find their nearest site: the tile search, or every site for every texel (the baseline the
+// benchmark compares against; both give the same cells).
+enum class SiteSearch { tiles, brute_force };
+
+inline constexpr int kMaxLights = 256;
+
 struct DecomposeOptions {
     Method method = Method::lloyd;
-    int lights = 128;        // 1..256 (mediancut rounds to a power of two)
-    std::uint64_t seed = 1;
+    int lights = 128;        // 1..256 (mediancut rounds down to a power of two; fs gives N or N - 1)
+    std::uint64_t seed = 1;  // random, lloyd and ccvt draw their initial sites with it
+    SiteSearch search = SiteSearch::tiles;
 };
 
 struct Decomposition {
@@ -37,10 +45,23 @@ struct Decomposition {
     std::vector<std::uint16_t> texel_cell;  // cell index of every texel (j * width + i)
     glm::dvec3 integral{0.0};               // integral of L dw computed directly from the map
     double seconds = 0.0;
-    int iterations = 0;                     // Lloyd / CCVT iterations run
-    double final_movement = 0.0;            // largest site movement of the last iteration (radians)
+    int iterations = 0;               // Lloyd / CCVT iterations run
+    double final_movement = 0.0;      // largest site movement of the last iteration (radians)
+    std::vector<glm::dvec3> sites;    // the sites texel_cell was assigned to (one per cell)
+    std::vector<double> site_bias;    // CCVT's power-diagram biases (nearest_site.h); empty otherwise
+    bool uniform_importance = false;  // the map was black: importance fell back to solid angle
 };
 
+// Throws UsageError for lights outside 1..kMaxLights and InputError when the map has fewer texels than
+// lights. Deterministic for a given seed, whatever the number of threads.
 Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& options);
+
+// The per-cell integration every method ends with (DESIGN.md §3), from the texel -> cell assignment:
+// radiance = sum L dw (RGB), solid_angle = sum dw, direction = normalised sum I w (sum dw w where the
+// cell has no importance), cos_radius = 1 - dw_i / (2 pi), cos_radius_weighted = 2 (sum I (w . c) / sum I) - 1
+// (solid-angle weighted where the cell has no importance). A cell whose mean direction vanishes (one
+// cell over a uniform sphere) or that is empty takes `sites[k]` as its direction.
+std::vector<Cell> integrate_cells(const EnvironmentMap& map, const ImportanceMap& importance,
+                                  std::span<const std::uint16_t> texel_cell, std::span<const glm::dvec3> sites);
 
 }  // namespace envshadow

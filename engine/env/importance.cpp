@@ -1,0 +1,72 @@
+#include "env/importance.h"
+
+#include <tbb/parallel_for.h>
+
+#include "env/latlong.h"
+
+namespace envshadow {
+
+TexelDirections::TexelDirections(int width, int height)
+    : row_sin_(size_t(height)), row_cos_(size_t(height)), column_cos_(size_t(width)), column_sin_(size_t(width)) {
+    // latlong::direction(u, v) = (sin(pi v) cos(2 pi u), cos(pi v), sin(pi v) sin(2 pi u)): at u = 0 it
+    // yields (sin theta, cos theta, 0) and at v = 1/2 (sin = 1 exactly) it yields (cos phi, ., sin phi).
+    for (int j = 0; j < height; ++j) {
+        const glm::dvec3 d = latlong::direction(0.0, (j + 0.5) / height);
+        row_sin_[size_t(j)] = d.x;
+        row_cos_[size_t(j)] = d.y;
+    }
+    for (int i = 0; i < width; ++i) {
+        const glm::dvec3 d = latlong::direction((i + 0.5) / width, 0.5);
+        column_cos_[size_t(i)] = d.x;
+        column_sin_[size_t(i)] = d.z;
+    }
+}
+
+ImportanceMap build_importance(const EnvironmentMap& map) {
+    ImportanceMap result;
+    result.width = map.width;
+    result.height = map.height;
+    result.directions = TexelDirections(map.width, map.height);
+    result.row_solid_angle.resize(size_t(map.height));
+    for (int j = 0; j < map.height; ++j)
+        result.row_solid_angle[size_t(j)] = latlong::texel_solid_angle(j, map.width, map.height);
+    result.importance.resize(map.texels.size());
+
+    std::vector<double> row_total(static_cast<size_t>(map.height), 0.0);
+    tbb::parallel_for(0, map.height, [&](int j) {
+        const double dw = result.row_solid_angle[size_t(j)];
+        double sum = 0.0;
+        for (int i = 0; i < map.width; ++i) {
+            const float value = float(latlong::luminance(glm::dvec3(map.at(i, j))) * dw);
+            result.importance[size_t(j) * size_t(map.width) + size_t(i)] = value;
+            sum += value;
+        }
+        row_total[size_t(j)] = sum;
+    });
+    for (double t : row_total) result.total += t;  // row order: independent of the thread count
+
+    if (!(result.total > 0.0)) {
+        result.uniform_fallback = true;
+        result.total = 0.0;
+        for (int j = 0; j < map.height; ++j) {
+            const float dw = float(result.row_solid_angle[size_t(j)]);
+            for (int i = 0; i < map.width; ++i) result.importance[size_t(j) * size_t(map.width) + size_t(i)] = dw;
+            result.total += double(dw) * map.width;
+        }
+    }
+    return result;
+}
+
+glm::dvec3 integrate_radiance(const EnvironmentMap& map) {
+    std::vector<glm::dvec3> row_sum(size_t(map.height), glm::dvec3(0.0));
+    tbb::parallel_for(0, map.height, [&](int j) {
+        glm::dvec3 sum(0.0);
+        for (int i = 0; i < map.width; ++i) sum += glm::dvec3(map.at(i, j));
+        row_sum[size_t(j)] = sum * latlong::texel_solid_angle(j, map.width, map.height);
+    });
+    glm::dvec3 total(0.0);
+    for (const glm::dvec3& s : row_sum) total += s;
+    return total;
+}
+
+}  // namespace envshadow

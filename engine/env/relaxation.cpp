@@ -1,0 +1,563 @@
+// Lloyd and capacity-constrained relaxation on the sphere.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <numbers>
+#include <queue>
+
+#include "env/sites.h"
+
+namespace envshadow {
+namespace {
+
+double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+// Moves every site to its cell's centroid; returns the largest movement (radians).
+double move_to_centroids(std::vector<glm::dvec3>& sites, const std::vector<CellMoments>& cells) {
+    double movement = 0.0;
+    for (size_t k = 0; k < sites.size(); ++k) {
+        const glm::dvec3 moved = centroid_direction(cells[k], sites[k]);
+        movement = std::max(movement, angle_between(moved, sites[k]));
+        sites[k] = moved;
+    }
+    return movement;
+}
+
+// A site whose cell holds no texel is moved next to the site of the cell with the largest
+// importance x solid angle (the cell that most needs splitting), a quarter of that cell's radius away.
+// Returns the largest jump, so that the relaxation goes on.
+double reseed_empty_cells(std::vector<glm::dvec3>& sites, std::vector<double>* bias,
+                          const std::vector<CellMoments>& cells) {
+    double jump = 0.0;
+    std::vector<double> weight(sites.size());
+    for (size_t k = 0; k < sites.size(); ++k) weight[k] = cells[k].importance * cells[k].solid_angle;
+    for (size_t k = 0; k < sites.size(); ++k) {
+        if (cells[k].solid_angle > 0.0) continue;
+        const size_t donor = size_t(std::max_element(weight.begin(), weight.end()) - weight.begin());
+        weight[donor] *= 0.25;  // the next empty cell picks another donor unless this one still dominates
+        const glm::dvec3 d = sites[donor];
+        const glm::dvec3 axis = std::abs(d.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+        const glm::dvec3 tangent = glm::normalize(glm::cross(d, axis));
+        const double offset = 0.25 * std::sqrt(cells[donor].solid_angle / std::numbers::pi);
+        const glm::dvec3 moved = glm::normalize(d * std::cos(offset) + tangent * std::sin(offset));
+        jump = std::max(jump, angle_between(moved, sites[k]));
+        sites[k] = moved;
+        if (bias) (*bias)[k] = (*bias)[donor];
+    }
+    return jump;
+}
+
+// Floyd-Steinberg samples of `weight`, the seed shifting the halftoning's starting error.
+std::vector<glm::dvec3> initial_sites(const ImportanceMap& importance, std::span<const float> weight, int count,
+                                      std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    return floyd_steinberg_samples(importance, weight, count, 2.0 * uniform01(rng) - 1.0);
+}
+
+// Sum over cells of sum I (1 - w . s): the quantisation energy Lloyd's iteration decreases.
+double lloyd_energy(const std::vector<glm::dvec3>& sites, const std::vector<CellMoments>& cells) {
+    double energy = 0.0;
+    for (size_t k = 0; k < sites.size(); ++k)
+        energy += cells[k].importance - glm::dot(cells[k].importance_direction, sites[k]);
+    return energy;
+}
+
+}  // namespace
+
+SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition) {
+    // Start at Lloyd's asymptotic site density, sqrt of the importance density (Gersho 1979: rho^(d/(d+2))
+    // in d = 2 dimensions), well stratified: weight sqrt(lum) dw = sqrt(I dw).
+    std::vector<float> weight(importance.texel_count());
+    for (int j = 0; j < importance.height; ++j)
+        for (int i = 0; i < importance.width; ++i) {
+            const size_t t = size_t(j) * size_t(importance.width) + size_t(i);
+            weight[t] = float(std::sqrt(double(importance.importance[t]) * importance.row_solid_angle[size_t(j)]));
+        }
+    SiteSet result;
+    result.sites = initial_sites(importance, weight, count, seed);
+    double previous_energy = std::numeric_limits<double>::infinity();
+    for (int iteration = 1; iteration <= kLloydMaxIterations; ++iteration) {
+        const std::vector<CellMoments> cells = partition.moments(result.sites, {});
+        const double energy = lloyd_energy(result.sites, cells);
+        result.iterations = iteration;
+        // Converged: the last move gained less than kLloydEnergyTolerance of the energy. The sites stay
+        // where this partition was computed; final_movement is how far the next step would move them.
+        if (previous_energy - energy <= kLloydEnergyTolerance * energy) {
+            result.final_movement = 0.0;
+            for (size_t k = 0; k < result.sites.size(); ++k)
+                result.final_movement =
+                    std::max(result.final_movement,
+                             angle_between(centroid_direction(cells[k], result.sites[k]), result.sites[k]));
+            break;
+        }
+        previous_energy = energy;
+        result.final_movement = move_to_centroids(result.sites, cells);
+        result.final_movement = std::max(result.final_movement, reseed_empty_cells(result.sites, nullptr, cells));
+        if (result.final_movement == 0.0) break;
+    }
+    return result;
+}
+
+namespace {
+
+struct HeavyTexel {
+    double importance;
+    std::size_t texel;
+};
+
+// Texels that hold more than an equal share of what the cells without such texels share (water
+// filling): the k heaviest texels for the largest k < count with I_k > (total - I_1 - .. - I_{k-1}) / (count - k + 1).
+std::vector<HeavyTexel> heavy_texels(const ImportanceMap& importance, int count) {
+    using Entry = std::pair<float, std::size_t>;  // the `count` heaviest texels, in a min-heap
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+    for (std::size_t t = 0; t < importance.texel_count(); ++t) {
+        const float value = importance.importance[t];
+        if (int(heap.size()) < count)
+            heap.push({value, t});
+        else if (value > heap.top().first) {
+            heap.pop();
+            heap.push({value, t});
+        }
+    }
+    std::vector<Entry> top;
+    for (; !heap.empty(); heap.pop()) top.push_back(heap.top());
+    std::reverse(top.begin(), top.end());  // heaviest first
+    std::vector<HeavyTexel> heavy;
+    double rest = importance.total;
+    for (const Entry& e : top) {
+        if (int(heavy.size()) + 1 >= count || !(e.first > rest / (count - int(heavy.size())))) break;
+        heavy.push_back({e.first, e.second});
+        rest -= e.first;
+    }
+    return heavy;
+}
+
+// Cells' adjacency, weighted by how much importance crosses each border per unit of bias: the integral
+// of the importance density along the border over |s_a - s_b|, measured on the texel pairs (p, q) that
+// straddle it as 1/2 sum (I_p + I_q) / 2 / |(p - q) . (s_a - s_b)| (horizontal and vertical pairs each
+// measure a border once, whatever its slope). The weighted graph Laplacian is the Hessian of the
+// capacity problem (de Goes et al. 2012, §4).
+class BorderWeights {
+public:
+    static constexpr int kMaxNeighbours = 48;  // further borders of a cell are dropped (never seen)
+
+    explicit BorderWeights(int cells = 0)
+        : cells_(cells), count_(static_cast<size_t>(cells), 0), slots_(static_cast<size_t>(cells) * kMaxNeighbours) {}
+
+    void add(int a, int b, double weight) {
+        if (a > b) std::swap(a, b);
+        Slot* row = &slots_[size_t(a) * kMaxNeighbours];
+        int& n = count_[size_t(a)];
+        for (int k = 0; k < n; ++k)
+            if (row[k].other == b) {
+                row[k].weight += weight;
+                return;
+            }
+        if (n < kMaxNeighbours) row[n++] = {b, weight};
+    }
+    void add(const BorderWeights& o) {
+        o.for_each([&](int a, int b, double w) { add(a, b, w); });
+    }
+    template <class F>
+    void for_each(F&& f) const {  // f(a, b, weight) once per border
+        for (int a = 0; a < cells_; ++a)
+            for (int k = 0; k < count_[size_t(a)]; ++k) {
+                const Slot& slot = slots_[size_t(a) * kMaxNeighbours + size_t(k)];
+                f(a, slot.other, slot.weight);
+            }
+    }
+    double mean_degree() const {
+        double sum = 0.0;
+        for_each([&](int, int, double w) { sum += 2.0 * w; });
+        return cells_ > 0 ? sum / cells_ : 0.0;
+    }
+
+private:
+    struct Slot {
+        int other = 0;
+        double weight = 0.0;
+    };
+    int cells_;
+    std::vector<int> count_;
+    std::vector<Slot> slots_;
+};
+
+// How much importance an overfull cell would pass on to its runner-ups if its bias fell by a given
+// amount: its border texels counted at the gap between their scores for it and for their runner-up,
+// binned by quarter powers of two; reach() interpolates inside a bin.
+struct GapHistogram {
+    static constexpr int kPerOctave = 4, kBins = 40 * kPerOctave;  // gaps from 2^-40 to 2, and 0
+    std::array<double, kBins> mass{};
+
+    static double low(int b) { return b >= kBins - 1 ? 0.0 : std::exp2(-double(b) / kPerOctave); }
+    static int bin(double gap) {
+        if (!(gap > 0.0)) return kBins - 1;
+        return std::clamp(int(std::floor(-std::log2(gap) * kPerOctave)), 0, kBins - 1);
+    }
+    void add(double gap, double m) { mass[size_t(bin(gap))] += m; }
+    // The smallest fall that passes on `amount`, or the largest gap seen when there is not that much.
+    double reach(double amount) const {
+        double gathered = 0.0, upper = 0.0;
+        for (int b = kBins - 1; b >= 0; --b) {
+            if (mass[size_t(b)] <= 0.0) continue;
+            const double lo = low(b), hi = b == 0 ? 2.0 : low(b - 1);
+            if (gathered + mass[size_t(b)] >= amount) return lo + (hi - lo) * (amount - gathered) / mass[size_t(b)];
+            gathered += mass[size_t(b)];
+            upper = hi;
+        }
+        return upper;
+    }
+    GapHistogram& operator+=(const GapHistogram& o) {
+        for (int b = 0; b < kBins; ++b) mass[size_t(b)] += o.mass[size_t(b)];
+        return *this;
+    }
+};
+
+// Everything the capacity solver reads from one assignment, in one pass over the texels.
+struct CellStatistics {
+    std::vector<CellMoments> moments;  // texel by texel, as the cells are
+    // Importance with each border texel shared with its runner-up c (the best of its cell's
+    // neighbours): d = score_a - score_c is taken as linear across the texel (a square of the
+    // texel's solid angle) and a keeps the fraction where d > 0. These masses change continuously with
+    // the biases, as in the continuous problem Newton's method is made for (Kitagawa, Merigot and
+    // Thibert 2019).
+    std::vector<double> mass;
+    BorderWeights borders;
+    std::vector<GapHistogram> loss;  // per cell, its texels at their gap to the runner-up
+
+    explicit CellStatistics(int count = 0)
+        : moments(static_cast<size_t>(count)),
+          mass(static_cast<size_t>(count), 0.0),
+          borders(count),
+          loss(static_cast<size_t>(count)) {}
+};
+
+CellStatistics cell_statistics(const ImportanceMap& importance, std::span<const std::uint16_t> texel_cell,
+                               std::span<const glm::dvec3> sites, std::span<const double> bias) {
+    constexpr int kRowsPerChunk = 32;
+    const int width = importance.width, height = importance.height, count = int(sites.size());
+    const int chunks = (height + kRowsPerChunk - 1) / kRowsPerChunk;
+    std::vector<CellStatistics> partial(static_cast<size_t>(chunks), CellStatistics(count));
+    auto cell = [&](int i, int j) { return int(texel_cell[size_t(j) * size_t(width) + size_t(i)]); };
+    // Pass 1: moments and borders (with the texel to the right, across the seam too, and below).
+    tbb::parallel_for(0, chunks, [&](int chunk) {
+        CellStatistics& out = partial[size_t(chunk)];
+        for (int j = chunk * kRowsPerChunk; j < std::min(height, (chunk + 1) * kRowsPerChunk); ++j)
+            for (int i = 0; i < width; ++i) {
+                const size_t t = size_t(j) * size_t(width) + size_t(i);
+                const int a = texel_cell[t];
+                const glm::dvec3 p = importance.directions(i, j);
+                out.moments[size_t(a)].add(importance.importance[t], importance.row_solid_angle[size_t(j)], p);
+                for (const auto& [i2, j2] : {std::pair{(i + 1) % width, j}, std::pair{i, j + 1}}) {
+                    if (j2 >= height || cell(i2, j2) == a) continue;
+                    const int b = cell(i2, j2);
+                    const size_t q = size_t(j2) * size_t(width) + size_t(i2);
+                    const double rate =
+                        std::abs(glm::dot(p - importance.directions(i2, j2), sites[size_t(a)] - sites[size_t(b)]));
+                    out.borders.add(
+                        a, b,
+                        0.25 * (double(importance.importance[t]) + importance.importance[q]) / std::max(rate, 1e-12));
+                }
+            }
+    });
+    CellStatistics total(count);
+    for (const CellStatistics& c : partial) {
+        for (size_t k = 0; k < size_t(count); ++k) total.moments[k] += c.moments[k];
+        total.borders.add(c.borders);
+    }
+    // Pass 2: every texel against its cell's neighbours for the runner-up.
+    std::vector<std::vector<int>> neighbours(static_cast<size_t>(count));
+    total.borders.for_each([&](int a, int b, double) {
+        neighbours[size_t(a)].push_back(b);
+        neighbours[size_t(b)].push_back(a);
+    });
+    std::vector<CellStatistics> second(static_cast<size_t>(chunks), CellStatistics(count));
+    tbb::parallel_for(0, chunks, [&](int chunk) {
+        CellStatistics& out = second[size_t(chunk)];
+        for (int j = chunk * kRowsPerChunk; j < std::min(height, (chunk + 1) * kRowsPerChunk); ++j) {
+            const double side = std::sqrt(importance.row_solid_angle[size_t(j)]);
+            for (int i = 0; i < width; ++i) {
+                const size_t t = size_t(j) * size_t(width) + size_t(i);
+                const int a = texel_cell[t];
+                const double value = importance.importance[t];
+                const glm::dvec3 p = importance.directions(i, j);
+                const double own = glm::dot(p, sites[size_t(a)]) + bias[size_t(a)];
+                int runner_up = -1;
+                double best = -std::numeric_limits<double>::infinity();
+                for (int c : neighbours[size_t(a)]) {
+                    const double score = glm::dot(p, sites[size_t(c)]) + bias[size_t(c)];
+                    if (score > best) {
+                        best = score;
+                        runner_up = c;
+                    }
+                }
+                if (runner_up < 0) {
+                    out.mass[size_t(a)] += value;
+                    continue;
+                }
+                const double gap = std::max(0.0, own - best);
+                const glm::dvec3 d = sites[size_t(a)] - sites[size_t(runner_up)];
+                const double span = glm::length(d - glm::dot(d, p) * p) * side;  // range of d over the texel
+                const double kept = span > 0.0 ? std::min(1.0, 0.5 + gap / span) : 1.0;
+                out.mass[size_t(a)] += kept * value;
+                out.mass[size_t(runner_up)] += (1.0 - kept) * value;
+                out.loss[size_t(a)].add(gap, value);
+            }
+        }
+    });
+    for (const CellStatistics& c : second)
+        for (size_t k = 0; k < size_t(count); ++k) {
+            total.mass[k] += c.mass[k];
+            total.loss[k] += c.loss[k];
+        }
+    return total;
+}
+
+// Solves (L + ridge I) x = r by conjugate gradients, L the border Laplacian. The ridge (a hundredth of
+// the mean degree) keeps cells with weak borders from taking huge steps (Levenberg-Marquardt).
+std::vector<double> solve_laplacian(const BorderWeights& borders, const std::vector<double>& r) {
+    const size_t n = r.size();
+    const double ridge = 1e-2 * std::max(borders.mean_degree(), 1e-300);
+    auto multiply = [&](const std::vector<double>& x, std::vector<double>& y) {
+        for (size_t k = 0; k < n; ++k) y[k] = ridge * x[k];
+        borders.for_each([&](int a, int b, double w) {
+            const double d = w * (x[size_t(a)] - x[size_t(b)]);
+            y[size_t(a)] += d;
+            y[size_t(b)] -= d;
+        });
+    };
+    std::vector<double> x(n, 0.0), residual = r, direction = r, product(n);
+    double rr = 0.0;
+    for (double v : residual) rr += v * v;
+    const double stop = 1e-20 * rr;
+    for (size_t iteration = 0; iteration < 4 * n && rr > stop; ++iteration) {
+        multiply(direction, product);
+        double dp = 0.0;
+        for (size_t k = 0; k < n; ++k) dp += direction[k] * product[k];
+        if (!(dp > 0.0)) break;
+        const double alpha = rr / dp;
+        double next = 0.0;
+        for (size_t k = 0; k < n; ++k) {
+            x[k] += alpha * direction[k];
+            residual[k] -= alpha * product[k];
+            next += residual[k] * residual[k];
+        }
+        for (size_t k = 0; k < n; ++k) direction[k] = residual[k] + (next / rr) * direction[k];
+        rr = next;
+    }
+    return x;
+}
+
+double norm(const std::vector<double>& v) {
+    double sum = 0.0;
+    for (double x : v) sum += x * x;
+    return std::sqrt(sum);
+}
+
+// A copy of `importance` box-blurred over (2 radius + 1)^2 texels (wrapping around the seam, clamped at
+// the poles) and scaled back to the same total: a smoother problem to start the capacity solve on.
+ImportanceMap blurred(const ImportanceMap& importance, int radius) {
+    const int w = importance.width, h = importance.height;
+    ImportanceMap out = importance;
+    std::vector<double> rows(importance.importance.size());
+    tbb::parallel_for(0, h, [&](int j) {
+        double sum = 0.0;  // running box sum along the row
+        for (int d = -radius; d <= radius; ++d) sum += importance.at(((d % w) + w) % w, j);
+        for (int i = 0; i < w; ++i) {
+            rows[size_t(j) * size_t(w) + size_t(i)] = sum;
+            sum += importance.at((i + radius + 1) % w, j) - importance.at(((i - radius) % w + w) % w, j);
+        }
+    });
+    tbb::parallel_for(0, w, [&](int i) {
+        double sum = 0.0;
+        for (int d = -radius; d <= radius; ++d) sum += rows[size_t(std::clamp(d, 0, h - 1)) * size_t(w) + size_t(i)];
+        for (int j = 0; j < h; ++j) {
+            out.importance[size_t(j) * size_t(w) + size_t(i)] = float(std::max(0.0, sum));
+            sum += rows[size_t(std::clamp(j + radius + 1, 0, h - 1)) * size_t(w) + size_t(i)] -
+                   rows[size_t(std::clamp(j - radius, 0, h - 1)) * size_t(w) + size_t(i)];
+        }
+    });
+    double total = 0.0;
+    for (float v : out.importance) total += v;
+    const double scale = total > 0.0 ? importance.total / total : 1.0;
+    for (float& v : out.importance) v = float(v * scale);
+    return out;
+}
+
+// Biases that give every cell its target importance, for fixed sites. A cell holding a texel heavier
+// than an equal share (a sun) cannot be split and is left free: it keeps what it has, and the other
+// cells aim at equal shares of the rest.
+class CapacitySolver {
+public:
+    CapacitySolver(const ImportanceMap& importance, int count, const Partition& partition, int evaluations)
+        : importance_(&importance),
+          count_(count),
+          partition_(partition),
+          heavy_(heavy_texels(importance, count)),
+          texel_cell_(importance.texel_count()),
+          evaluations_left_(evaluations) {}
+
+    struct State {
+        CellStatistics statistics;
+        std::vector<double> excess;  // target - mass per cell (0 for free cells)
+        double variation = 0.0;      // coefficient of variation of the sharing cells' masses
+    };
+
+    // Statistics read `importance` from now on (the assignment does not depend on it).
+    void use_importance(const ImportanceMap& importance) { importance_ = &importance; }
+    bool exhausted() const { return evaluations_left_ <= 0; }
+    const std::vector<std::uint16_t>& texel_cell() const { return texel_cell_; }
+
+    State evaluate(const std::vector<glm::dvec3>& sites, const std::vector<double>& bias) {
+        --evaluations_left_;
+        partition_.assign(sites, bias, texel_cell_);
+        State state{cell_statistics(*importance_, texel_cell_, sites, bias), {}, 0.0};
+        std::vector<bool> free(static_cast<size_t>(count_), false);
+        for (const HeavyTexel& h : heavy_) free[texel_cell_[h.texel]] = true;
+        int sharing = 0;
+        double shared = importance_->total;
+        for (int k = 0; k < count_; ++k) {
+            if (free[size_t(k)])
+                shared -= state.statistics.mass[size_t(k)];
+            else
+                ++sharing;
+        }
+        const double share = sharing > 0 ? shared / sharing : 0.0;
+        state.excess.assign(size_t(count_), 0.0);
+        double squares = 0.0;
+        for (int k = 0; k < count_; ++k)
+            if (!free[size_t(k)]) {
+                state.excess[size_t(k)] = share - state.statistics.mass[size_t(k)];
+                squares += state.excess[size_t(k)] * state.excess[size_t(k)];
+            }
+        state.variation = sharing == 0  ? 0.0
+                          : share > 0.0 ? std::sqrt(squares / sharing) / share
+                                        : std::numeric_limits<double>::infinity();
+        return state;
+    }
+
+    // Steps from `state` (at `bias`) until the capacity error is under kCcvtCapacityTolerance or
+    // `steps` are taken. A Newton step (the border Laplacian as the Hessian of the convex dual whose
+    // gradient is mass - target) is taken at length alpha = 1, 1/2, 1/4 or 1/8 if no cell falls under
+    // half the smallest mass now and |target - mass| shrinks by (1 - alpha / 4) (the damped Newton method
+    // of Kitagawa, Merigot and Thibert 2019). Where the linear model fails (a bright edge in reach),
+    // every overfull cell instead lowers its bias just enough to pass its excess on to its runner-ups,
+    // which cannot oscillate. Leaves `state` at the final `bias`.
+    void improve(const std::vector<glm::dvec3>& sites, std::vector<double>& bias, State& state, int steps) {
+        double floor = std::numeric_limits<double>::infinity();
+        for (double m : state.statistics.mass)
+            if (m > 0.0) floor = std::min(floor, 0.5 * m);
+        for (int s = 0; s < steps && state.variation >= kCcvtCapacityTolerance && !exhausted(); ++s) {
+            const std::vector<double> step = solve_laplacian(state.statistics.borders, state.excess);
+            const std::vector<double> start = bias;
+            const double error = norm(state.excess);
+            bool accepted = false;
+            for (double alpha = 1.0; alpha >= 1.0 / 8.0 && !accepted && !exhausted(); alpha *= 0.5) {
+                std::vector<double> trial(bias.size());
+                for (size_t k = 0; k < bias.size(); ++k) trial[k] = start[k] + alpha * step[k];
+                centre(trial);
+                State next = evaluate(sites, trial);
+                bool kept = true;
+                for (size_t k = 0; k < bias.size(); ++k)
+                    kept = kept &&
+                           (next.statistics.mass[k] >= floor || next.statistics.mass[k] >= state.statistics.mass[k]);
+                if (kept && norm(next.excess) <= (1.0 - 0.25 * alpha) * error) {
+                    bias = std::move(trial);
+                    state = std::move(next);
+                    accepted = true;
+                }
+            }
+            if (!accepted && !exhausted()) {
+                for (size_t k = 0; k < bias.size(); ++k)
+                    if (state.excess[k] < 0.0) bias[k] -= state.statistics.loss[k].reach(-state.excess[k]);
+                centre(bias);
+                state = evaluate(sites, bias);
+            }
+        }
+    }
+
+private:
+    static void centre(std::vector<double>& bias) {  // only differences matter
+        double mean = 0.0;
+        for (double b : bias) mean += b / double(bias.size());
+        for (double& b : bias) b -= mean;
+    }
+
+    const ImportanceMap* importance_;
+    int count_;
+    const Partition& partition_;
+    std::vector<HeavyTexel> heavy_;
+    std::vector<std::uint16_t> texel_cell_;
+    int evaluations_left_;
+};
+
+}  // namespace
+
+SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*seed*/, const Partition& partition) {
+    SiteSet result;
+    result.sites = equal_importance_regions(importance, count);
+    result.bias.assign(size_t(count), 0.0);
+    CapacitySolver capacity(importance, count, partition, kCcvtMaxEvaluations);
+
+    // Capacity first on blurred importance (a smooth problem Newton's method solves well), then sharper.
+    CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
+    for (int radius : kCcvtBlurRadii) {
+        const ImportanceMap soft = blurred(importance, radius);
+        capacity.use_importance(soft);
+        state = capacity.evaluate(result.sites, result.bias);
+        capacity.improve(result.sites, result.bias, state, kCcvtNewtonStepsPerLevel);
+    }
+    capacity.use_importance(importance);
+    state = capacity.evaluate(result.sites, result.bias);
+    capacity.improve(result.sites, result.bias, state, kCcvtNewtonStepsPerLevel);
+
+    // Moving the sites can upset the balance where the importance has sharp edges; the best balanced
+    // state seen is the one kept.
+    SiteSet best = result;
+    double best_variation = state.variation;
+    for (int iteration = 1; iteration <= kCcvtMaxIterations && !capacity.exhausted(); ++iteration) {
+        result.iterations = iteration;
+        const std::vector<CellMoments>& cells = state.statistics.moments;
+        // Sites towards their centroids, half way and at most kCcvtMoveFraction of the cell's radius, so
+        // that the biases stay nearly right; each bias keeps the cell's score at its centroid.
+        double relative = 0.0;
+        std::vector<glm::dvec3> moved = result.sites;
+        std::vector<double> moved_bias = result.bias;
+        result.final_movement = 0.0;
+        for (int k = 0; k < count; ++k) {
+            const glm::dvec3 s = result.sites[size_t(k)];
+            const glm::dvec3 c = centroid_direction(cells[size_t(k)], s);
+            const double full = angle_between(c, s);
+            const double radius =
+                std::acos(std::clamp(1.0 - cells[size_t(k)].solid_angle / (2.0 * std::numbers::pi), -1.0, 1.0));
+            result.final_movement = std::max(result.final_movement, full);
+            relative = std::max(relative, radius > 0.0 ? full / radius : 0.0);
+            if (!(full > 0.0)) continue;
+            const double step = std::min(0.5 * full, kCcvtMoveFraction * radius);
+            const glm::dvec3 axis = glm::normalize(c - s * glm::dot(c, s));
+            moved[size_t(k)] = s * std::cos(step) + axis * std::sin(step);
+            moved_bias[size_t(k)] += glm::dot(c, s) - glm::dot(c, moved[size_t(k)]);
+        }
+        if (state.variation <= best_variation || state.variation < kCcvtCapacityTolerance) {
+            best = result;
+            best_variation = state.variation;
+        }
+        if (relative < kCcvtRelativeMovementTolerance && state.variation < kCcvtCapacityTolerance) break;
+        result.sites = std::move(moved);
+        result.bias = std::move(moved_bias);
+        reseed_empty_cells(result.sites, &result.bias, cells);
+        state = capacity.evaluate(result.sites, result.bias);
+        capacity.improve(result.sites, result.bias, state, kCcvtNewtonStepsPerIteration);
+    }
+    if (state.variation <= best_variation || state.variation < kCcvtCapacityTolerance) return result;
+    best.iterations = result.iterations;
+    return best;
+}
+
+}  // namespace envshadow

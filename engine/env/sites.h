@@ -1,0 +1,103 @@
+#pragma once
+// The five ways of placing sites on the sphere (DESIGN.md §3). Each returns sites (and, for CCVT, the
+// power-diagram biases); decompose() then assigns texels to the nearest site and integrates the cells.
+#include <cstdint>
+#include <functional>
+#include <glm/vec3.hpp>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "env/importance.h"
+#include "env/nearest_site.h"
+
+namespace envshadow {
+
+struct SiteSet {
+    std::vector<glm::dvec3> sites;  // unit vectors
+    std::vector<double> bias;       // empty, or per site (nearest_site.h): CCVT's power weights / 2
+    int iterations = 0;             // relaxation iterations run (Lloyd, CCVT)
+    double final_movement = 0.0;    // largest site movement of the last iteration, radians
+};
+
+// The nearest-site partition as the relaxations use it (the tile search or the brute force): the
+// cells' moments, or the texel -> cell assignment.
+struct Partition {
+    std::function<std::vector<CellMoments>(std::span<const glm::dvec3> sites, std::span<const double> bias)> moments;
+    std::function<void(std::span<const glm::dvec3> sites, std::span<const double> bias,
+                       std::span<std::uint16_t> texel_cell)>
+        assign;
+};
+
+// Uniform double in [0, 1) from 53 random bits (the same on every standard library).
+double uniform01(std::mt19937_64& rng);
+
+// `count` distinct texels drawn with probability proportional to importance (inverse CDF); a texel drawn
+// twice is drawn again. Where fewer texels than that carry importance, the rest are drawn in proportion
+// to solid angle. Returns texel indices (j * width + i) in the order drawn. Requires count <= texels.
+std::vector<std::size_t> sample_distinct_texels(const ImportanceMap& importance, int count, std::mt19937_64& rng);
+
+// Site directions of texel centres.
+std::vector<glm::dvec3> texel_centres(const ImportanceMap& importance, std::span<const std::size_t> texels);
+
+// random: independent importance samples (seed 000 §1.2), texel centres.
+SiteSet sites_random(const ImportanceMap& importance, int count, std::uint64_t seed);
+
+// Floyd-Steinberg halftoning (seed 000 §1.3, Listing 1.1) of per-texel weights into `count` samples:
+// serpentine scan, threshold S / (2M), a sample removes S / M, error weights 3/8 (next), 3/8 (below),
+// 1/4 (below next; around the seam, a neighbour on the sphere). The error is diffused between blocks of
+// B x B texels (B a power of two, at least kBlocksPerSample blocks per sample), not single texels: with
+// M << texels a texel holds a tiny fraction of the threshold, and the error would spread over whole
+// rows without firing until the last one (the warm-up seed 000 warns about for few samples). Each
+// sample stands at its block's weighted mean direction. Mass is conserved up to the error left at the
+// last block, so there are M samples barring rounding. `start_error` (in thresholds, [-1, 1]) shifts
+// the pattern.
+inline constexpr int kBlocksPerSample = 64;
+std::vector<glm::dvec3> floyd_steinberg_samples(const ImportanceMap& grid, std::span<const float> weight, int count,
+                                                double start_error);
+
+// fs: floyd_steinberg_samples of the importance map.
+SiteSet sites_floyd_steinberg(const ImportanceMap& importance, int count);
+
+// Cuts the map into `count` lat-long rectangles of equal importance (up to texel granularity) by
+// recursive splits across the angularly longest side (width measured at the middle latitude), a region
+// meant for n cells splitting into n/2 and n - n/2 in proportion; returns the regions' importance
+// centroids. Fewer regions only where a region is a single texel.
+std::vector<glm::dvec3> equal_importance_regions(const ImportanceMap& importance, int count);
+
+// mediancut: Debevec 2005, solid-angle corrected: equal_importance_regions for the largest 2^k <= count
+// (every split at the importance median).
+SiteSet sites_median_cut(const ImportanceMap& importance, int count);
+
+// lloyd: weighted Lloyd relaxation on the sphere (paper 002 §2.1): every site moves to the normalised
+// importance-weighted mean direction of its cell, decreasing E = sum I (1 - w . s), until an iteration
+// gains less than kLloydEnergyTolerance of E. Starts from Floyd-Steinberg samples of sqrt(I dw) (Lloyd's
+// asymptotic site density, stratified; the seed shifts the halftoning), which saves most of the
+// hundreds of iterations independent importance samples need to even out.
+SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition);
+
+// ccvt: capacity-constrained Voronoi tessellation as a power diagram (Balzer et al. 2009; de Goes et
+// al. 2012). Starts from the centroids of equal_importance_regions; the biases solve the capacity
+// problem (equal importance per cell) by damped Newton steps, first on blurred importance; then the
+// sites move towards their cells' centroids, the biases following. A texel heavier than an equal share
+// (a sun) cannot be split: the cell holding it keeps what it has and the others share the rest. The
+// seed is not used (the start is deterministic).
+SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition);
+
+inline constexpr double kLloydEnergyTolerance = 1e-4;
+inline constexpr int kLloydMaxIterations = 500;
+// CCVT: Newton steps on each blurred importance (box radii in texels), then on the map itself, before
+// the sites first move; steps after each move. It stops when the sharing cells' importance varies by
+// under kCcvtCapacityTolerance (coefficient of variation) and no site is further from its cell's
+// centroid than kCcvtRelativeMovementTolerance of the cell's radius, or after kCcvtMaxIterations moves
+// or kCcvtMaxEvaluations assignments, returning then the best balanced state seen.
+inline constexpr int kCcvtBlurRadii[] = {16, 4, 1};
+inline constexpr int kCcvtNewtonStepsPerLevel = 20;
+inline constexpr int kCcvtNewtonStepsPerIteration = 2;
+inline constexpr double kCcvtCapacityTolerance = 0.02;
+inline constexpr double kCcvtMoveFraction = 0.1;  // a site moves at most this fraction of its cell's radius
+inline constexpr double kCcvtRelativeMovementTolerance = 0.1;
+inline constexpr int kCcvtMaxIterations = 40;
+inline constexpr int kCcvtMaxEvaluations = 600;
+
+}  // namespace envshadow
