@@ -402,14 +402,14 @@ def write_accuracy(ctx, path):
     w(f"    {regen_command(ctx)}          # this report (the run that wrote it: {ctx['seconds'] / 60:.0f} min, reusing build/accuracy/)")
     w("    scripts/accuracy.py --full   # every scene x map in every study (several hours on this machine)")
     w("")
-    w(f"Machine: {machine_line(ctx)}. Every number below comes from the run that wrote this file.")
+    w(f"Machine: {machine_line(ctx)}. Every number below comes from runs of this script on this machine (cached in build/accuracy/).")
     refs = st.ref_seconds()
     render_total = sum(r["render_s"] for r in st.results.values())
     w("")
     w(f"Compute behind these numbers (summed over the cached steps, wall seconds under load): {len(refs)} reference images, "
       f"{sum(refs.values()) / 60:.0f} min ({', '.join(f'{k.split(chr(95) + chr(95))[0]}/{k.split(chr(95) + chr(95))[1]} {v / 60:.1f}' for k, v in sorted(refs.items()))} min); "
       f"{len(st.results)} renders, {render_total / 60:.0f} min (two at a time, beside the references). From an empty "
-      "build/accuracy/ expect roughly the reference total plus a few minutes; the references are cached by scene, map, size and "
+      "build/accuracy/ expect roughly the reference total plus 10-20 min (renders overlap the references); the references are cached by scene, map, size and "
       "error target, the results by their settings (`--fresh` forgets the results).")
     w("")
     w("## What is measured")
