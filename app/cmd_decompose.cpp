@@ -18,8 +18,8 @@ namespace envshadow::app {
 namespace {
 
 struct DecomposeArguments {
-    std::string env, method, json, png;
-    int lights = 0;
+    std::string env, method = "lloyd", json, png;
+    int lights = 128;
     std::uint64_t seed = 1;
     bool clamp_invalid = false;
 };
@@ -67,7 +67,10 @@ int run_decompose(const DecomposeArguments& args) {
                 std::string(to_string(d.method)).c_str(), d.cells.size(), d.seconds);
     if (options.method == Method::lloyd || options.method == Method::ccvt)
         std::printf(", %d iterations (final movement %.2e rad)", d.iterations, d.final_movement);
-    std::printf("\n");
+    glm::dvec3 sum(0.0);
+    for (const Cell& c : d.cells) sum += glm::dvec3(c.radiance);
+    std::printf("\nintegral of L dw = (%.6g, %.6g, %.6g), sum over the cells = (%.6g, %.6g, %.6g)\n", d.integral.r,
+                d.integral.g, d.integral.b, sum.r, sum.g, sum.b);
     return 0;
 }
 
@@ -78,10 +81,9 @@ Command add_decompose_command(CLI::App& parent) {
     CLI::App* app = parent.add_subcommand("decompose", "Cut an environment map into N directional cells");
     app->add_option("--env", args->env, "Environment: an .exr or .hdr lat-long map, or builtin:constant, builtin:sky")
         ->required();
-    app->add_option("--lights", args->lights, "Number of cells, 1..256 (mediancut: the largest power of two below)")
-        ->required();
-    app->add_option("--method", args->method, "lloyd, ccvt, mediancut, random or fs")->required();
-    app->add_option("--seed", args->seed, "Seed of the random choices (random, lloyd)");
+    app->add_option("--lights", args->lights, "Number of cells N, 1..256 (mediancut: the largest power of two below)");
+    app->add_option("--method", args->method, "lloyd (default), ccvt, mediancut, random or fs");
+    app->add_option("--seed", args->seed, "Seed of the random choices (random; lloyd's start)");
     app->add_option("--json", args->json, "Write the cells as JSON here");
     app->add_option("--png", args->png, "Write a picture of the cells over the map here");
     app->add_flag("--clamp-invalid", args->clamp_invalid, "Set NaN and infinite texels to 0 instead of failing");

@@ -1,58 +1,216 @@
-// Placeholder until the renderer lands: renders the GL layer's test image (a depth-tested
-// coloured triangle) offscreen so that the headless path can be exercised end to end.
+// `envshadow render`: one frame of a scene offscreen (EGL or OSMesa) to PNG and/or EXR. Prints the
+// decomposition time, the frame's GPU time per pass and the shadow atlas's size. With --frames F
+// the times are medians over F frames (after one warm-up frame); with --atlas all every frame is
+// drawn once per way of drawing the atlas, interleaved, so their times compare in one run.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "commands.h"
+#include "core/error.h"
 #include "core/image.h"
+#include "env/cells.h"
+#include "env/environment.h"
 #include "gl/context.h"
-#include "gl/objects.h"
-#include "gl/readback.h"
-#include "gl/shader.h"
 #include "glsl/embedded.h"
+#include "render/fs_sampler.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
 
 namespace envshadow::app {
 namespace {
+
 struct RenderOptions {
-    std::string backend = "egl";
-    std::string out;
-    int width = 640, height = 360;
+    std::string scene, env, method = "lloyd", backend = "egl", out, exr;
+    std::string pcf = "2x2", specular = "blended", cap = "weighted", diffuse = "center", atlas;
+    int lights = 128, width = 960, height = 540, tile = 256, depth_bits = 16, frames = 1;
+    double time = 0.0;
+    std::uint64_t seed = 1;
+    bool per_tile_atlas = false, no_background = false;
 };
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+render::RenderSettings settings_from(const RenderOptions& o) {
+    render::RenderSettings s;
+    s.tile_size = o.tile;
+    s.depth_bits = o.depth_bits;
+    s.pcf = render::parse_pcf_kernel(o.pcf, "--pcf");
+    s.specular = render::parse_specular_mode(o.specular, "--specular");
+    s.cap = render::parse_cap_kind(o.cap, "--cap");
+    s.diffuse = render::parse_diffuse_mode(o.diffuse, "--diffuse");
+    s.background = !o.no_background;
+    if (o.per_tile_atlas) s.atlas = render::AtlasMode::per_tile;
+    render::validate(s);
+    return s;
+}
+
+// The atlas modes to draw each frame: the one chosen, or all three with --atlas all.
+std::vector<render::AtlasMode> atlas_modes(const RenderOptions& o, const render::RenderSettings& s) {
+    if (o.atlas.empty()) return {s.atlas};
+    if (o.per_tile_atlas) throw UsageError("--per-tile-atlas and --atlas exclude each other");
+    if (o.atlas == "all")
+        return {render::AtlasMode::clip_distances, render::AtlasMode::viewport_array, render::AtlasMode::per_tile};
+    return {render::parse_atlas_mode(o.atlas, "--atlas")};
+}
+
+// builtin:sky follows --time: its sun advances one hour per second of animation from the spec's time
+// (noon by default), so the environment animates with the scene (with fs-gpu, nothing is computed at
+// load time for it). Other environments do not change with time.
+std::string environment_at(const std::string& spec, double seconds) {
+    if (seconds == 0.0 || (spec != "builtin:sky" && spec.rfind("builtin:sky:", 0) != 0)) return spec;
+    const std::size_t at = spec.find("time=");
+    const double hours = (at == std::string::npos ? 12.0 : std::strtod(spec.c_str() + at + 5, nullptr)) + seconds;
+    return spec + (spec == "builtin:sky" ? ":" : ",") + "time=" + std::to_string(hours);  // the last key wins
+}
+
+int run_render(const RenderOptions& o) {
+    if (o.out.empty() && o.exr.empty()) throw UsageError("render: give --out OUT.png and/or --exr OUT.exr");
+    if (!std::isfinite(o.time)) throw UsageError("--time must be a finite number of seconds");
+    // fs-gpu: Floyd-Steinberg samples of the environment texture made on the GPU every frame
+    // (docs/FS_GPU.md), instead of a decomposition at load time.
+    const bool fs_gpu = o.method == "fs-gpu";
+    const Method method = fs_gpu ? Method::fs : parse_method(o.method);
+    render::RenderSettings settings = settings_from(o);
+    const std::vector<render::AtlasMode> modes = atlas_modes(o, settings);
+    settings.atlas = modes.front();
+
+    Scene scene = load_scene(o.scene);
+    if (!o.env.empty()) scene.environment.source = o.env;
+    const EnvironmentMap map = load_environment(environment_at(scene.environment.source, o.time));
+    const Decomposition decomposition =
+        fs_gpu ? Decomposition{} : decompose(map, DecomposeOptions{method, o.lights, o.seed});
+
+    auto context = gl::create_context(gl::parse_backend(o.backend));
+    render::Renderer renderer(settings);
+    renderer.set_scene(scene);
+    renderer.set_environment(map);
+    std::optional<render::FsSampler> fs_sampler;
+    if (fs_gpu) {
+        gl::ShaderLibrary shaders;
+        for (const glsl::File& f : glsl::files()) shaders.add(f.name, f.source);
+        fs_sampler.emplace(shaders);
+    } else {
+        renderer.set_lights(decomposition.cells);
+    }
+    const render::CameraView view = render::camera_view(scene, o.width, o.height, o.time);
+
+    // Per mode and pass, the GPU milliseconds of every measured frame.
+    std::map<render::AtlasMode, std::map<std::string, std::vector<double>>> times;
+    render::FrameStats stats;
+    std::optional<Image> image;
+    const int warmup = o.frames > 1 ? 1 : 0;
+    for (int frame = 0; frame < warmup + o.frames; ++frame)
+        for (render::AtlasMode mode : modes) {
+            settings.atlas = mode;
+            renderer.set_settings(settings);
+            const auto start = std::chrono::steady_clock::now();
+            if (fs_sampler) {  // the lights are regenerated every frame; in map space, as cells are
+                fs_sampler->sample(renderer.environment_texture(), render::FsSampleRequest{o.lights});
+                renderer.set_lights(fs_sampler->read_lights());
+                const std::chrono::duration<double, std::milli> sampled = std::chrono::steady_clock::now() - start;
+                if (frame >= warmup) times[mode]["fs-gpu sampling wall"].push_back(sampled.count());
+            }
+            stats = renderer.render(o.time, view);  // returns after the GPU's timer results are in
+            const std::chrono::duration<double, std::milli> wall = std::chrono::steady_clock::now() - start;
+            if (frame >= warmup) {
+                for (const gl::PassTime& pass : stats.passes) times[mode][pass.pass].push_back(pass.milliseconds);
+                times[mode]["frame wall"].push_back(wall.count());
+            }
+            if (!image) image = renderer.read_back();  // the first mode's first frame
+        }
+
+    std::printf("scene %s, %dx%d, %s on %s\n", o.scene.c_str(), o.width, o.height,
+                std::string(gl::to_string(context->backend())).c_str(), context->renderer().c_str());
+    if (fs_sampler)
+        std::printf("fs-gpu: %u lights of %u samples from a %dx%d importance map of %s, every frame, %.2f ms wall\n",
+                    fs_sampler->read_counts().light_count, fs_sampler->read_counts().samples,
+                    fs_sampler->importance_size().x, fs_sampler->importance_size().y, map.source.c_str(),
+                    median(times[modes.front()]["fs-gpu sampling wall"]));
+    else
+        std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n",
+                    std::string(to_string(decomposition.method)).c_str(), decomposition.cells.size(),
+                    decomposition.width, decomposition.height, map.source.c_str(), decomposition.seconds);
+    std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
+                stats.lights_below_ground, stats.lights_negligible);
+    std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
+                stats.atlas.tile_size, stats.atlas.width(), stats.atlas.height(), settings.depth_bits,
+                stats.atlas_bytes);
+    for (render::AtlasMode mode : modes) {
+        std::printf("gpu ms (%s atlas%s):", std::string(render::to_string(mode)).c_str(),
+                    o.frames > 1 ? (", median of " + std::to_string(o.frames) + " frames").c_str() : "");
+        double total = 0.0;
+        for (const gl::PassTime& pass : stats.passes) {
+            const double ms = median(times[mode][pass.pass]);
+            total += ms;
+            std::printf(" %s %.2f,", pass.pass.c_str(), ms);
+        }
+        // llvmpipe times its queries in the rasteriser threads, after the draw calls' vertex work:
+        // the wall-clock time of the whole frame (submission to results) says what a frame costs.
+        std::printf(" total %.2f; frame wall-clock %.2f\n", total, median(times[mode]["frame wall"]));
+    }
+
+    if (!o.exr.empty()) {
+        write_exr(o.exr, *image);
+        std::printf("wrote %s\n", o.exr.c_str());
+    }
+    if (!o.out.empty()) {
+        // The PNG is for looking at: opaque where the environment was drawn behind the objects (the
+        // EXR keeps alpha as the object mask).
+        if (!o.no_background)
+            for (glm::vec4& pixel : image->pixels) pixel.a = 1.0f;
+        write_png(o.out, tonemap_to_srgb8(*image, scene.environment.exposure_stops));
+        std::printf("wrote %s\n", o.out.c_str());
+    }
+    return 0;
+}
+
 }  // namespace
 
 Command add_render_command(CLI::App& parent) {
-    auto options = std::make_shared<RenderOptions>();
+    auto o = std::make_shared<RenderOptions>();
     CLI::App* app = parent.add_subcommand("render", "Render one frame offscreen to PNG and/or EXR");
-    app->add_option("--backend", options->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
-    app->add_option("--out", options->out, "PNG to write")->required();
-    app->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192));
-    app->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192));
-    app->allow_extras();
-    return {app, [options] {
-                auto context = gl::create_context(gl::parse_backend(options->backend));
-                gl::ShaderLibrary library;
-                for (const glsl::File& f : glsl::files()) library.add(f.name, f.source);
-                gl::Program program = library.build({{GL_VERTEX_SHADER, "test_triangle.vert"},
-                                                     {GL_FRAGMENT_SHADER, "test_triangle.frag"}});
-                gl::Texture color = gl::Texture::create_2d(GL_RGBA32F, options->width, options->height);
-                gl::Framebuffer fbo = gl::Framebuffer::create();
-                fbo.attach(GL_COLOR_ATTACHMENT0, color);
-                fbo.check_complete("render");
-                gl::VertexArray vao = gl::VertexArray::create();
-                fbo.bind();
-                glViewport(0, 0, options->width, options->height);
-                glClearColor(0.05f, 0.05f, 0.08f, 1.0f);
-                glClear(GL_COLOR_BUFFER_BIT);
-                program.use();
-                vao.bind();
-                glUniform1f(0, 0.0f);
-                glUniform1f(1, 1.0f);
-                glUniform3f(2, 1.0f, 1.0f, 1.0f);
-                glDrawArrays(GL_TRIANGLES, 0, 3);
-                write_png(options->out, tonemap_to_srgb8(gl::read_color(fbo, options->width, options->height)));
-                std::printf("wrote %s (%dx%d, test image; %s)\n", options->out.c_str(), options->width,
-                            options->height, context->renderer().c_str());
-                return 0;
-            }};
+    app->add_option("--scene", o->scene, "Scene JSON, or a .gltf/.glb")->required();
+    app->add_option("--env", o->env, "Environment map (.exr/.hdr or builtin:...), overriding the scene's");
+    app->add_option("--lights", o->lights, "Number of cells (lights)")->check(CLI::Range(1, 256));
+    app->add_option("--method", o->method,
+                    "Decomposition: lloyd, ccvt, mediancut, random, fs; or fs-gpu (sampled on the GPU every frame)");
+    app->add_option("--seed", o->seed, "Seed of the decomposition");
+    app->add_option("--width", o->width, "Image width")->check(CLI::Range(16, 8192));
+    app->add_option("--height", o->height, "Image height")->check(CLI::Range(16, 8192));
+    app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
+    app->add_option("--time", o->time, "Animation time in seconds (builtin:sky's sun: one hour per second)");
+    app->add_option("--out", o->out, "PNG to write (exposure, filmic tone map, sRGB)");
+    app->add_option("--exr", o->exr, "EXR to write (linear; alpha 1 on objects, 0 on the background)");
+    app->add_option("--tile", o->tile, "Shadow map tile size (128..2048)")->check(CLI::Range(128, 2048));
+    app->add_option("--depth-bits", o->depth_bits, "Shadow depth bits")->check(CLI::IsMember({16, 32}));
+    app->add_option("--pcf", o->pcf, "Shadow filter: 2x2 (hardware) or wide (3x3 taps)")
+        ->check(CLI::IsMember({"2x2", "wide"}));
+    app->add_option("--specular", o->specular, "blended (Barsi et al.) or single (cos^n psi_c)")
+        ->check(CLI::IsMember({"blended", "single"}));
+    app->add_option("--cap", o->cap, "Cell cap: solid-angle or weighted (radiance-weighted)")
+        ->check(CLI::IsMember({"solid-angle", "weighted"}));
+    app->add_option("--diffuse", o->diffuse, "center (the paper's sample) or cap (exact clamped cosine)")
+        ->check(CLI::IsMember({"center", "cap"}));
+    app->add_flag("--per-tile-atlas", o->per_tile_atlas, "Draw the shadow atlas one tile at a time (baseline)");
+    app->add_option("--atlas", o->atlas, "clip-distances, viewport-array, per-tile, or all (times each, interleaved)")
+        ->check(CLI::IsMember({"clip-distances", "viewport-array", "per-tile", "all"}));
+    app->add_option("--frames", o->frames, "Frames to render; GPU times are their medians")
+        ->check(CLI::Range(1, 10000));
+    app->add_flag("--no-background", o->no_background, "Leave the background transparent black");
+    return {app, [o] { return run_render(*o); }};
 }
 
 }  // namespace envshadow::app

@@ -2,6 +2,7 @@
 // One fixture for every GL test: a headless context of the parameter's backend (egl, osmesa) with
 // KHR_debug on; a test fails if GL reported any error by its end.
 #include <memory>
+#include <ostream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -10,6 +11,11 @@
 #include "gl/debug.h"
 #include "gl/shader.h"
 #include "glsl/embedded.h"
+
+namespace envshadow::gl {
+// Keeps ctest's test names readable (gtest would print the enum's bytes).
+inline void PrintTo(Backend backend, std::ostream* out) { *out << to_string(backend); }
+}  // namespace envshadow::gl
 
 namespace envshadow::testing {
 

@@ -15,6 +15,7 @@ void destroy_program(GLuint id) { glDeleteProgram(id); }
 void destroy_shader(GLuint id) { glDeleteShader(id); }
 void destroy_query(GLuint id) { glDeleteQueries(1, &id); }
 void destroy_sampler(GLuint id) { glDeleteSamplers(1, &id); }
+void destroy_transform_feedback(GLuint id) { glDeleteTransformFeedbacks(1, &id); }
 }  // namespace detail
 
 Buffer Buffer::create(std::size_t bytes, const void* data, GLbitfield flags) {
@@ -97,6 +98,14 @@ Sampler Sampler::create() {
     Sampler sampler;
     sampler.name_ = detail::Name<detail::destroy_sampler>(id);
     return sampler;
+}
+
+TransformFeedback TransformFeedback::create() {
+    GLuint id = 0;
+    glCreateTransformFeedbacks(1, &id);
+    TransformFeedback feedback;
+    feedback.name_ = detail::Name<detail::destroy_transform_feedback>(id);
+    return feedback;
 }
 
 Query Query::create(GLenum target) {

@@ -44,6 +44,7 @@ void destroy_program(GLuint id);
 void destroy_shader(GLuint id);
 void destroy_query(GLuint id);
 void destroy_sampler(GLuint id);
+void destroy_transform_feedback(GLuint id);
 }  // namespace detail
 
 class Buffer {
@@ -129,6 +130,21 @@ public:
 
 private:
     detail::Name<detail::destroy_query> name_;
+};
+
+// A transform feedback object: its own set of capture-buffer bindings, so capturing leaves the
+// default object's bindings alone.
+class TransformFeedback {
+public:
+    TransformFeedback() = default;
+    static TransformFeedback create();
+    GLuint id() const { return name_.id(); }
+    explicit operator bool() const { return id() != 0; }
+    void attach(GLuint index, const Buffer& buffer) { glTransformFeedbackBufferBase(id(), index, buffer.id()); }
+    void bind() const { glBindTransformFeedback(GL_TRANSFORM_FEEDBACK, id()); }
+
+private:
+    detail::Name<detail::destroy_transform_feedback> name_;
 };
 
 // A linked program. Built by ShaderLibrary (gl/shader.h).

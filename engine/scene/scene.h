@@ -1,6 +1,8 @@
 #pragma once
 // Scenes (DESIGN.md §6): an environment, a camera and objects with materials and optional
 // animation. Loaded from the JSON files in assets/scenes/ or from a bare .gltf/.glb. No GL here.
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -33,14 +35,19 @@ struct Mesh {
 struct Animation {
     enum class Kind { none, orbit, path };
     Kind kind = Kind::none;
-    double period = 10.0;                 // seconds per loop
-    glm::vec3 center{0.0f};               // orbit: centre, axis +Y
-    float radius = 1.0f;                  // orbit
-    float height = 0.0f;                  // orbit: added to the centre's y
-    std::vector<glm::vec3> points;        // path: a closed polyline, visited at constant speed per segment
-    bool face_motion = true;              // turn the object to face along its motion
+    double period = 10.0;           // seconds per loop
+    glm::vec3 center{0.0f};         // orbit: centre, axis +Y
+    float radius = 1.0f;            // orbit
+    float height = 0.0f;            // orbit: added to the centre's y
+    std::vector<glm::vec3> points;  // path: a closed polyline (last point joins the first), travelled at
+                                    // constant speed: time is proportional to arc length
+    bool face_motion = true;        // turn the object about +Y so that its +Z (glTF's front) faces along
+                                    // its horizontal motion
 
-    glm::mat4 motion_at(double t) const;  // identity for Kind::none
+    // Translation to the position at time t (times t and t + period give the same), turned to face
+    // the motion if face_motion; identity for Kind::none. Orbit: at t = 0 the object is at
+    // centre + (radius, height, 0) and moves from +X towards +Z.
+    glm::mat4 motion_at(double t) const;
 };
 
 struct Object {
@@ -66,9 +73,17 @@ struct Camera {
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     float fov_y_degrees = 45.0f;
 
+    // Right-handed, +Y up, looking down -Z in view space (glm::lookAtRH).
     glm::mat4 view_from_world() const;
+    // OpenGL clip space: depth -1 at the near plane, +1 at the far plane (glm::perspectiveRH_NO).
     glm::mat4 clip_from_view(float aspect, float near_plane, float far_plane) const;
 };
+
+// Largest scene any loader builds, all objects together (README "Input limits").
+inline constexpr std::size_t kMaxSceneTriangles = 50'000'000;
+// Largest world coordinate (metres) of any vertex, camera or animation point: products and sums of
+// a few such values (bounds, extents, projection fits) stay far inside float range.
+inline constexpr double kMaxCoordinate = 1e12;
 
 struct Scene {
     std::filesystem::path file;
@@ -82,6 +97,11 @@ struct Scene {
     // World-space bounds of every object at time t.
     void bounds_at(double t, glm::vec3& lo, glm::vec3& hi) const;
 };
+
+// A camera on the front-right of the box [lo, hi], a little above it, aimed at its centre and close
+// enough that the box's bounding sphere fits a vertical field of view of fov_y_degrees (and so any
+// picture at least as wide as it is tall).
+Camera camera_framing(const glm::vec3& lo, const glm::vec3& hi, float fov_y_degrees = 40.0f);
 
 // Loads a scene JSON, or a .gltf/.glb placed on a ground plane and framed by the camera under the
 // default environment. Throws InputError naming the file and the reason.

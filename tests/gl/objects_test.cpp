@@ -20,6 +20,7 @@ TEST(GlObjects, AreMoveOnly) {
     EXPECT_TRUE(move_only<Program>);
     EXPECT_TRUE(move_only<Query>);
     EXPECT_TRUE(move_only<Sampler>);
+    EXPECT_TRUE(move_only<TransformFeedback>);
 }
 
 TEST(GlObjects, EmptyOnesNeedNoContext) {
@@ -28,7 +29,9 @@ TEST(GlObjects, EmptyOnesNeedNoContext) {
     Buffer b = std::move(a);
     Texture t;
     Program p;
+    TransformFeedback f;
     EXPECT_EQ(b.id(), 0u);
+    EXPECT_FALSE(bool(f));
     EXPECT_FALSE(bool(t));
     EXPECT_FALSE(bool(p));
 }

@@ -1,0 +1,158 @@
+#include "reference/ray_tracer.h"
+
+#include <embree3/rtcore.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+
+namespace envshadow::reference {
+
+struct RayTracer::State {
+    RTCDevice device = nullptr;
+    RTCScene everything = nullptr;
+    RTCScene casters = nullptr;
+    std::vector<std::size_t> object_of_geometry;    // geometry ID in `everything` -> object index
+    std::vector<std::vector<glm::vec3>> positions;  // world space, per object
+    std::vector<std::vector<glm::vec3>> normals;    // world space, unit, per object
+    std::vector<const std::vector<std::uint32_t>*> indices;
+
+    ~State() {
+        if (casters) rtcReleaseScene(casters);
+        if (everything) rtcReleaseScene(everything);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+namespace {
+
+void check(RTCDevice device, const char* what) {
+    const RTCError error = rtcGetDeviceError(device);
+    if (error != RTC_ERROR_NONE)
+        throw PlatformError(std::string("Embree: ") + what + " failed (error " + std::to_string(int(error)) + ")");
+}
+
+// A triangle geometry over `positions` / `indices` (Embree copies nothing: the buffers must outlive it).
+void attach(RTCDevice device, RTCScene scene, const std::vector<glm::vec3>& positions,
+            const std::vector<std::uint32_t>& indices) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree may read 16 bytes from the last vertex: the positions vector is padded by the caller.
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions.data(), 0,
+                               sizeof(glm::vec3), positions.size() - 1);
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, indices.data(), 0,
+                               3 * sizeof(std::uint32_t), indices.size() / 3);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+}
+
+}  // namespace
+
+RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<State>()) {
+    State& s = *state_;
+    s.device = rtcNewDevice(nullptr);
+    if (!s.device) throw PlatformError("Embree: cannot create a device");
+    s.everything = rtcNewScene(s.device);
+    s.casters = rtcNewScene(s.device);
+    for (RTCScene bvh : {s.everything, s.casters}) {
+        rtcSetSceneFlags(bvh, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(bvh, RTC_BUILD_QUALITY_HIGH);
+    }
+    s.positions.resize(scene.objects.size());
+    s.normals.resize(scene.objects.size());
+    s.indices.resize(scene.objects.size(), nullptr);
+    double extent = 0.0;
+    for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+        const Object& object = scene.objects[k];
+        if (!object.mesh || object.mesh->indices.empty()) continue;
+        const Mesh& mesh = *object.mesh;
+        const glm::mat4 world_from_object = object.world_from_object(time);
+        const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world_from_object)));
+        std::vector<glm::vec3>& positions = s.positions[k];
+        std::vector<glm::vec3>& normals = s.normals[k];
+        positions.reserve(mesh.positions.size() + 1);
+        normals.reserve(mesh.positions.size());
+        for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+            positions.push_back(glm::vec3(world_from_object * glm::vec4(mesh.positions[v], 1.0f)));
+            const glm::vec3 n = normal_matrix * mesh.normals[v];
+            const float length = glm::length(n);
+            normals.push_back(length > 0.0f ? n / length : glm::vec3(0.0f));
+            extent = std::max(extent, double(glm::length(positions.back())));
+        }
+        positions.push_back(glm::vec3(0.0f));  // padding for Embree's 16-byte vertex reads
+        s.indices[k] = &mesh.indices;
+        attach(s.device, s.everything, positions, mesh.indices);
+        s.object_of_geometry.push_back(k);
+        if (object.casts_shadows) attach(s.device, s.casters, positions, mesh.indices);
+        triangles_ += mesh.triangle_count();
+    }
+    rtcCommitScene(s.everything);
+    rtcCommitScene(s.casters);
+    check(s.device, "building the scene's BVH");
+    extent_ = std::max(extent, 1e-3);
+}
+
+RayTracer::~RayTracer() = default;
+
+std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dvec3& direction) const {
+    RTCRayHit query{};
+    query.ray.org_x = float(origin.x);
+    query.ray.org_y = float(origin.y);
+    query.ray.org_z = float(origin.z);
+    query.ray.dir_x = float(direction.x);
+    query.ray.dir_y = float(direction.y);
+    query.ray.dir_z = float(direction.z);
+    query.ray.tnear = 0.0f;
+    query.ray.tfar = std::numeric_limits<float>::infinity();
+    query.ray.mask = ~0u;
+    query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(state_->everything, &context, &query);
+    if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+
+    const std::size_t object = state_->object_of_geometry[query.hit.geomID];
+    const std::vector<glm::vec3>& positions = state_->positions[object];
+    const std::vector<glm::vec3>& normals = state_->normals[object];
+    const std::uint32_t* triangle = state_->indices[object]->data() + 3 * std::size_t(query.hit.primID);
+    const double u = query.hit.u, v = query.hit.v, w = 1.0 - u - v;
+    const glm::dvec3 p0(positions[triangle[0]]), p1(positions[triangle[1]]), p2(positions[triangle[2]]);
+    Hit hit;
+    hit.object = object;
+    hit.distance = query.ray.tfar;
+    hit.position = w * p0 + u * p1 + v * p2;
+    const glm::dvec3 face = glm::cross(p1 - p0, p2 - p0);
+    const double face_length = glm::length(face);
+    hit.geometric_normal = face_length > 0.0 ? face / face_length : -direction;
+    const glm::dvec3 n = w * glm::dvec3(normals[triangle[0]]) + u * glm::dvec3(normals[triangle[1]]) +
+                         v * glm::dvec3(normals[triangle[2]]);
+    const double n_length = glm::length(n);
+    hit.shading_normal = n_length > 0.0 ? n / n_length : hit.geometric_normal;
+    return hit;
+}
+
+bool RayTracer::occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_max) const {
+    RTCRay ray{};
+    ray.org_x = float(origin.x);
+    ray.org_y = float(origin.y);
+    ray.org_z = float(origin.z);
+    ray.dir_x = float(direction.x);
+    ray.dir_y = float(direction.y);
+    ray.dir_z = float(direction.z);
+    ray.tnear = 0.0f;
+    ray.tfar = float(t_max);
+    ray.mask = ~0u;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded1(state_->casters, &context, &ray);
+    return ray.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
+}  // namespace envshadow::reference

@@ -1,0 +1,45 @@
+#pragma once
+// The scene's triangles at one instant, in world space, in two Embree 3 BVHs: everything (what the
+// camera sees) and the shadow casters (Object::casts_shadows; what blocks the environment).
+#include <cstddef>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <optional>
+
+#include "scene/scene.h"
+
+namespace envshadow::reference {
+
+struct Hit {
+    std::size_t object = 0;       // index into Scene::objects
+    double distance = 0.0;        // along the (unit) ray
+    glm::dvec3 position;          // on the triangle (from the barycentrics, not origin + t d)
+    glm::dvec3 shading_normal;    // interpolated vertex normals, world space, unit
+    glm::dvec3 geometric_normal;  // the triangle's (counter-clockwise front), world space, unit
+};
+
+class RayTracer {
+public:
+    // Geometry at time `time` (Object::world_from_object). Throws PlatformError if Embree fails.
+    RayTracer(const Scene& scene, double time);
+    ~RayTracer();
+    RayTracer(const RayTracer&) = delete;
+    RayTracer& operator=(const RayTracer&) = delete;
+
+    // Nearest hit along origin + t direction, t in (0, inf); `direction` unit.
+    std::optional<Hit> intersect(const glm::dvec3& origin, const glm::dvec3& direction) const;
+    // Whether a shadow caster lies along origin + t direction, t in (0, t_max).
+    bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_max) const;
+
+    // Radius of a sphere about the origin holding all geometry: the scale for ray offsets.
+    double extent() const { return extent_; }
+    std::size_t triangle_count() const { return triangles_; }
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+    double extent_ = 1.0;
+    std::size_t triangles_ = 0;
+};
+
+}  // namespace envshadow::reference

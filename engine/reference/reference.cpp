@@ -1,0 +1,346 @@
+#include "reference/reference.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+#include <glm/trigonometric.hpp>
+#include <glm/vec4.hpp>
+#include <numbers>
+#include <vector>
+
+#include "env/brdf.h"
+#include "env/latlong.h"
+#include "reference/environment_sampler.h"
+#include "reference/ray_tracer.h"
+
+namespace envshadow::reference {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kPilotRounds = 8;      // rounds that only plan how many rounds a pixel needs
+constexpr int kMinRounds = 16;       // the reported standard error has at least 15 degrees of freedom
+constexpr double kPlanMargin = 1.5;  // rounds planned for 1.5x the pilot's variance
+constexpr int kGrid = 6;             // per pilot round, 6 x 6 jittered samples of each strategy in use
+constexpr int kLargestGrid = 24;     // rounds of hard pixels use up to 24 x 24 (stratification pays more)
+
+// xoshiro256** seeded through splitmix64: independent streams per pixel, whatever the thread order.
+class Random {
+public:
+    explicit Random(std::uint64_t seed) {
+        for (std::uint64_t& word : state_) {
+            seed += 0x9e3779b97f4a7c15ull;
+            std::uint64_t z = seed;
+            z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+            z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+            word = z ^ (z >> 31);
+        }
+    }
+    double uniform() { return double(next() >> 11) * 0x1.0p-53; }  // [0, 1)
+
+private:
+    static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+    std::uint64_t next() {
+        const std::uint64_t result = rotl(state_[1] * 5, 7) * 9, t = state_[1] << 17;
+        state_[2] ^= state_[0];
+        state_[3] ^= state_[1];
+        state_[1] ^= state_[2];
+        state_[0] ^= state_[3];
+        state_[2] ^= t;
+        state_[3] = rotl(state_[3], 45);
+        return result;
+    }
+    std::uint64_t state_[4];
+};
+
+// Orthonormal basis with `n` as its third axis (Duff et al. 2017).
+void basis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z), b = n.x * n.y * a;
+    b1 = {1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x};
+    b2 = {b, sign + n.y * n.y * a, -n.y};
+}
+
+// What the shading of one surface point needs.
+struct SurfacePoint {
+    glm::dvec3 position, normal, geometric_normal, mirror;
+    glm::dvec3 normal_b1, normal_b2, mirror_b1, mirror_b2;
+    glm::dvec3 k_d;
+    double k_s = 0.0, shininess = 1.0;
+    double offset = 0.0;  // shadow rays start this far off the triangle, on the side they leave towards
+};
+
+// Sample counts of the strategies per round: the map's light (EnvironmentSampler), the cosine lobe and
+// the Phong lobe (DESIGN.md §2's two terms).
+struct Allocation {
+    int grid = kGrid;  // each strategy in use draws grid x grid jittered samples
+    int light = 0, cosine = 0, phong = 0;
+    int total() const { return light + cosine + phong; }
+    Allocation with_grid(int g) const {
+        const auto scale = [&](int count) { return count ? g * g : 0; };
+        return {g, scale(light), scale(cosine), scale(phong)};
+    }
+};
+
+class PixelIntegrator {
+public:
+    PixelIntegrator(const Scene& scene, const EnvironmentSampler& environment, const RayTracer& tracer)
+        : scene_(scene), environment_(environment), tracer_(tracer) {}
+
+    enum class Strategy { light, cosine, phong };
+
+    // One sample's share of the estimate of L = integral of L_env (k_d cos theta' + k_s cos^n psi) V dw over
+    // cos theta' > 0. The two terms are estimated apart, each by multiple importance sampling (the power
+    // heuristic, Veach 1997, beta = 2) over the strategies that suit it: the diffuse term by the map's light
+    // and the cosine lobe, the specular term by the map's light and the Phong lobe; a sample adds
+    //   f_term w_s / (N_s p_s),  w_s = (N_s p_s)^2 / sum over the term's strategies k of (N_k p_k)^2,
+    // and one shadow ray serves both terms.
+    glm::dvec3 contribution(const SurfacePoint& s, const Allocation& a, Strategy strategy, const glm::dvec3& w,
+                            long long& rays) const {
+        const double cos_theta = glm::dot(s.normal, w);
+        if (cos_theta <= 0.0) return glm::dvec3(0.0);
+        // The ground plane, when the scene has one, hides everything below the horizon (Scene::ground_height).
+        if (scene_.has_ground && w.y < 0.0) return glm::dvec3(0.0);
+        const double cos_psi = s.k_s > 0.0 ? glm::dot(s.mirror, w) : 0.0;
+        const double lobe = cos_psi > 0.0 ? std::pow(cos_psi, s.shininess) : 0.0;
+        double light_pdf = 0.0;
+        const glm::dvec3 radiance = environment_.radiance_and_pdf(w, light_pdf);
+        const double light = a.light * light_pdf;
+        const double cosine = a.cosine * cos_theta / kPi;
+        const double phong = a.phong * (s.shininess + 1.0) / (2.0 * kPi) * lobe;
+        const double own = strategy == Strategy::light ? light : strategy == Strategy::cosine ? cosine : phong;
+        if (!(own > 0.0)) return glm::dvec3(0.0);
+        // w_s / (N_s p_s) for each term; a lobe's samples serve only their own term.
+        const double diffuse_weight = strategy == Strategy::phong ? 0.0 : own / (light * light + cosine * cosine);
+        const double specular_weight = strategy == Strategy::cosine ? 0.0 : own / (light * light + phong * phong);
+        const glm::dvec3 weighted = radiance * (s.k_d * (cos_theta * diffuse_weight) + s.k_s * lobe * specular_weight);
+        if (weighted.r <= 0.0 && weighted.g <= 0.0 && weighted.b <= 0.0) return glm::dvec3(0.0);
+        const double side = glm::dot(s.geometric_normal, w) >= 0.0 ? 1.0 : -1.0;
+        ++rays;
+        if (tracer_.occluded(s.position + side * s.offset * s.geometric_normal, w, 1e30)) return glm::dvec3(0.0);
+        return weighted;
+    }
+
+    // One round: an unbiased estimate of the pixel's radiance, independent of the other rounds. Each
+    // strategy draws from a jittered a.grid x a.grid grid on the unit square.
+    glm::dvec3 round(const SurfacePoint& s, const Allocation& a, Random& random, long long& rays) const {
+        glm::dvec3 sum(0.0);
+        const auto jittered = [&](int k, double& xi1, double& xi2) {
+            xi1 = (k % a.grid + random.uniform()) / a.grid;
+            xi2 = (k / a.grid + random.uniform()) / a.grid;
+        };
+        double xi1, xi2;
+        for (int k = 0; k < a.light; ++k) {
+            jittered(k, xi1, xi2);
+            sum += contribution(s, a, Strategy::light, environment_.sample(xi1, xi2).direction, rays);
+        }
+        for (int k = 0; k < a.cosine; ++k) {  // cosine-weighted about the normal (Malley)
+            jittered(k, xi1, xi2);
+            const double r = std::sqrt(xi1), phi = 2.0 * kPi * xi2;
+            const glm::dvec3 w = r * std::cos(phi) * s.normal_b1 + r * std::sin(phi) * s.normal_b2 +
+                                 std::sqrt(std::max(0.0, 1.0 - xi1)) * s.normal;
+            sum += contribution(s, a, Strategy::cosine, glm::normalize(w), rays);
+        }
+        for (int k = 0; k < a.phong; ++k) {  // density (n + 1)/(2 pi) cos^n psi about the mirror direction
+            jittered(k, xi1, xi2);
+            const double cos_psi = std::pow(1.0 - xi1, 1.0 / (s.shininess + 1.0));
+            const double sin_psi = std::sqrt(std::max(0.0, 1.0 - cos_psi * cos_psi)), phi = 2.0 * kPi * xi2;
+            const glm::dvec3 w =
+                sin_psi * std::cos(phi) * s.mirror_b1 + sin_psi * std::sin(phi) * s.mirror_b2 + cos_psi * s.mirror;
+            sum += contribution(s, a, Strategy::phong, glm::normalize(w), rays);
+        }
+        return sum;
+    }
+
+private:
+    const Scene& scene_;
+    const EnvironmentSampler& environment_;
+    const RayTracer& tracer_;
+};
+
+// Mean and spread of independent round estimates (Welford), per channel.
+class RoundStatistics {
+public:
+    void add(const glm::dvec3& estimate) {
+        ++count_;
+        const glm::dvec3 delta = estimate - mean_;
+        mean_ += delta / double(count_);
+        m2_ += delta * (estimate - mean_);
+    }
+    long long count() const { return count_; }
+    const glm::dvec3& mean() const { return mean_; }
+    glm::dvec3 variance() const { return count_ > 1 ? m2_ / double(count_ - 1) : glm::dvec3(0.0); }
+    glm::dvec3 standard_error() const { return glm::sqrt(variance() / double(count_)); }
+
+private:
+    long long count_ = 0;
+    glm::dvec3 mean_{0.0}, m2_{0.0};
+};
+
+struct PixelResult {
+    glm::dvec3 value{0.0}, standard_error{0.0};
+    long long samples = 0;
+    double relative_error = 0.0;
+    bool object = false, dark = false;
+};
+
+}  // namespace
+
+ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, const ReferenceOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    const EnvironmentSampler environment(map, scene.environment.rotation_degrees);
+    const RayTracer tracer(scene, options.time);
+    const PixelIntegrator integrator(scene, environment, tracer);
+    const int width = options.width, height = options.height;
+
+    // Camera rays through pixel centres, row 0 at the top, as OpenGL rasterises with Camera's matrices.
+    const glm::dmat4 world_from_view = glm::inverse(glm::dmat4(scene.camera.view_from_world()));
+    const glm::dmat3 world_from_view_rotation(world_from_view);
+    const glm::dvec3 eye(world_from_view[3]);
+    const double tan_half_fov = std::tan(0.5 * glm::radians(double(scene.camera.fov_y_degrees)));
+    const double aspect = double(width) / double(height);
+    // Pixels darker than 2% of the map's mean radiance stop on an absolute error (target * floor) instead.
+    const double dark_floor = 0.02 * environment.mean_luminance();
+
+    std::vector<PixelResult> pixels(std::size_t(width) * std::size_t(height));
+    std::vector<long long> rays_per_row(std::size_t(height), 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+            long long rays = 0;
+            for (int x = 0; x < width; ++x) {
+                PixelResult& out = pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+                const glm::dvec3 view_direction((2.0 * (x + 0.5) / width - 1.0) * tan_half_fov * aspect,
+                                                (1.0 - 2.0 * (y + 0.5) / height) * tan_half_fov, -1.0);
+                const glm::dvec3 direction = glm::normalize(world_from_view_rotation * view_direction);
+                const std::optional<Hit> hit = tracer.intersect(eye, direction);
+                if (!hit) {
+                    out.value = environment.radiance_filtered(direction);
+                    continue;
+                }
+                out.object = true;
+                const Material& material = scene.objects[hit->object].material;
+                SurfacePoint s;
+                s.position = hit->position;
+                s.geometric_normal = hit->geometric_normal;
+                const glm::dvec3 view = -direction;
+                s.normal = glm::dot(hit->shading_normal, view) < 0.0 ? -hit->shading_normal : hit->shading_normal;
+                s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
+                basis(s.normal, s.normal_b1, s.normal_b2);
+                basis(s.mirror, s.mirror_b1, s.mirror_b2);
+                s.k_d =
+                    glm::dvec3(brdf::diffuse_coefficient(material.rho_d.r), brdf::diffuse_coefficient(material.rho_d.g),
+                               brdf::diffuse_coefficient(material.rho_d.b));
+                s.shininess = std::max(0.0, double(material.shininess));
+                s.k_s = material.rho_s > 0.0f ? brdf::specular_coefficient(material.rho_s, material.shininess) : 0.0;
+                s.offset = 1e-5 * (tracer.extent() + glm::length(s.position));
+
+                Allocation allocation;
+                allocation.light = environment.can_sample() ? kGrid * kGrid : 0;
+                allocation.cosine = (s.k_d.r > 0.0 || s.k_d.g > 0.0 || s.k_d.b > 0.0) ? kGrid * kGrid : 0;
+                allocation.phong = s.k_s > 0.0 ? kGrid * kGrid : 0;
+                if (environment.luminance_integral() <= 0.0 || allocation.cosine + allocation.phong == 0) {
+                    out.dark = true;  // a black map or a black material: 0 exactly
+                    continue;
+                }
+
+                Random random(options.seed * 0x9e3779b97f4a7c15ull + std::uint64_t(y) * std::uint64_t(width) +
+                              std::uint64_t(x));
+                // A pilot plans the rounds; fresh rounds, independent of that decision, give the value and
+                // its error (stopping on the rounds that are reported would favour runs whose spread happened
+                // to look small). A pixel that needs many rounds takes larger ones (grid 12 or 24): a finer
+                // stratification cuts the variance per sample where edges and shadows make it high; a second
+                // pilot at that size plans them.
+                const double target = options.target_error;
+                long long samples = 0;
+                const auto run = [&](const Allocation& a, long long count, RoundStatistics& into) {
+                    for (long long k = 0; k < count; ++k) into.add(integrator.round(s, a, random, rays));
+                    samples += count * a.total();
+                };
+                // Rounds for every channel's standard error to reach target * max(value, dark floor).
+                const auto rounds_for = [&](const RoundStatistics& r, const Allocation& a) {
+                    const long long cap = std::max<long long>(kMinRounds, options.max_samples / a.total());
+                    const glm::dvec3 goal = target * glm::max(r.mean(), glm::dvec3(dark_floor));
+                    const glm::dvec3 rounds = kPlanMargin * r.variance() / (goal * goal);
+                    const double most = std::max({rounds.r, rounds.g, rounds.b});
+                    return most < double(cap) ? std::max<long long>(kMinRounds, (long long)std::ceil(most)) : cap;
+                };
+                RoundStatistics pilot;
+                run(allocation, kPilotRounds, pilot);
+                long long planned = rounds_for(pilot, allocation);
+                // At least as good as independent samples, a round g times finer needs at most 1/g^2 the rounds.
+                int grid = kGrid;
+                while (grid < kLargestGrid &&
+                       double(planned) * double(kGrid * kGrid) / double(4 * grid * grid) >= kMinRounds)
+                    grid *= 2;
+                if (grid != kGrid) {
+                    allocation = allocation.with_grid(grid);
+                    RoundStatistics second_pilot;
+                    run(allocation, kPilotRounds, second_pilot);
+                    planned = rounds_for(second_pilot, allocation);
+                }
+                RoundStatistics rounds;
+                run(allocation, planned, rounds);
+                // The pilot misjudged (its variance is a 7-degree-of-freedom estimate): one top-up.
+                run(allocation, std::max<long long>(0, rounds_for(rounds, allocation) - rounds.count()), rounds);
+
+                out.value = rounds.mean();
+                // The rounds' spread cannot show what no sample met (a small occluder all samples passed by):
+                // add value / N, about the weight of a feature N samples are likely to miss (rule of three).
+                const glm::dvec3 resolution = out.value / double(rounds.count() * allocation.total());
+                out.standard_error =
+                    glm::sqrt(rounds.standard_error() * rounds.standard_error() + resolution * resolution);
+                out.samples = samples;
+                out.dark = true;  // unless some channel is above the floor: then its relative error counts
+                for (int c = 0; c < 3; ++c) {
+                    if (out.value[c] < dark_floor) continue;
+                    out.dark = false;
+                    out.relative_error = std::max(out.relative_error, out.standard_error[c] / out.value[c]);
+                }
+            }
+            rays_per_row[std::size_t(y)] = rays;
+        }
+    });
+
+    ReferenceImage result;
+    result.image = Image(width, height);
+    result.standard_error = Image(width, height);
+    ReferenceStatistics& stats = result.statistics;
+    std::vector<double> relative_errors;
+    double samples = 0.0;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const PixelResult& p = pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+            result.image.at(x, y) = glm::vec4(glm::vec3(p.value), p.object ? 1.0f : 0.0f);
+            result.standard_error.at(x, y) = glm::vec4(glm::vec3(p.standard_error), float(p.samples));
+            if (!p.object) continue;
+            ++stats.object_pixels;
+            samples += double(p.samples);
+            if (p.dark) {
+                ++stats.dark_pixels;
+                continue;
+            }
+            relative_errors.push_back(p.relative_error);
+            if (p.relative_error > 0.005) ++stats.pixels_over_half_percent;
+        }
+    }
+    for (long long rays : rays_per_row) stats.shadow_rays += rays;
+    if (stats.object_pixels > 0) stats.mean_samples = samples / double(stats.object_pixels);
+    if (!relative_errors.empty()) {
+        double sum = 0.0;
+        for (double e : relative_errors) sum += e;
+        stats.mean_relative_error = sum / double(relative_errors.size());
+        std::sort(relative_errors.begin(), relative_errors.end());
+        stats.p99_relative_error =
+            relative_errors[std::min(relative_errors.size() - 1, std::size_t(0.99 * double(relative_errors.size())))];
+        stats.max_relative_error = relative_errors.back();
+    }
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace envshadow::reference

@@ -1,0 +1,54 @@
+#pragma once
+// Cells of the environment become the renderer's directional lights: rotated into the world, the
+// ones that cannot change the image dropped, and packed for the GPU. Plain C++, no GL.
+#include <span>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "env/cells.h"
+
+namespace envshadow::render {
+
+// The GPU's light record: the C++ twin of `struct Light` in glsl/cells.glsl (std430).
+struct LightRecord {
+    glm::vec4 direction{0.0f, 1.0f, 0.0f, 1.0f};  // xyz: w_i in the world (towards the light); w: cos r_i
+    glm::vec4 radiance{0.0f};                     // rgb: L~_i
+    glm::mat4 clip_from_world{1.0f};              // the cell's orthographic projection (tile clip cube)
+    glm::vec4 tile{0.0f};                         // xy: tile corner in atlas uv, zw: tile size in atlas uv
+    glm::vec4 bias{0.0f};                         // x: receiver depth bias (depth units), y: normal offset (world)
+};
+static_assert(sizeof(LightRecord) == 128, "must match the std430 layout of glsl/cells.glsl's Light");
+
+// A light in the world, before shadow fitting.
+struct WorldLight {
+    glm::vec3 direction{0.0f, 1.0f, 0.0f};
+    glm::vec3 radiance{0.0f};
+    float cos_radius = 1.0f;           // the paper's solid-angle cap
+    float cos_radius_weighted = 1.0f;  // the radiance-weighted cap
+};
+
+struct LightSelection {
+    std::vector<WorldLight> kept;
+    int below_ground = 0;  // hidden by the ground plane
+    int negligible = 0;    // no radiance worth a shadow map
+};
+
+// Share of the total luminance that all dropped "negligible" lights may carry together.
+inline constexpr double kNegligibleShare = 1e-6;
+
+// Rotates the cells into the world (world_from_map, env/orientation.h) and, when `skip` is set,
+// drops the lights that cannot change the image measurably:
+//  - below the ground (scene has a ground plane and w_i.y < 0): the ground hides the cell's centre
+//    from every point above it, so V = 0 wherever a(.) is non-zero (points on the ground face away
+//    from it); dropping it changes nothing, it only saves a tile and the shader's loop;
+//  - negligible: the dimmest lights, in increasing luminance, as long as together they carry at most
+//    kNegligibleShare of the total luminance (zero-radiance cells always). A pixel changes by at
+//    most that share of what the unshadowed environment would give it (times the ratio of the
+//    material's peak reflectivity to its mean), far under half-float precision and PNG quantisation.
+LightSelection select_lights(std::span<const Cell> cells, const glm::mat3& world_from_map, bool has_ground, bool skip);
+
+}  // namespace envshadow::render

@@ -1,0 +1,87 @@
+#include "render/render_settings.h"
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "core/error.h"
+#include "render/shadow_atlas_layout.h"
+
+namespace envshadow::render {
+
+namespace {
+template <typename Enum, std::size_t N>
+Enum parse(const std::array<std::pair<Enum, std::string_view>, N>& names, std::string_view name,
+           std::string_view option) {
+    std::string allowed;
+    for (const auto& [value, text] : names) {
+        if (text == name) return value;
+        allowed += (allowed.empty() ? "" : ", ") + std::string(text);
+    }
+    throw UsageError(std::string(option) + ": '" + std::string(name) + "' is not one of " + allowed);
+}
+template <typename Enum, std::size_t N>
+std::string_view name_of(const std::array<std::pair<Enum, std::string_view>, N>& names, Enum value) {
+    for (const auto& [v, text] : names)
+        if (v == value) return text;
+    return "?";
+}
+
+constexpr std::array<std::pair<AtlasMode, std::string_view>, 3> kAtlasModes{
+    {{AtlasMode::clip_distances, "clip-distances"},
+     {AtlasMode::viewport_array, "viewport-array"},
+     {AtlasMode::per_tile, "per-tile"}}};
+constexpr std::array<std::pair<PcfKernel, std::string_view>, 2> kPcfKernels{
+    {{PcfKernel::hardware_2x2, "2x2"}, {PcfKernel::wide, "wide"}}};
+constexpr std::array<std::pair<SpecularMode, std::string_view>, 2> kSpecularModes{
+    {{SpecularMode::blended, "blended"}, {SpecularMode::single, "single"}}};
+constexpr std::array<std::pair<CapKind, std::string_view>, 2> kCapKinds{
+    {{CapKind::solid_angle, "solid-angle"}, {CapKind::weighted, "weighted"}}};
+constexpr std::array<std::pair<DiffuseMode, std::string_view>, 2> kDiffuseModes{
+    {{DiffuseMode::center, "center"}, {DiffuseMode::cap, "cap"}}};
+}  // namespace
+
+std::string_view to_string(AtlasMode mode) {
+    return name_of(kAtlasModes, mode);
+}
+std::string_view to_string(PcfKernel kernel) {
+    return name_of(kPcfKernels, kernel);
+}
+std::string_view to_string(SpecularMode mode) {
+    return name_of(kSpecularModes, mode);
+}
+std::string_view to_string(CapKind kind) {
+    return name_of(kCapKinds, kind);
+}
+std::string_view to_string(DiffuseMode mode) {
+    return name_of(kDiffuseModes, mode);
+}
+
+AtlasMode parse_atlas_mode(std::string_view name, std::string_view option) {
+    return parse(kAtlasModes, name, option);
+}
+PcfKernel parse_pcf_kernel(std::string_view name, std::string_view option) {
+    return parse(kPcfKernels, name, option);
+}
+SpecularMode parse_specular_mode(std::string_view name, std::string_view option) {
+    return parse(kSpecularModes, name, option);
+}
+CapKind parse_cap_kind(std::string_view name, std::string_view option) {
+    return parse(kCapKinds, name, option);
+}
+DiffuseMode parse_diffuse_mode(std::string_view name, std::string_view option) {
+    return parse(kDiffuseModes, name, option);
+}
+
+void validate(const RenderSettings& settings) {
+    if (settings.tile_size < kMinTileSize || settings.tile_size > kMaxTileSize)
+        throw UsageError("--tile: " + std::to_string(settings.tile_size) + " is outside " +
+                         std::to_string(kMinTileSize) + ".." + std::to_string(kMaxTileSize));
+    if (settings.depth_bits != 16 && settings.depth_bits != 32)
+        throw UsageError("--depth-bits: " + std::to_string(settings.depth_bits) + " is not 16 or 32");
+    for (float bias : {settings.slope_bias, settings.normal_offset, settings.depth_bias})
+        if (!std::isfinite(bias) || bias < 0.0f) throw UsageError("shadow biases must be finite and >= 0");
+}
+
+}  // namespace envshadow::render

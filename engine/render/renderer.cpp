@@ -1,0 +1,402 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/matrix.hpp>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "env/brdf.h"
+#include "env/orientation.h"
+#include "gl/readback.h"
+#include "glsl/embedded.h"
+
+namespace envshadow::render {
+
+namespace {
+// Texture units and buffer bindings shared with glsl/ (shade.frag, background.frag, cells.glsl).
+constexpr GLuint kAtlasUnit = 0;
+constexpr GLuint kEnvironmentUnit = 1;
+constexpr GLuint kLightsBinding = 0;
+
+// Explicit uniform locations of glsl/shadow_atlas.vert, shade.vert/.frag, background.frag.
+namespace loc {
+constexpr GLint world_from_object = 0;
+constexpr GLint first_tile = 4;
+constexpr GLint atlas_tiles = 5;
+constexpr GLint world_normal_from_object = 4;
+constexpr GLint clip_from_world = 8;
+constexpr GLint eye = 12;
+constexpr GLint light_count = 13;
+constexpr GLint atlas_texel = 14;
+constexpr GLint k_d = 15;
+constexpr GLint k_s = 16;
+constexpr GLint shininess = 17;
+constexpr GLint direction_from_clip = 0;
+constexpr GLint map_from_world = 4;
+}  // namespace loc
+
+// Texels between the casters and a tile's border: the wide PCF reaches 1.5 texels from its centre.
+constexpr float kTileMarginTexels = 3.0f;
+// Viewports used per batch in AtlasMode::viewport_array (GL_MAX_VIEWPORTS is 16 on most drivers).
+constexpr int kMaxViewports = 64;
+
+std::array<glm::vec3, 8> box_corners(const glm::vec3& lo, const glm::vec3& hi) {
+    return {glm::vec3(lo.x, lo.y, lo.z), glm::vec3(hi.x, lo.y, lo.z), glm::vec3(lo.x, hi.y, lo.z),
+            glm::vec3(hi.x, hi.y, lo.z), glm::vec3(lo.x, lo.y, hi.z), glm::vec3(hi.x, lo.y, hi.z),
+            glm::vec3(lo.x, hi.y, hi.z), glm::vec3(hi.x, hi.y, hi.z)};
+}
+}  // namespace
+
+CameraView camera_view(const Scene& scene, int width, int height, double time) {
+    CameraView view;
+    view.width = width;
+    view.height = height;
+    view.eye = scene.camera.position;
+    view.view_from_world = scene.camera.view_from_world();
+    // Near and far planes around the scene's bounding sphere; the background is drawn at the far plane
+    // whatever its distance.
+    glm::vec3 lo(0.0f), hi(0.0f);
+    if (!scene.objects.empty()) scene.bounds_at(time, lo, hi);
+    const float radius = 0.5f * glm::length(hi - lo) + 1e-3f;
+    const float distance = glm::length(0.5f * (lo + hi) - view.eye);
+    const float far_plane = (distance + radius) * 1.01f;
+    const float near_plane = std::max(distance - radius, far_plane * 1e-4f);
+    view.clip_from_view = scene.camera.clip_from_view(float(width) / float(height), near_plane, far_plane);
+    return view;
+}
+
+Renderer::Renderer(const RenderSettings& settings) : settings_(settings) {
+    validate(settings_);
+    for (const glsl::File& file : glsl::files()) library_.add(file.name, file.source);
+    glGetIntegerv(GL_MAX_VIEWPORTS, &max_viewports_);
+    max_viewports_ = std::clamp(max_viewports_, 1, kMaxViewports);
+    empty_vertex_array_ = gl::VertexArray::create();
+    shadow_sampler_ = gl::Sampler::create();
+    // Hardware depth comparison with bilinear filtering of the results: 2x2 PCF per lookup.
+    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    build_programs();
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::build_programs() {
+    std::vector<std::string> atlas_defines;
+    if (settings_.atlas == AtlasMode::viewport_array && !GLAD_GL_ARB_shader_viewport_layer_array) {
+        log::warn("GL_ARB_shader_viewport_layer_array is missing: drawing the shadow atlas with clip distances");
+        settings_.atlas = AtlasMode::clip_distances;
+    }
+    if (settings_.atlas == AtlasMode::clip_distances) atlas_defines.push_back("ATLAS_CLIP_DISTANCES");
+    if (settings_.atlas == AtlasMode::viewport_array) atlas_defines.push_back("ATLAS_VIEWPORT_ARRAY");
+    atlas_program_ = library_.build({{GL_VERTEX_SHADER, "shadow_atlas.vert"}}, atlas_defines);
+
+    std::vector<std::string> shade_defines;
+    if (settings_.diffuse == DiffuseMode::cap) shade_defines.push_back("DIFFUSE_CAP");
+    if (settings_.specular == SpecularMode::single) shade_defines.push_back("SPECULAR_SINGLE");
+    if (settings_.pcf == PcfKernel::wide) shade_defines.push_back("PCF_WIDE");
+    shade_program_ =
+        library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
+    if (!background_program_)
+        background_program_ =
+            library_.build({{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
+}
+
+void Renderer::set_settings(const RenderSettings& settings) {
+    validate(settings);
+    const RenderSettings old = settings_;
+    settings_ = settings;
+    if (old.atlas != settings.atlas || old.diffuse != settings.diffuse || old.specular != settings.specular ||
+        old.pcf != settings.pcf)
+        build_programs();
+    if (old.skip_lights != settings.skip_lights) select_lights();
+}
+
+void Renderer::set_scene(const Scene& scene) {
+    meshes_.clear();
+    instances_.clear();
+    instance_of_object_.clear();
+    std::map<const Mesh*, const GpuMesh*> uploaded;
+    for (const Object& object : scene.objects) {
+        instance_of_object_.push_back(-1);
+        if (!object.mesh || object.mesh->indices.empty()) continue;
+        instance_of_object_.back() = int(instances_.size());
+        auto [it, added] = uploaded.emplace(object.mesh.get(), nullptr);
+        if (added) {
+            meshes_.push_back(std::make_unique<GpuMesh>(*object.mesh));
+            it->second = meshes_.back().get();
+        }
+        Instance instance;
+        instance.mesh = it->second;
+        instance.object = object;
+        instance.object.mesh.reset();  // the GPU copy is enough
+        instances_.push_back(std::move(instance));
+    }
+    has_ground_ = scene.has_ground;
+    rotation_degrees_ = scene.environment.rotation_degrees;
+    select_lights();
+}
+
+void Renderer::set_material(std::size_t object, const Material& material) {
+    if (object < instance_of_object_.size() && instance_of_object_[object] >= 0)
+        instances_[std::size_t(instance_of_object_[object])].object.material = material;
+}
+
+void Renderer::set_environment(const EnvironmentMap& map) {
+    environment_ = gl::Texture::create_2d(GL_RGB32F, map.width, map.height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(environment_.id(), 0, 0, 0, map.width, map.height, GL_RGB, GL_FLOAT, map.texels.data());
+    environment_.set_filter(GL_LINEAR, GL_LINEAR);
+    environment_.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);  // u wraps around the sphere, v stops at the poles
+}
+
+void Renderer::set_environment_rotation(float degrees) {
+    rotation_degrees_ = degrees;
+    select_lights();
+}
+
+void Renderer::set_lights(std::vector<Cell> cells, CellSpace space) {
+    cells_ = std::move(cells);
+    cell_space_ = space;
+    select_lights();
+}
+
+void Renderer::select_lights() {
+    const glm::mat3 rotation = cell_space_ == CellSpace::map ? world_from_map(rotation_degrees_) : glm::mat3(1.0f);
+    lights_ = render::select_lights(cells_, rotation, has_ground_, settings_.skip_lights);
+    light_frames_.clear();
+    for (const WorldLight& light : lights_.kept) light_frames_.push_back(light_frame(light.direction));
+    records_.assign(lights_.kept.size(), LightRecord{});
+    light_buffer_ = gl::Buffer::create(std::max<std::size_t>(records_.size(), 1) * sizeof(LightRecord));
+}
+
+void Renderer::ensure_atlas() {
+    const int tiles = std::max(light_count(), 1);
+    if (atlas_depth_ && layout_.tile_count == tiles && layout_.requested_tile_size == settings_.tile_size &&
+        atlas_depth_bits_ == settings_.depth_bits)
+        return;
+    GLint max_texture = 0, max_viewport[2] = {0, 0};
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, max_viewport);
+    layout_ = plan_atlas(tiles, settings_.tile_size, std::min({max_texture, max_viewport[0], max_viewport[1]}));
+    if (layout_.tile_size != layout_.requested_tile_size)
+        log::warn("shadow atlas: " + std::to_string(tiles) + " tiles of " + std::to_string(settings_.tile_size) +
+                  "^2 exceed the GL limit; using " + std::to_string(layout_.tile_size) + "^2 tiles");
+    atlas_depth_bits_ = settings_.depth_bits;
+    atlas_depth_ = gl::Texture::create_2d(settings_.depth_bits == 16 ? GL_DEPTH_COMPONENT16 : GL_DEPTH_COMPONENT32F,
+                                          layout_.width(), layout_.height());
+    atlas_ = gl::Framebuffer::create();
+    atlas_.attach(GL_DEPTH_ATTACHMENT, atlas_depth_);
+    glNamedFramebufferDrawBuffer(atlas_.id(), GL_NONE);
+    glNamedFramebufferReadBuffer(atlas_.id(), GL_NONE);
+    atlas_.check_complete("shadow atlas");
+}
+
+void Renderer::ensure_target(int width, int height) {
+    if (color_ && color_.width() == width && color_.height() == height) return;
+    color_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
+    depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
+    target_ = gl::Framebuffer::create();
+    target_.attach(GL_COLOR_ATTACHMENT0, color_);
+    target_.attach(GL_DEPTH_ATTACHMENT, depth_);
+    target_.check_complete("render target");
+}
+
+void Renderer::update_instances(double time) {
+    caster_points_.clear();
+    for (Instance& instance : instances_) {
+        instance.world_from_object = instance.object.world_from_object(time);
+        instance.world_normal_from_object = glm::inverseTranspose(glm::mat3(instance.world_from_object));
+        if (!instance.object.casts_shadows) continue;
+        // The object's box corners in the world: tighter in the light's frame than the world box.
+        for (const glm::vec3& corner : box_corners(instance.mesh->bounds_min(), instance.mesh->bounds_max()))
+            caster_points_.push_back(glm::vec3(instance.world_from_object * glm::vec4(corner, 1.0f)));
+    }
+}
+
+void Renderer::fit_lights() {
+    const glm::vec2 tile_uv(1.0f / float(layout_.columns), 1.0f / float(layout_.rows));
+    const bool weighted = settings_.cap == CapKind::weighted;
+    for (std::size_t k = 0; k < records_.size(); ++k) {
+        const WorldLight& light = lights_.kept[k];
+        const OrthographicFit fit =
+            fit_orthographic(light_frames_[k], caster_points_, layout_.tile_size, kTileMarginTexels);
+        LightRecord& record = records_[k];
+        record.direction = glm::vec4(light.direction, weighted ? light.cos_radius_weighted : light.cos_radius);
+        record.radiance = glm::vec4(light.radiance, 0.0f);
+        record.clip_from_world = fit.clip_from_world;
+        const int column = int(k) % layout_.columns, row = int(k) / layout_.columns;
+        record.tile = glm::vec4(float(column) * tile_uv.x, float(row) * tile_uv.y, tile_uv.x, tile_uv.y);
+        record.bias = glm::vec4(settings_.depth_bias * fit.texel_world / fit.depth_range,
+                                settings_.normal_offset * fit.texel_world, 0.0f, 0.0f);
+    }
+    light_buffer_.upload(records_.data(), records_.size() * sizeof(LightRecord));
+}
+
+void Renderer::draw_atlas() {
+    gl::ScopedPass pass(&timer_, "shadow atlas");
+    glBindFramebuffer(GL_FRAMEBUFFER, atlas_.id());
+    glDepthMask(GL_TRUE);
+    const float far_depth = 1.0f;
+    glClearNamedFramebufferfv(atlas_.id(), GL_DEPTH, 0, &far_depth);
+    if (records_.empty()) return;
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);  // both faces cast: open meshes and thin parts stay in the map
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(settings_.slope_bias, 1.0f);
+    atlas_program_.use();
+    glProgramUniform2i(atlas_program_.id(), loc::atlas_tiles, layout_.columns, layout_.rows);
+    const int tiles = int(records_.size());
+    const int size = layout_.tile_size;
+
+    auto for_each_caster = [&](auto&& draw) {
+        for (const Instance& instance : instances_) {
+            if (!instance.object.casts_shadows) continue;
+            glProgramUniformMatrix4fv(atlas_program_.id(), loc::world_from_object, 1, GL_FALSE,
+                                      &instance.world_from_object[0][0]);
+            instance.mesh->bind();
+            draw(*instance.mesh);
+        }
+    };
+    switch (settings_.atlas) {
+        case AtlasMode::clip_distances:
+            for (GLenum plane = 0; plane < 4; ++plane) glEnable(GL_CLIP_DISTANCE0 + plane);
+            glViewport(0, 0, layout_.width(), layout_.height());
+            glProgramUniform1i(atlas_program_.id(), loc::first_tile, 0);
+            for_each_caster([&](const GpuMesh& mesh) { mesh.draw_instanced(tiles); });  // one draw per mesh
+            for (GLenum plane = 0; plane < 4; ++plane) glDisable(GL_CLIP_DISTANCE0 + plane);
+            break;
+        case AtlasMode::viewport_array:
+            for (int first = 0; first < tiles; first += max_viewports_) {
+                const int batch = std::min(max_viewports_, tiles - first);
+                std::array<float, 4 * kMaxViewports> rects{};
+                for (int i = 0; i < batch; ++i) {
+                    const int k = first + i;
+                    rects[4 * i + 0] = float((k % layout_.columns) * size);
+                    rects[4 * i + 1] = float((k / layout_.columns) * size);
+                    rects[4 * i + 2] = rects[4 * i + 3] = float(size);
+                }
+                glViewportArrayv(0, batch, rects.data());
+                glProgramUniform1i(atlas_program_.id(), loc::first_tile, first);
+                for_each_caster([&](const GpuMesh& mesh) { mesh.draw_instanced(batch); });
+            }
+            break;
+        case AtlasMode::per_tile:
+            for (int k = 0; k < tiles; ++k) {
+                glViewport((k % layout_.columns) * size, (k / layout_.columns) * size, size, size);
+                glProgramUniform1i(atlas_program_.id(), loc::first_tile, k);
+                for_each_caster([&](const GpuMesh& mesh) { mesh.draw(); });
+            }
+            break;
+    }
+    glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+void Renderer::draw_objects(const CameraView& view) {
+    gl::ScopedPass pass(&timer_, "shading");
+    const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
+    const GLuint program = shade_program_.id();
+    shade_program_.use();
+    glProgramUniformMatrix4fv(program, loc::clip_from_world, 1, GL_FALSE, &clip_from_world[0][0]);
+    glProgramUniform3f(program, loc::eye, view.eye.x, view.eye.y, view.eye.z);
+    glProgramUniform1i(program, loc::light_count, int(records_.size()));
+    glProgramUniform2f(program, loc::atlas_texel, 1.0f / float(layout_.width()), 1.0f / float(layout_.height()));
+    atlas_depth_.bind(kAtlasUnit);
+    shadow_sampler_.bind(kAtlasUnit);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);  // two-sided (shade.frag turns the normal to the viewer)
+    for (const Instance& instance : instances_) {
+        const Material& material = instance.object.material;
+        const glm::vec3 k_d(brdf::diffuse_coefficient(material.rho_d.r), brdf::diffuse_coefficient(material.rho_d.g),
+                            brdf::diffuse_coefficient(material.rho_d.b));
+        glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE, &instance.world_from_object[0][0]);
+        glProgramUniformMatrix3fv(program, loc::world_normal_from_object, 1, GL_FALSE,
+                                  &instance.world_normal_from_object[0][0]);
+        glProgramUniform3f(program, loc::k_d, k_d.r, k_d.g, k_d.b);
+        glProgramUniform1f(program, loc::k_s, brdf::specular_coefficient(material.rho_s, material.shininess));
+        glProgramUniform1f(program, loc::shininess, material.shininess);
+        instance.mesh->bind();
+        instance.mesh->draw();
+    }
+    glBindSampler(kAtlasUnit, 0);
+}
+
+void Renderer::draw_background(const CameraView& view) {
+    if (!settings_.background || !environment_) return;
+    gl::ScopedPass pass(&timer_, "background");
+    // Directions only: the view's rotation, not its translation.
+    const glm::mat4 direction_from_clip =
+        glm::inverse(view.clip_from_view * glm::mat4(glm::mat3(view.view_from_world)));
+    const glm::mat3 map_from_world_matrix = map_from_world(rotation_degrees_);
+    const GLuint program = background_program_.id();
+    background_program_.use();
+    glProgramUniformMatrix4fv(program, loc::direction_from_clip, 1, GL_FALSE, &direction_from_clip[0][0]);
+    glProgramUniformMatrix3fv(program, loc::map_from_world, 1, GL_FALSE, &map_from_world_matrix[0][0]);
+    environment_.bind(kEnvironmentUnit);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);  // only where no object was drawn (depth still cleared to 1)
+    glDepthMask(GL_FALSE);
+    empty_vertex_array_.bind();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+}
+
+FrameStats Renderer::render(double time, const CameraView& view) {
+    if (view.width < 1 || view.height < 1) throw UsageError("render: image size must be positive");
+    ensure_atlas();
+    ensure_target(view.width, view.height);
+    update_instances(time);
+    fit_lights();
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, light_buffer_.id());
+    if (!timer_warmed_up_) {
+        // Mesa's llvmpipe (22.3) gives the first GL_TIME_ELAPSED query of a context that draws
+        // anything a start time of 0 (it reads as the time since boot): spend it on a clear.
+        timer_.begin("warm-up");
+        const float far_depth = 1.0f;
+        glClearNamedFramebufferfv(atlas_.id(), GL_DEPTH, 0, &far_depth);
+        timer_.end();
+        timer_.resolve();
+        timer_warmed_up_ = true;
+    }
+
+    draw_atlas();
+
+    glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
+    glViewport(0, 0, view.width, view.height);
+    const float clear_color[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    const float clear_depth = 1.0f;
+    glDepthMask(GL_TRUE);
+    glClearNamedFramebufferfv(target_.id(), GL_COLOR, 0, clear_color);
+    glClearNamedFramebufferfv(target_.id(), GL_DEPTH, 0, &clear_depth);
+    draw_objects(view);
+    draw_background(view);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+    FrameStats stats;
+    stats.passes = timer_.resolve();
+    stats.lights = int(records_.size());
+    stats.lights_below_ground = lights_.below_ground;
+    stats.lights_negligible = lights_.negligible;
+    stats.atlas_bytes = atlas_bytes();
+    stats.atlas = layout_;
+    return stats;
+}
+
+Image Renderer::read_back() const {
+    return gl::read_color(target_, color_.width(), color_.height());
+}
+
+}  // namespace envshadow::render

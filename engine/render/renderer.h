@@ -1,0 +1,149 @@
+#pragma once
+// The per-frame renderer (Barsi et al., "Image-Based Illumination on the GPU"): every frame the
+// shadow casters are drawn into one depth tile per cell of the environment (the shadow atlas), then
+// the objects are shaded by summing V * L~_i * a over the cells, and the environment fills the
+// background. The viewer, `bench` and `envshadow render` drive it the same way:
+//
+//   Renderer renderer(settings);        // a GL 4.5 core context must be current
+//   renderer.set_scene(scene);          // meshes to the GPU, materials, animation, env rotation
+//   renderer.set_environment(map);      // the background
+//   renderer.set_lights(cells);         // map-space cells of the decomposition
+//   FrameStats stats = renderer.render(time, camera_view(scene.camera, width, height));
+//   Image linear = renderer.read_back();
+//
+// render() creates no GL objects and reuses its buffers from frame to frame; only a change of image
+// size, light count or settings reallocates (the returned pass-time list is the one per-frame vector).
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "core/image.h"
+#include "env/cells.h"
+#include "env/environment.h"
+#include "gl/objects.h"
+#include "gl/shader.h"
+#include "gl/timer.h"
+#include "render/gpu_mesh.h"
+#include "render/lights.h"
+#include "render/render_settings.h"
+#include "render/shadow_atlas_layout.h"
+#include "scene/scene.h"
+
+namespace envshadow::render {
+
+// Where the camera is and the image it makes.
+struct CameraView {
+    glm::mat4 view_from_world{1.0f};
+    glm::mat4 clip_from_view{1.0f};
+    glm::vec3 eye{0.0f};
+    int width = 0;
+    int height = 0;
+};
+
+// The scene's camera for an image of width x height (near and far planes from the scene bounds).
+CameraView camera_view(const Scene& scene, int width, int height, double time = 0.0);
+
+struct FrameStats {
+    std::vector<gl::PassTime> passes;  // "shadow atlas", "shading", "background" (GPU milliseconds)
+    int lights = 0;                    // lights summed by the shader (= atlas tiles)
+    int lights_below_ground = 0;       // skipped (render/lights.h)
+    int lights_negligible = 0;
+    std::size_t atlas_bytes = 0;
+    AtlasLayout atlas;
+};
+
+class Renderer {
+public:
+    explicit Renderer(const RenderSettings& settings = {});
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Rebuilds only what the change needs (programs, atlas). Throws UsageError for bad values.
+    void set_settings(const RenderSettings& settings);
+    const RenderSettings& settings() const { return settings_; }
+
+    // Uploads the meshes (each shared mesh once) and keeps the objects (materials, transforms,
+    // animation) and the environment's rotation. The scene may be destroyed afterwards.
+    void set_scene(const Scene& scene);
+    // Changes the material of scene.objects[object] (as given to set_scene) without re-uploading.
+    void set_material(std::size_t object, const Material& material);
+    // The lat-long map drawn behind the objects.
+    void set_environment(const EnvironmentMap& map);
+    // Rotation of the map about +Y (env/orientation.h); set_scene sets the scene's.
+    void set_environment_rotation(float degrees);
+    // Cells of a decomposition; map-space ones are rotated into the world by the environment's
+    // rotation, world-space ones (FsSampler::read_lights) are taken as they are.
+    enum class CellSpace { map, world };
+    void set_lights(std::vector<Cell> cells, CellSpace space = CellSpace::map);
+
+    // Renders one frame at animation time `time` into the linear HDR target (RGBA32F): objects
+    // alpha 1, background alpha 0 (or transparent black without a background).
+    FrameStats render(double time, const CameraView& view);
+    // The last frame, linear, row 0 at the top.
+    Image read_back() const;
+
+    const gl::Texture& color_texture() const { return color_; }
+    const gl::Texture& environment_texture() const { return environment_; }  // RGB32F lat-long, or empty
+    const gl::Texture& atlas_texture() const { return atlas_depth_; }
+    const gl::Framebuffer& framebuffer() const { return target_; }
+    const AtlasLayout& atlas_layout() const { return layout_; }
+    std::size_t atlas_bytes() const { return layout_.bytes(settings_.depth_bits); }
+    int light_count() const { return int(lights_.kept.size()); }
+
+private:
+    struct Instance {
+        const GpuMesh* mesh = nullptr;
+        Object object;  // transform, material, animation (its mesh pointer is not used)
+        glm::mat4 world_from_object{1.0f};
+        glm::mat3 world_normal_from_object{1.0f};
+    };
+
+    void build_programs();
+    void select_lights();
+    void ensure_atlas();
+    void ensure_target(int width, int height);
+    void update_instances(double time);
+    void fit_lights();
+    void draw_atlas();
+    void draw_objects(const CameraView& view);
+    void draw_background(const CameraView& view);
+
+    RenderSettings settings_;
+    gl::ShaderLibrary library_;
+    gl::Program atlas_program_, shade_program_, background_program_;
+    gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
+    gl::Sampler shadow_sampler_;
+    gl::GpuTimer timer_;
+    bool timer_warmed_up_ = false;
+
+    std::vector<std::unique_ptr<GpuMesh>> meshes_;
+    std::vector<Instance> instances_;
+    std::vector<int> instance_of_object_;  // index into instances_ per scene object; -1: no triangles
+    bool has_ground_ = false;
+    float rotation_degrees_ = 0.0f;
+
+    std::vector<Cell> cells_;
+    CellSpace cell_space_ = CellSpace::map;
+    LightSelection lights_;
+    std::vector<LightFrame> light_frames_;
+    std::vector<LightRecord> records_;      // rewritten every frame
+    std::vector<glm::vec3> caster_points_;  // rewritten every frame
+    gl::Buffer light_buffer_;
+
+    AtlasLayout layout_;
+    int atlas_depth_bits_ = 0;
+    gl::Texture atlas_depth_;
+    gl::Framebuffer atlas_;
+    int max_viewports_ = 1;
+
+    gl::Texture environment_;
+    gl::Texture color_, depth_;
+    gl::Framebuffer target_;
+};
+
+}  // namespace envshadow::render

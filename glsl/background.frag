@@ -1,0 +1,22 @@
+#version 450 core
+// The environment behind the objects: each pixel's direction from the inverse view-projection,
+// rotated into map space, looked up in the lat-long map. Computed per pixel, so there is no pinch
+// at the poles; the map repeats in u (no seam at the wrap) and is clamped in v; no mipmaps, so the
+// jump of u at the wrap cannot select a blurry level.
+#include "cells.glsl"
+
+layout(location = 0) in vec2 v_ndc;
+
+layout(location = 0) uniform mat4 u_direction_from_clip;  // world_from_view (rotation) * view_from_clip
+layout(location = 4) uniform mat3 u_map_from_world;
+
+layout(binding = 1) uniform sampler2D u_environment;
+
+layout(location = 0) out vec4 o_color;
+
+void main() {
+    vec4 d = u_direction_from_clip * vec4(v_ndc, 1.0, 1.0);
+    vec3 world = normalize(d.xyz / d.w);
+    vec3 radiance = texture(u_environment, latlong_uv(normalize(u_map_from_world * world))).rgb;
+    o_color = vec4(radiance, 0.0);  // alpha 0: background
+}

@@ -1,0 +1,2 @@
+// Constants shared by the other includes.
+const float PI = 3.14159265358979323846;

@@ -1,0 +1,86 @@
+#version 450 core
+// Reflected radiance of the environment with shadows (Barsi et al. §2):
+//   L(x, w) ~ sum_i V(x, w_i) L~_i a(dw_i, w),  a = k_d (cos theta average) + k_s (a_s / k_s)
+// V from the cell's tile in the shadow atlas (hardware depth comparison, PCF), L~_i and the cap
+// from the light record. Options (engine/render/renderer.cpp sets them as #defines):
+//   DIFFUSE_CAP      clamped cosine averaged over the cell's cap instead of the centre sample
+//   SPECULAR_SINGLE  the single sample k_s cos^n psi_c instead of the blended average
+//   PCF_WIDE         3x3 hardware-filtered taps (a 4x4 texel footprint) instead of one (2x2)
+#include "cells.glsl"
+#include "brdf.glsl"
+
+layout(location = 0) in vec3 v_world_position;
+layout(location = 1) in vec3 v_world_normal;
+
+layout(location = 12) uniform vec3 u_eye;
+layout(location = 13) uniform int u_light_count;
+layout(location = 14) uniform vec2 u_atlas_texel;  // size of one atlas texel in uv
+layout(location = 15) uniform vec3 u_k_d;          // rho_d / pi
+layout(location = 16) uniform float u_k_s;         // rho_s (n + 2) / (2 pi)
+layout(location = 17) uniform float u_shininess;
+
+layout(binding = 0) uniform sampler2DShadow u_atlas;
+
+layout(location = 0) out vec4 o_color;
+
+#if defined(PCF_WIDE)
+const float kKernelTexels = 1.5;  // tap offsets of 1 texel plus the 2x2 bilinear footprint
+#else
+const float kKernelTexels = 0.5;
+#endif
+
+// Fraction of the cell's shadow map that sees `p`. The receiver is moved along its normal by the
+// light's normal offset (more at grazing angles) and its depth lowered by the depth bias; the slope
+// bias is applied to the casters when the atlas is drawn. Lookups are clamped to the tile's
+// interior so no tap reads a neighbouring tile; casters keep a margin from the tile's border, so a
+// receiver outside the tile reads cleared depth and is lit. Receivers beyond the far plane compare
+// at the far plane: shadowed where any caster is above them.
+float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
+    float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
+    vec3 q = p + n * (light.bias.y * max(sin_theta, 0.2));
+    vec4 clip = light.clip_from_world * vec4(q, 1.0);
+    vec2 margin = kKernelTexels * u_atlas_texel;
+    vec2 uv = clamp(light.tile.xy + (0.5 * clip.xy + 0.5) * light.tile.zw, light.tile.xy + margin,
+                    light.tile.xy + light.tile.zw - margin);
+    float depth = min(0.5 * clip.z + 0.5 - light.bias.x, 1.0);
+#if defined(PCF_WIDE)
+    float sum = 0.0;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) sum += texture(u_atlas, vec3(uv + vec2(x, y) * u_atlas_texel, depth));
+    return sum / 9.0;
+#else
+    return texture(u_atlas, vec3(uv, depth));  // 2x2 PCF by the hardware's filtered comparison
+#endif
+}
+
+void main() {
+    vec3 p = v_world_position;
+    vec3 view = normalize(u_eye - p);
+    vec3 n = normalize(v_world_normal);
+    if (dot(n, view) < 0.0) n = -n;  // two-sided: open meshes are seen from both sides
+    vec3 mirror = reflect(-view, n);
+
+    vec3 radiance = vec3(0.0);
+    for (int i = 0; i < u_light_count; ++i) {
+        vec3 w = lights[i].direction.xyz;
+        float cos_r = lights[i].direction.w;
+        float cos_theta = dot(n, w);
+#if defined(DIFFUSE_CAP)
+        float diffuse = average_clamped_cosine(cos_theta, cos_r);
+#else
+        float diffuse = max(cos_theta, 0.0);  // the paper's centre sample, a_d = k_d cos theta_c
+#endif
+        float specular = 0.0;  // the BRDF is zero under the tangent plane (DESIGN.md §2)
+        if (u_k_s > 0.0 && cos_theta > 0.0) {
+#if defined(SPECULAR_SINGLE)
+            specular = average_specular_single(dot(w, mirror), u_shininess);
+#else
+            specular = average_specular_blended(dot(w, mirror), cos_r, u_shininess);
+#endif
+        }
+        vec3 a = u_k_d * diffuse + u_k_s * specular;
+        if (max(a.r, max(a.g, a.b)) <= 0.0) continue;  // no reflection: skip the shadow lookups
+        radiance += visibility(lights[i], p, n, cos_theta) * lights[i].radiance.rgb * a;
+    }
+    o_color = vec4(radiance, 1.0);  // alpha 1 marks object pixels (the accuracy comparison masks by it)
+}

@@ -1,0 +1,19 @@
+#version 450 core
+// Objects in the camera's view: world position and normal for shade.frag.
+
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+
+layout(location = 0) uniform mat4 u_world_from_object;
+layout(location = 4) uniform mat3 u_world_normal_from_object;  // inverse transpose
+layout(location = 8) uniform mat4 u_clip_from_world;
+
+layout(location = 0) out vec3 v_world_position;
+layout(location = 1) out vec3 v_world_normal;
+
+void main() {
+    vec4 world = u_world_from_object * vec4(a_position, 1.0);
+    v_world_position = world.xyz;
+    v_world_normal = u_world_normal_from_object * a_normal;
+    gl_Position = u_clip_from_world * world;
+}

@@ -1,0 +1,43 @@
+#version 450 core
+// Depth of the shadow casters into the shadow atlas: instance k draws the mesh into tile
+// u_first_tile + k, orthographically along -w_i (Barsi et al. §2.2: one depth map per cell).
+// One of three ways keeps a tile's triangles inside its rectangle (engine/render/shadow_atlas.h):
+//   ATLAS_CLIP_DISTANCES  all tiles in one instanced draw over the whole atlas; four clip
+//                         distances cut each instance to the tile's [-1, 1]^2
+//   ATLAS_VIEWPORT_ARRAY  batches of GL_MAX_VIEWPORTS instances, instance k to viewport k
+//   (neither)             the baseline: one draw per tile, the viewport set to the tile
+#if defined(ATLAS_VIEWPORT_ARRAY)
+#extension GL_ARB_shader_viewport_layer_array : require
+#endif
+#include "cells.glsl"
+
+layout(location = 0) in vec3 a_position;
+
+layout(location = 0) uniform mat4 u_world_from_object;
+layout(location = 4) uniform int u_first_tile;
+layout(location = 5) uniform ivec2 u_atlas_tiles;  // columns, rows
+
+#if defined(ATLAS_CLIP_DISTANCES)
+out gl_PerVertex {
+    vec4 gl_Position;
+    float gl_ClipDistance[4];
+};
+#endif
+
+void main() {
+    int tile = u_first_tile + gl_InstanceID;
+    vec4 clip = lights[tile].clip_from_world * (u_world_from_object * vec4(a_position, 1.0));  // w = 1
+#if defined(ATLAS_CLIP_DISTANCES)
+    gl_ClipDistance[0] = 1.0 + clip.x;
+    gl_ClipDistance[1] = 1.0 - clip.x;
+    gl_ClipDistance[2] = 1.0 + clip.y;
+    gl_ClipDistance[3] = 1.0 - clip.y;
+    vec2 corner = vec2(tile % u_atlas_tiles.x, tile / u_atlas_tiles.x);
+    gl_Position = vec4((corner + 0.5 * clip.xy + 0.5) / vec2(u_atlas_tiles) * 2.0 - 1.0, clip.z, 1.0);
+#elif defined(ATLAS_VIEWPORT_ARRAY)
+    gl_ViewportIndex = gl_InstanceID;
+    gl_Position = clip;
+#else
+    gl_Position = clip;
+#endif
+}

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Renders the README gallery: every scene of assets/scenes/ at 960x540 with 128 cells and 256^2
+# shadow tiles, to screenshots/gallery/<scene>.png (plus the viewer under Xvfb when available).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+envshadow="${ENVSHADOW_BUILD_DIR:-$root/build}/app/envshadow"
+[ -x "$envshadow" ] || scripts/build.sh
+mkdir -p screenshots/gallery
+for scene in assets/scenes/*.json; do
+  name="$(basename "$scene" .json)"
+  time="0"
+  [ "$name" = flyover ] && time="1.5"
+  "$envshadow" render --scene "$scene" --width 960 --height 540 --lights 128 --tile 256 --time "$time" \
+    --out "screenshots/gallery/$name.png" | sed "s/^/$name: /"
+done
+if command -v xvfb-run >/dev/null; then
+  xvfb-run -a -s '-screen 0 1600x900x24' "$envshadow" view --scene assets/scenes/default.json --lights 64 \
+    --width 1600 --height 900 --frames 20 --screenshot screenshots/gallery/viewer.png
+fi

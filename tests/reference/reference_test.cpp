@@ -1,0 +1,291 @@
+// The ground truth against answers known in closed form (64 x 64 pictures): a diffuse plane and a
+// white-furnace sphere under uniform light, the specular lobe's integral, a plane under a disc
+// occluder, and the background. Camera rays are rebuilt here with glm::unProject from the scene's
+// OpenGL matrices, independently of the reference's own ray setup.
+#include "reference/reference.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <numbers>
+#include <optional>
+
+#include "reference/test_scenes.h"
+
+namespace envshadow::testing {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+using reference::ReferenceImage;
+using reference::ReferenceOptions;
+
+ReferenceOptions small(int size = 64) {
+    ReferenceOptions options;
+    options.width = options.height = size;
+    return options;
+}
+
+// The world-space ray through pixel (x, y) (row 0 at the top) from the scene camera's OpenGL matrices.
+struct Ray {
+    glm::dvec3 origin, direction;
+};
+Ray camera_ray(const Scene& scene, int x, int y, int width, int height) {
+    const glm::mat4 view = scene.camera.view_from_world();
+    const glm::mat4 projection = scene.camera.clip_from_view(float(width) / float(height), 0.1f, 100.0f);
+    const glm::vec4 viewport(0.0f, 0.0f, float(width), float(height));
+    const float window_y = float(height) - (float(y) + 0.5f);
+    const glm::vec3 near_point = glm::unProject(glm::vec3(float(x) + 0.5f, window_y, 0.0f), view, projection, viewport);
+    const glm::vec3 far_point = glm::unProject(glm::vec3(float(x) + 0.5f, window_y, 1.0f), view, projection, viewport);
+    return {glm::dvec3(scene.camera.position), glm::normalize(glm::dvec3(far_point - near_point))};
+}
+
+// Checks every object pixel against `expected` (RGB, or nullopt to skip the pixel) through its reported
+// standard error: that error is under 0.5% of the value (the reference's promise), every pixel is within
+// 7 of them (the error is estimated from 16+ rounds, so z follows Student's t with 15+ degrees of
+// freedom: |t| > 7 has odds 4e-6), the z-scores' RMS is near 1 (the reported error is honest, neither
+// hiding nor inflating the real one) and their mean near 0 (no bias). Returns the number of pixels checked.
+template <class Expected>
+int expect_matches(const ReferenceImage& result, Expected&& expected) {
+    int checked = 0, noisy = 0;
+    double z_sum = 0.0, z2_sum = 0.0;
+    for (int y = 0; y < result.image.height; ++y) {
+        for (int x = 0; x < result.image.width; ++x) {
+            const glm::vec4 p = result.image.at(x, y);
+            const std::optional<glm::dvec3> want = expected(x, y);
+            if (!want || p.a < 0.5f) continue;
+            ++checked;
+            const glm::vec4 error = result.standard_error.at(x, y);
+            for (int c = 0; c < 3; ++c) {
+                if ((*want)[c] == 0.0) {
+                    EXPECT_EQ(p[c], 0.0f);
+                    continue;
+                }
+                EXPECT_LT(error[c], 0.005 * (*want)[c]) << x << "," << y << " channel " << c;
+                const double z = (double(p[c]) - (*want)[c]) / double(error[c]);
+                EXPECT_LT(std::abs(z), 7.0)
+                    << x << "," << y << " channel " << c << ": " << p[c] << " vs " << (*want)[c];
+                // The RMS of z judges the rounds' spread, so only where it outweighs the resolution term
+                // value / N that the reported error also holds (N <= the samples taken, the alpha).
+                if (error[c] < 2.0 * (*want)[c] / double(error.a)) continue;
+                ++noisy;
+                z_sum += z;
+                z2_sum += z * z;
+            }
+        }
+    }
+    if (noisy > 300) {  // channels are correlated (same rays): the tolerances allow for it
+        EXPECT_GT(std::sqrt(z2_sum / noisy), 0.5) << "reported errors too large";
+        EXPECT_LT(std::sqrt(z2_sum / noisy), 1.5) << "reported errors too small";
+        EXPECT_LT(std::abs(z_sum / noisy), 6.0 / std::sqrt(noisy / 3.0)) << "biased";
+    }
+    return checked;
+}
+
+void expect_half_percent_errors(const reference::ReferenceStatistics& stats) {
+    EXPECT_GT(stats.object_pixels, 0);
+    EXPECT_LT(stats.mean_relative_error, 0.005);
+    EXPECT_LT(stats.p99_relative_error, 0.005);
+    EXPECT_EQ(stats.pixels_over_half_percent, 0);
+}
+
+Scene scene_looking_at(glm::vec3 position, glm::vec3 target, float fov = 45.0f) {
+    Scene scene;
+    scene.camera.position = position;
+    scene.camera.target = target;
+    scene.camera.fov_y_degrees = fov;
+    return scene;
+}
+
+TEST(Reference, DiffusePlaneUnderUniformLightHasItsAlbedo) {
+    // Unoccluded: L = integral of 1 * (rho_d / pi) cos theta over the hemisphere = rho_d.
+    Scene scene = scene_looking_at({0.0f, 2.0f, 3.0f}, {0.0f, 0.0f, 0.0f});
+    Material material;
+    material.rho_d = glm::vec3(0.2f, 0.5f, 0.8f);
+    scene.objects.push_back(object(square(4.0f), glm::mat4(1.0f), material));
+    const ReferenceImage result = reference::render_reference(scene, uniform_map(), small());
+    const int checked = expect_matches(result, [&](int, int) { return std::optional(glm::dvec3(material.rho_d)); });
+    EXPECT_GT(checked, 1000);
+    expect_half_percent_errors(result.statistics);
+}
+
+TEST(Reference, DiffusePlaneUnderASunSumsTheMapTimesCosine) {
+    // A sky of 0.2 (0.05 below the horizon) with a 2 x 2-texel sun of 800: the map is sampled (it is far from
+    // uniform). Facing +Y the plane reflects (rho_d / pi) sum over upper texels of L integral of cos theta dw,
+    // and over a texel of row j that integral is (2 pi / W)(cos^2 theta_top - cos^2 theta_bottom) / 2. The
+    // map's rotation about +Y cannot change it.
+    EnvironmentMap map = uniform_map(0.2f, 64, 32);
+    for (int j = 16; j < 32; ++j)
+        for (int i = 0; i < 64; ++i) map.at(i, j) = glm::vec3(0.05f);
+    for (int j = 8; j < 10; ++j)
+        for (int i = 10; i < 12; ++i) map.at(i, j) = glm::vec3(800.0f, 700.0f, 600.0f);
+    glm::dvec3 irradiance_over_pi(0.0);
+    for (int j = 0; j < 16; ++j) {
+        const double top = std::cos(kPi * j / 32.0), bottom = std::cos(kPi * (j + 1) / 32.0);
+        for (int i = 0; i < 64; ++i)
+            irradiance_over_pi +=
+                glm::dvec3(map.at(i, j)) * (2.0 * kPi / 64.0) * (top * top - bottom * bottom) / 2.0 / kPi;
+    }
+    Scene scene = scene_looking_at({0.0f, 2.0f, 3.0f}, {0.0f, 0.0f, 0.0f});
+    scene.environment.rotation_degrees = 37.0f;
+    Material material;
+    material.rho_d = glm::vec3(0.6f, 0.4f, 0.2f);
+    scene.objects.push_back(object(square(4.0f), glm::mat4(1.0f), material));
+    const ReferenceImage result = reference::render_reference(scene, map, small());
+    const glm::dvec3 expected = glm::dvec3(material.rho_d) * irradiance_over_pi;
+    const int checked = expect_matches(result, [&](int, int) { return std::optional(expected); });
+    EXPECT_GT(checked, 1000);
+    expect_half_percent_errors(result.statistics);
+}
+
+TEST(Reference, WhiteFurnaceSphereIsOneEverywhere) {
+    // Albedo 1 under radiance 1 from every direction: L = 1 at every pixel of the sphere.
+    Scene scene = scene_looking_at({0.0f, 0.5f, 3.0f}, {0.0f, 0.0f, 0.0f});
+    Material material;
+    material.rho_d = glm::vec3(1.0f);
+    scene.objects.push_back(object(sphere(1.0f, 192, 96), glm::mat4(1.0f), material));
+    const ReferenceImage result = reference::render_reference(scene, uniform_map(), small());
+    const int checked = expect_matches(result, [](int, int) { return std::optional(glm::dvec3(1.0)); });
+    EXPECT_GT(checked, 1000);
+    expect_half_percent_errors(result.statistics);
+}
+
+TEST(Reference, SpecularLobeUnderUniformLightIntegratesInClosedForm) {
+    // Looking down at a plane, the Phong lobe about the mirror direction stays (to 1e-7) above the tangent
+    // plane, so k_s times the lobe's integral 2 pi / (n + 1) adds rho_s (n + 2)/(n + 1) to rho_d.
+    Scene scene = scene_looking_at({0.0f, 3.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 40.0f);
+    scene.camera.up = glm::vec3(0.0f, 0.0f, -1.0f);
+    Material material;
+    material.rho_d = glm::vec3(0.3f, 0.1f, 0.0f);
+    material.rho_s = 0.5f;
+    material.shininess = 20.0f;
+    scene.objects.push_back(object(square(10.0f), glm::mat4(1.0f), material));
+    const ReferenceImage result = reference::render_reference(scene, uniform_map(), small());
+    const double specular = 0.5 * 22.0 / 21.0;
+    const int checked =
+        expect_matches(result, [&](int, int) { return std::optional(glm::dvec3(material.rho_d) + specular); });
+    EXPECT_EQ(checked, 64 * 64);
+    expect_half_percent_errors(result.statistics);
+}
+
+TEST(Reference, DiscAboveAPlaneShadowsItByTheFormFactor) {
+    // A parallel disc of radius a at height h above a point at distance d from its axis hides the form
+    // factor F = (1 - (h^2 + d^2 - a^2) / sqrt((h^2 + d^2 + a^2)^2 - 4 a^2 d^2)) / 2 of the cosine-weighted
+    // hemisphere (d = 0: sin^2 atan(a/h)), so under uniform radiance 1 the plane shows rho_d (1 - F).
+    const double a = 1.0, h = 1.0;
+    // From just above the disc's plane: the plane under the disc shows, the disc is seen edge-on from above.
+    Scene scene = scene_looking_at({0.0f, 1.3f, 3.5f}, {0.0f, 0.0f, 0.0f}, 50.0f);
+    Material plane_material;
+    plane_material.rho_d = glm::vec3(0.9f);
+    scene.objects.push_back(object(square(40.0f), glm::mat4(1.0f), plane_material));
+    scene.objects.push_back(
+        object(disc(float(a), 512), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, float(h), 0.0f)), Material{}));
+    const ReferenceOptions options = small();
+    const ReferenceImage result = reference::render_reference(scene, uniform_map(), options);
+
+    int shadowed = 0;
+    const int checked = expect_matches(result, [&](int x, int y) -> std::optional<glm::dvec3> {
+        const Ray ray = camera_ray(scene, x, y, options.width, options.height);
+        if (ray.direction.y >= 0.0) return std::nullopt;  // the sky
+        const glm::dvec3 on_disc = ray.origin + (h - ray.origin.y) / ray.direction.y * ray.direction;
+        if (on_disc.x * on_disc.x + on_disc.z * on_disc.z < a * a * 1.0001) return std::nullopt;  // the disc
+        const glm::dvec3 p = ray.origin - ray.origin.y / ray.direction.y * ray.direction;
+        const double d2 = p.x * p.x + p.z * p.z;
+        const double form_factor =
+            0.5 * (1.0 - (h * h + d2 - a * a) / std::sqrt(std::pow(h * h + d2 + a * a, 2.0) - 4.0 * a * a * d2));
+        if (form_factor > 0.2) ++shadowed;
+        return glm::dvec3(0.9 * (1.0 - form_factor));
+    });
+    EXPECT_GT(checked, 1500);
+    EXPECT_GT(shadowed, 200);  // the test sees the shadow, not just the lit plane
+    expect_half_percent_errors(result.statistics);
+}
+
+TEST(Reference, GroundHidesTheLowerHemisphereAndNonCastersCastNothing) {
+    // A scene with a ground plane hides every direction below the horizon (Scene::ground_height), even
+    // without a ground mesh: under radiance 1 a white sphere's point of normal n then receives the upper
+    // half of its cosine lobe, (1 + n_y) / 2 (irradiance from a uniform sky on a tilted plane). A disc
+    // above it that casts no shadows changes nothing.
+    Scene scene = scene_looking_at({0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 40.0f);
+    scene.has_ground = true;
+    scene.ground_height = -1.0f;
+    Material white;
+    white.rho_d = glm::vec3(1.0f);
+    scene.objects.push_back(object(sphere(1.0f, 192, 96), glm::mat4(1.0f), white));
+    Object parasol = object(disc(2.0f, 64), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.5f, 0.0f)), white);
+    parasol.casts_shadows = false;
+    scene.objects.push_back(parasol);
+    const ReferenceOptions options = small(48);
+    const ReferenceImage result = reference::render_reference(scene, uniform_map(), options);
+    const int checked = expect_matches(result, [&](int x, int y) -> std::optional<glm::dvec3> {
+        const Ray ray = camera_ray(scene, x, y, options.width, options.height);
+        const double b = glm::dot(ray.origin, ray.direction), c = glm::dot(ray.origin, ray.origin) - 1.0;
+        if (b * b - c <= 0.0) return std::nullopt;  // misses the sphere
+        const glm::dvec3 normal = ray.origin + (-b - std::sqrt(b * b - c)) * ray.direction;
+        if (std::abs(glm::length(normal) - 1.0) > 1e-6) return std::nullopt;
+        return glm::dvec3((1.0 + normal.y) / 2.0);
+    });
+    EXPECT_GT(checked, 400);
+}
+
+TEST(Reference, BackgroundShowsTheRotatedMap) {
+    // Radiance 1.5 + cos(2 pi u) per column. Looking along -Z through the centre of a 33 x 33 picture:
+    // unrotated, -Z is u = 3/4, between two columns whose average is 1.5; rotated by 90 degrees the map's
+    // u = 0 is there, between the first and last columns, average 1.5 + cos(pi / W).
+    EnvironmentMap map;
+    map.width = 64;
+    map.height = 32;
+    for (int j = 0; j < map.height; ++j)
+        for (int i = 0; i < map.width; ++i)
+            map.texels.push_back(glm::vec3(float(1.5 + std::cos(2.0 * kPi * (i + 0.5) / map.width))));
+    Scene scene = scene_looking_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 30.0f);
+    const ReferenceOptions options = small(33);
+    const ReferenceImage plain = reference::render_reference(scene, map, options);
+    EXPECT_NEAR(plain.image.at(16, 16).r, 1.5, 1e-5);
+    EXPECT_EQ(plain.image.at(16, 16).a, 0.0f);
+    EXPECT_EQ(plain.statistics.object_pixels, 0);
+    scene.environment.rotation_degrees = 90.0f;
+    const ReferenceImage turned = reference::render_reference(scene, map, options);
+    EXPECT_NEAR(turned.image.at(16, 16).r, 1.5 + std::cos(kPi / map.width), 1e-5);
+
+    // Every background pixel is the map bilinearly filtered in the camera ray's direction: here a
+    // radiance linear in v, reproduced exactly by the filter.
+    EnvironmentMap rows;
+    rows.width = 64;
+    rows.height = 32;
+    for (int j = 0; j < rows.height; ++j)
+        for (int i = 0; i < rows.width; ++i) rows.texels.push_back(glm::vec3(0.25f + 2.0f * (j + 0.5f) / rows.height));
+    scene.camera.target = glm::vec3(1.0f, 0.2f, -1.0f);
+    const ReferenceImage background = reference::render_reference(scene, rows, options);
+    for (int y = 0; y < options.height; y += 4) {
+        for (int x = 0; x < options.width; x += 4) {
+            const Ray ray = camera_ray(scene, x, y, options.width, options.height);
+            const double v = std::acos(ray.direction.y) / kPi;
+            EXPECT_NEAR(background.image.at(x, y).g, 0.25 + 2.0 * v, 2e-5) << x << "," << y;
+        }
+    }
+}
+
+TEST(Reference, ObjectsAreOpaqueAndTheBackgroundTransparent) {
+    Scene scene = scene_looking_at({0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f});
+    scene.objects.push_back(object(sphere(0.5f, 48, 24), glm::mat4(1.0f), Material{}));
+    const ReferenceImage result = reference::render_reference(scene, uniform_map(2.0f), small(32));
+    EXPECT_EQ(result.image.at(16, 16).a, 1.0f);  // the sphere in the middle
+    EXPECT_EQ(result.image.at(0, 0).a, 0.0f);    // the corner misses it
+    EXPECT_FLOAT_EQ(result.image.at(0, 0).r, 2.0f);
+}
+
+TEST(Reference, SameSeedSameImage) {
+    Scene scene = scene_looking_at({0.0f, 1.0f, 3.0f}, {0.0f, 0.0f, 0.0f});
+    scene.objects.push_back(object(sphere(0.7f, 48, 24), glm::mat4(1.0f), Material{}));
+    scene.objects.push_back(
+        object(square(6.0f), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, -0.7f, 0.0f)), Material{}));
+    ReferenceOptions options = small(24);
+    options.max_samples = 4096;
+    const ReferenceImage a = reference::render_reference(scene, uniform_map(), options);
+    const ReferenceImage b = reference::render_reference(scene, uniform_map(), options);
+    EXPECT_EQ(a.image.pixels, b.image.pixels);  // deterministic whatever the thread schedule
+}
+
+}  // namespace
+}  // namespace envshadow::testing

@@ -1,0 +1,452 @@
+#include <algorithm>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "gltf_writer.h"
+#include "scene/scene.h"
+
+namespace envshadow {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::GltfWriter;
+using test::test_folder;
+
+const fs::path kEngine = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+
+fs::path write_scene(const fs::path& folder, const json& scene, const std::string& name = "scene.json") {
+    const fs::path path = folder / name;
+    std::ofstream(path) << scene.dump(2);
+    return path;
+}
+
+json minimal_scene() {
+    return {{"environment", "builtin:sky"},
+            {"camera", {{"position", {0, 1, 5}}, {"target", {0, 0.5, 0}}}},
+            {"objects", json::array({{{"mesh", "sphere"}}})}};
+}
+
+// Loading fails with one line that starts with the scene file and mentions every piece of `expected`.
+void expect_scene_error(const fs::path& file, std::initializer_list<std::string> expected) {
+    try {
+        load_scene(file);
+        ADD_FAILURE() << file << " loaded without an error";
+    } catch (const InputError& e) {
+        const std::string message = e.what();
+        EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        for (const std::string& piece : expected)
+            EXPECT_NE(message.find(piece), std::string::npos) << "'" << piece << "' not in: " << message;
+    }
+}
+
+void expect_scene_error_with(const json& scene, std::initializer_list<std::string> expected) {
+    expect_scene_error(write_scene(test_folder(), scene), expected);
+}
+
+glm::vec3 world(const Object& o, const glm::vec3& p, double t = 0.0) {
+    return glm::vec3(o.world_from_object(t) * glm::vec4(p, 1));
+}
+glm::vec3 world_direction(const Object& o, const glm::vec3& d) {
+    return glm::vec3(o.transform * glm::vec4(d, 0));
+}
+
+void expect_near(const glm::vec3& a, const glm::vec3& b, float tolerance = 1e-5f) {
+    EXPECT_LT(glm::distance(a, b), tolerance)
+        << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y << ", " << b.z << ")";
+}
+
+bool inside_frustum(const Camera& c, float aspect, const glm::vec3& lo, const glm::vec3& hi) {
+    const glm::mat4 clip_from_world = c.clip_from_view(aspect, 0.01f, 1000.0f) * c.view_from_world();
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec4 p = clip_from_world * glm::vec4((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y,
+                                                        (corner & 4) ? hi.z : lo.z, 1);
+        if (p.w <= 0 || std::abs(p.x) > p.w || std::abs(p.y) > p.w || std::abs(p.z) > p.w) return false;
+    }
+    return true;
+}
+
+TEST(SceneFile, ReadsEveryPart) {
+    const json scene = {{"description", "test"},
+                        {"environment", {{"source", "builtin:sky:elevation=30"}, {"rotation", 45}, {"exposure", -1.5}}},
+                        {"camera", {{"position", {1, 2, 3}}, {"target", {0, 0.5, 0}}, {"up", {0, 1, 0}}, {"fov", 35}}},
+                        {"objects",
+                         {{{"name", "floor"},
+                           {"mesh", {{"type", "plane"}, {"size", 8}}},
+                           {"ground", true},
+                           {"transform", {{"translation", {0, -0.5, 0}}}}},
+                          {{"mesh", {{"type", "sphere"}, {"radius", 0.25}, {"segments", 16}}},
+                           {"transform", {{"translation", {1, 0.25, 0}}}},
+                           {"material", {{"diffuse", {0.1, 0.2, 0.3}}, {"specular", 0.4}, {"shininess", 250}}},
+                           {"animation",
+                            {{"type", "orbit"},
+                             {"center", {0, 1, 0}},
+                             {"radius", 2},
+                             {"height", 0.5},
+                             {"period", 6},
+                             {"face_motion", false}}}},
+                          {{"name", "crate"},
+                           {"mesh", {{"type", "box"}, {"size", {1, 2, 3}}}},
+                           {"casts_shadows", false},
+                           {"material", {{"diffuse", 0.5}}}}}}};
+    const Scene s = load_scene(write_scene(test_folder(), scene));
+
+    EXPECT_EQ(s.environment.source, "builtin:sky:elevation=30");
+    EXPECT_EQ(s.environment.rotation_degrees, 45.0f);
+    EXPECT_EQ(s.environment.exposure_stops, -1.5f);
+    EXPECT_EQ(s.camera.position, glm::vec3(1, 2, 3));
+    EXPECT_EQ(s.camera.target, glm::vec3(0, 0.5f, 0));
+    EXPECT_EQ(s.camera.fov_y_degrees, 35.0f);
+    EXPECT_TRUE(s.has_ground);
+    EXPECT_EQ(s.ground_height, -0.5f);
+
+    ASSERT_EQ(s.objects.size(), 3u);
+    const Object &floor = s.objects[0], &ball = s.objects[1], &crate = s.objects[2];
+    EXPECT_EQ(floor.name, "floor");
+    EXPECT_FALSE(floor.casts_shadows);  // the ground only receives
+    EXPECT_EQ(floor.mesh->bounds_max, glm::vec3(4, 0, 4));
+
+    EXPECT_EQ(ball.name, "sphere");
+    EXPECT_TRUE(ball.casts_shadows);
+    EXPECT_EQ(ball.mesh->triangle_count(), 2u * 16 * 7);
+    EXPECT_EQ(ball.material.rho_d, glm::vec3(0.1f, 0.2f, 0.3f));
+    EXPECT_EQ(ball.material.rho_s, 0.4f);
+    EXPECT_EQ(ball.material.shininess, 250.0f);
+    EXPECT_EQ(ball.animation.kind, Animation::Kind::orbit);
+    EXPECT_EQ(ball.animation.period, 6.0);
+    EXPECT_FALSE(ball.animation.face_motion);
+    // At rest (1, 0.25, 0); the orbit adds centre + (radius, height, 0) at t = 0.
+    expect_near(world(ball, {0, 0, 0}), {3, 1.75f, 0});
+
+    EXPECT_EQ(crate.name, "crate");
+    EXPECT_FALSE(crate.casts_shadows);
+    EXPECT_EQ(crate.material.rho_d, glm::vec3(0.5f));
+    EXPECT_EQ(crate.material.rho_s, 0.0f);
+    EXPECT_EQ(crate.mesh->bounds_max, glm::vec3(0.5f, 1.0f, 1.5f));
+    EXPECT_EQ(s.triangle_count(), 2u + 2u * 16 * 7 + 12u);
+}
+
+TEST(SceneFile, TransformsScaleThenRotateThenTranslate) {
+    json scene = minimal_scene();
+    scene["objects"] = {
+        {{"mesh", "box"}, {"transform", {{"rotation", {90, 0, 0}}}}},
+        {{"mesh", "box"}, {"transform", {{"rotation", {90, 90, 0}}}}},  // X first, then Y
+        {{"mesh", "box"}, {"transform", {{"rotation", {{"axis", {0, 0, 2}}, {"angle", 90}}}}}},
+        {{"mesh", "box"}, {"transform", {{"translation", {1, 2, 3}}, {"rotation", {0, 90, 0}}, {"scale", {1, 2, 3}}}}}};
+    const Scene s = load_scene(write_scene(test_folder(), scene));
+    expect_near(world_direction(s.objects[0], {0, 1, 0}), {0, 0, 1});
+    expect_near(world_direction(s.objects[1], {0, 1, 0}), {1, 0, 0});
+    expect_near(world_direction(s.objects[2], {1, 0, 0}), {0, 1, 0});
+    // (1, 1, 1) -> scale (1, 2, 3) -> 90 degrees about Y: (x, y, z) -> (z, y, -x) -> + (1, 2, 3)
+    expect_near(world(s.objects[3], {1, 1, 1}), {4, 4, 2});
+    const json uniform = {{"mesh", "box"}, {"transform", {{"scale", 2}}}};
+    scene["objects"] = {uniform};
+    expect_near(world(load_scene(write_scene(test_folder(), scene)).objects[0], {1, 1, 1}), {2, 2, 2});
+}
+
+TEST(SceneFile, FitStandsTheMeshOnTheGroundAtTheGivenSize) {
+    json scene = minimal_scene();
+    scene["objects"] = {{{"mesh", {{"type", "torus"}, {"major_radius", 1.0}, {"minor_radius", 0.5}}},
+                         {"fit", 0.75},
+                         {"transform", {{"translation", {5, 0, 0}}}}}};
+    const Scene s = load_scene(write_scene(test_folder(), scene));
+    glm::vec3 lo, hi;
+    s.bounds_at(0.0, lo, hi);
+    // The torus is 3 x 1 x 3: scaled by 1/4, standing on y = 0, centred on x = 5.
+    expect_near(lo, {4.625f, 0, -0.375f}, 1e-4f);
+    expect_near(hi, {5.375f, 0.25f, 0.375f}, 1e-4f);
+}
+
+TEST(SceneFile, RelativePathsAreRelativeToTheSceneFile) {
+    const fs::path dir = test_folder();
+    fs::create_directories(dir / "maps");
+    fs::create_directories(dir / "models");
+    std::ofstream(dir / "maps/sky.exr") << "only its existence is checked here";
+    GltfWriter w;
+    w.scene({w.node({{"mesh", w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}))}})});
+    w.write(dir / "models", "triangle");
+    json scene = minimal_scene();
+    scene["environment"] = "maps/sky.exr";
+    scene["objects"] = {{{"model", "models/triangle.gltf"}}};
+    const Scene s = load_scene(write_scene(dir, scene));
+    EXPECT_EQ(fs::path(s.environment.source), (dir / "maps/sky.exr").lexically_normal());
+    ASSERT_EQ(s.objects.size(), 1u);
+    EXPECT_EQ(s.objects[0].name, "triangle");
+    EXPECT_EQ(s.objects[0].mesh->triangle_count(), 1u);
+}
+
+TEST(SceneFile, ModelMaterialComesFromGltfUnlessTheSceneGivesOne) {
+    const fs::path dir = test_folder();
+    GltfWriter w;
+    const int mesh = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+    w.doc["meshes"][mesh]["primitives"][0]["material"] = 0;
+    w.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}}}}});
+    w.scene({w.node({{"mesh", mesh}})});
+    w.write(dir, "tinted");
+    json scene = minimal_scene();
+    scene["objects"] = {{{"model", "tinted.gltf"}},
+                        {{"model", "tinted.gltf"}, {"material", {{"specular", 0.3}}}},
+                        {{"model", "tinted.gltf"}, {"material", {{"diffuse", {0.9, 0.8, 0.7}}}}}};
+    const Scene s = load_scene(write_scene(dir, scene));
+    expect_near(s.objects[0].material.rho_d, {0.2f, 0.4f, 0.6f});
+    expect_near(s.objects[1].material.rho_d, {0.2f, 0.4f, 0.6f});
+    EXPECT_EQ(s.objects[1].material.rho_s, 0.3f);
+    expect_near(s.objects[2].material.rho_d, {0.9f, 0.8f, 0.7f});
+    EXPECT_EQ(s.objects[0].mesh, s.objects[2].mesh);  // one file, loaded once
+}
+
+TEST(SceneFile, IdenticalBuiltinMeshesAreShared) {
+    json scene = minimal_scene();
+    scene["objects"] = {{{"mesh", {{"type", "virus"}, {"spikes", 12}}}},
+                        {{"mesh", {{"type", "virus"}, {"spikes", 12}}}},
+                        {{"mesh", {{"type", "virus"}, {"spikes", 13}}}}};
+    const Scene s = load_scene(write_scene(test_folder(), scene));
+    EXPECT_EQ(s.objects[0].mesh, s.objects[1].mesh);
+    EXPECT_NE(s.objects[0].mesh, s.objects[2].mesh);
+}
+
+TEST(SceneFile, WithoutACameraTheObjectsAreFramed) {
+    json scene = minimal_scene();
+    scene.erase("camera");
+    scene["objects"] = {{{"mesh", {{"type", "plane"}, {"size", 50}}}, {"ground", true}},
+                        {{"mesh", "figure"}, {"transform", {{"translation", {3, 0, -2}}}}},
+                        {{"mesh", "box"}, {"transform", {{"translation", {-1, 0.5, 0}}}}}};
+    const Scene s = load_scene(write_scene(test_folder(), scene));
+    for (std::size_t i = 1; i < s.objects.size(); ++i) {
+        Scene one;
+        one.objects = {s.objects[i]};
+        glm::vec3 lo, hi;
+        one.bounds_at(0.0, lo, hi);
+        EXPECT_TRUE(inside_frustum(s.camera, 4.0f / 3.0f, lo, hi)) << s.objects[i].name;
+    }
+}
+
+TEST(SceneFile, UnknownKeysNameTheFileAndTheKey) {
+    const auto with = [](const std::function<void(json&)>& change) {
+        json scene = minimal_scene();
+        change(scene);
+        return scene;
+    };
+    expect_scene_error_with(with([](json& s) { s["objcts"] = json::array(); }), {"objcts: unknown key", "objects"});
+    expect_scene_error_with(with([](json& s) { s["objects"][0]["materal"] = json::object(); }),
+                            {"objects[0].materal: unknown key"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["material"] = {{"shinyness", 3}};
+                            }),
+                            {"objects[0].material.shinyness: unknown key"});
+    expect_scene_error_with(with([](json& s) { s["camera"]["fov_y"] = 30; }), {"camera.fov_y: unknown key"});
+    expect_scene_error_with(with([](json& s) {
+                                s["environment"] = {{"source", "builtin:sky"}, {"rotate", 3}};
+                            }),
+                            {"environment.rotate: unknown key"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "sphere"}, {"radus", 1}};
+                            }),
+                            {"objects[0].mesh.radus: unknown key"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["transform"] = {{"rotate", {0, 1, 0}}};
+                            }),
+                            {"objects[0].transform.rotate: unknown key"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "orbit"}, {"radious", 1}};
+                            }),
+                            {"objects[0].animation.radious: unknown key"});
+}
+
+TEST(SceneFile, WrongTypesNameTheFileAndTheKey) {
+    const auto with = [](const std::function<void(json&)>& change) {
+        json scene = minimal_scene();
+        change(scene);
+        return scene;
+    };
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "sphere"}, {"radius", "big"}};
+                            }),
+                            {"objects[0].mesh.radius: expected a number"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "sphere"}, {"segments", 3.5}};
+                            }),
+                            {"objects[0].mesh.segments: expected an integer"});
+    expect_scene_error_with(with([](json& s) {
+                                s["camera"]["position"] = {0, 1};
+                            }),
+                            {"camera.position: expected an array of 3 numbers"});
+    expect_scene_error_with(with([](json& s) { s["objects"] = json::object(); }),
+                            {"objects: expected a non-empty array"});
+    expect_scene_error_with(with([](json& s) { s["objects"][0]["ground"] = "yes"; }),
+                            {"objects[0].ground: expected true or false"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["material"] = {{"diffuse", {0.5, "red", 0.5}}};
+                            }),
+                            {"objects[0].material.diffuse[1]: expected a number"});
+    expect_scene_error_with(with([](json& s) { s["environment"] = 3; }), {"environment: expected a map file"});
+    expect_scene_error_with(with([](json& s) { s["objects"][0]["name"] = 7; }), {"objects[0].name: expected a string"});
+    expect_scene_error_with(json::array(), {"scene: expected an object"});
+}
+
+TEST(SceneFile, ValuesOutOfRange) {
+    const auto with = [](const std::function<void(json&)>& change) {
+        json scene = minimal_scene();
+        change(scene);
+        return scene;
+    };
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["material"] = {{"diffuse", 1.5}};
+                            }),
+                            {"objects[0].material.diffuse", "between 0 and 1"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["material"] = {{"shininess", -1}};
+                            }),
+                            {"objects[0].material.shininess"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "sphere"}, {"segments", 5000}};
+                            }),
+                            {"segments", "between 4 and 3000"});
+    expect_scene_error_with(
+        with([](json& s) {
+            s["objects"][0]["mesh"] = {{"type", "torus"}, {"major_radius", 0.2}, {"minor_radius", 0.3}};
+        }),
+        {"minor_radius: must be smaller than major_radius"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["mesh"] = {{"type", "blob"}, {"triangles", 10}};
+                            }),
+                            {"objects[0].mesh.triangles"});
+    expect_scene_error_with(with([](json& s) { s["objects"][0]["mesh"] = "teapot"; }),
+                            {"unknown built-in mesh \"teapot\""});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["transform"] = {{"scale", {1, -1, 1}}};
+                            }),
+                            {"objects[0].transform.scale"});
+    expect_scene_error_with(with([](json& s) { s["camera"]["fov"] = 0; }), {"camera.fov"});
+    expect_scene_error_with(with([](json& s) { s["camera"]["target"] = s["camera"]["position"]; }),
+                            {"camera: position and target are the same point"});
+    expect_scene_error_with(with([](json& s) { s["camera"]["up"] = {0, 0, 0}; }), {"camera.up"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "orbit"}, {"period", 0}};
+                            }),
+                            {"objects[0].animation.period"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "path"}, {"points", {{0, 0, 0}}}};
+                            }),
+                            {"objects[0].animation.points"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "path"}, {"points", {{1, 0, 0}, {1, 0, 0}}}};
+                            }),
+                            {"the path has zero length"});
+    expect_scene_error_with(with([](json& s) {
+                                s["objects"][0]["animation"] = {{"type", "spin"}};
+                            }),
+                            {"unknown animation \"spin\""});
+}
+
+TEST(SceneFile, ObjectsNeedExactlyOneShape) {
+    json scene = minimal_scene();
+    scene["objects"] = {{{"name", "nothing"}}};
+    expect_scene_error_with(scene, {"objects[0]: needs exactly one of \"model\""});
+    scene["objects"] = {{{"mesh", "box"}, {"model", "x.glb"}}};
+    expect_scene_error_with(scene, {"objects[0]: needs exactly one of \"model\""});
+}
+
+TEST(SceneFile, GroundRules) {
+    json scene = minimal_scene();
+    scene["objects"] = {{{"mesh", "sphere"}, {"ground", true}}};
+    expect_scene_error_with(scene, {"objects[0].ground: only a plane mesh can be the ground"});
+    scene["objects"] = {{{"mesh", "plane"}, {"ground", true}}, {{"mesh", "plane"}, {"ground", true}}};
+    expect_scene_error_with(scene, {"objects[1].ground: only one object can be the ground"});
+    scene["objects"] = {{{"mesh", "plane"}, {"ground", true}, {"transform", {{"rotation", {10, 0, 0}}}}}};
+    expect_scene_error_with(scene, {"objects[0].ground: the ground plane must stay horizontal"});
+    scene["objects"] = {
+        {{"mesh", "plane"}, {"ground", true}, {"transform", {{"rotation", {0, 30, 0}}, {"translation", {0, 2, 0}}}}}};
+    const Scene s = load_scene(write_scene(test_folder(), scene));
+    EXPECT_TRUE(s.has_ground);
+    EXPECT_EQ(s.ground_height, 2.0f);
+    scene["objects"] = {{{"mesh", "plane"}}};
+    EXPECT_FALSE(load_scene(write_scene(test_folder(), scene)).has_ground);
+}
+
+TEST(SceneFile, MissingFilesNameBothFiles) {
+    const fs::path dir = test_folder();
+    json scene = minimal_scene();
+    scene["objects"] = {{{"model", "models/absent.glb"}}};
+    const fs::path path = write_scene(dir, scene);
+    expect_scene_error(path, {"objects[0].model", (dir / "models/absent.glb").string(), "not found"});
+
+    scene = minimal_scene();
+    scene["environment"] = {{"source", "../maps/absent.exr"}};
+    const fs::path env = write_scene(dir, scene, "env.json");
+    expect_scene_error(env, {"environment.source", (dir.parent_path() / "maps/absent.exr").string(), "not found"});
+}
+
+TEST(SceneFile, BrokenModelsNameBothFiles) {
+    json scene = minimal_scene();
+    const fs::path broken = "/usr/share/assimp/models/glTF2/RecursiveNodes/RecursiveNodes.gltf";
+    scene["objects"] = {{{"model", broken.string()}}};
+    const fs::path path = write_scene(test_folder(), scene);
+    expect_scene_error(path, {"objects[0].model", broken.string() + ": node cycle"});
+}
+
+TEST(SceneFile, UnreadableSceneFiles) {
+    const fs::path dir = test_folder();
+    expect_scene_error(dir / "absent.json", {"no such scene file"});
+    std::ofstream(dir / "broken.json") << "{ \"objects\": [ }";
+    expect_scene_error(dir / "broken.json", {"invalid JSON", "line 1"});
+    std::ofstream(dir / "overflow.json") << R"({"objects": [{"mesh": {"type": "sphere", "radius": 1e400}}]})";
+    expect_scene_error(dir / "overflow.json", {"invalid JSON: number overflow"});
+}
+
+TEST(SceneFile, TheDocumentedExampleLoads) {
+    std::ifstream doc(fs::path(ENVSHADOW_SOURCE_DIR) / "docs/SCENES.md");
+    const std::string text((std::istreambuf_iterator<char>(doc)), std::istreambuf_iterator<char>());
+    const std::size_t begin = text.find("```json\n");
+    ASSERT_NE(begin, std::string::npos);
+    const std::size_t end = text.find("```", begin + 8);
+    const fs::path path = test_folder() / "example.json";
+    std::ofstream(path) << text.substr(begin + 8, end - begin - 8);
+    const Scene s = load_scene(path);
+    EXPECT_EQ(s.objects.size(), 5u);
+    EXPECT_TRUE(s.has_ground);
+    EXPECT_EQ(s.objects[4].animation.kind, Animation::Kind::orbit);
+}
+
+TEST(SceneFile, BareGlbStandsOnAGroundPlaneInView) {
+    const Scene s = load_scene(kEngine);
+    EXPECT_TRUE(s.has_ground);
+    EXPECT_EQ(s.ground_height, 0.0f);
+    ASSERT_EQ(s.objects.size(), 2u);
+    const Object& ground = s.objects[0];
+    const Object& model = s.objects[1];
+    EXPECT_FALSE(ground.casts_shadows);
+    EXPECT_TRUE(model.casts_shadows);
+    EXPECT_EQ(model.name, "2CylinderEngine");
+    EXPECT_EQ(model.mesh->triangle_count(), 121496u);
+
+    Scene only_model;
+    only_model.objects = {model};
+    glm::vec3 lo, hi;
+    only_model.bounds_at(0.0, lo, hi);
+    EXPECT_NEAR(lo.y, 0.0f, 1e-4f);  // standing on the ground
+    EXPECT_NEAR(std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 2.0f, 1e-4f);
+    for (const float aspect : {1.0f, 4.0f / 3.0f, 16.0f / 9.0f})
+        EXPECT_TRUE(inside_frustum(s.camera, aspect, lo, hi)) << aspect;
+    // The ground reaches well past the model, to catch its shadows.
+    EXPECT_GT(ground.mesh->bounds_max.x, 5.0f * std::max(std::abs(lo.x), std::abs(hi.x)));
+
+    const fs::path courtyard = "/usr/share/blender/datafiles/studiolights/world/courtyard.exr";
+    EXPECT_EQ(s.environment.source, fs::exists(courtyard) ? courtyard.string() : std::string("builtin:sky"));
+}
+
+TEST(SceneFile, BareGltfErrorsNameTheModel) {
+    const fs::path broken = "/usr/share/assimp/models/glTF2/IndexOutOfRange/IndexOutOfRange.gltf";
+    expect_scene_error(broken, {"out of range"});
+}
+
+}  // namespace
+}  // namespace envshadow
