@@ -36,14 +36,17 @@ Image8 draw_cells(const EnvironmentMap& map, const Decomposition& decomposition)
     const int radius = std::max(1, map.height / 128);
     for (const Cell& c : decomposition.cells) {
         const glm::dvec2 uv = latlong::uv(glm::dvec3(c.direction));
-        const int ci = int(std::floor(uv.x * map.width)), cj = std::min(map.height - 1, int(std::floor(uv.y * map.height)));
+        const int ci = int(std::floor(uv.x * map.width)),
+                  cj = std::min(map.height - 1, int(std::floor(uv.y * map.height)));
         for (int dj = -radius - 1; dj <= radius + 1; ++dj)
             for (int di = -radius - 1; di <= radius + 1; ++di) {
                 const int j = cj + dj;
                 if (j < 0 || j >= map.height) continue;
                 const int d2 = di * di + dj * dj;
-                if (d2 <= radius * radius) paint(ci + di, j, 255, 40, 40);
-                else if (d2 <= (radius + 1) * (radius + 1)) paint(ci + di, j, 0, 0, 0);
+                if (d2 <= radius * radius)
+                    paint(ci + di, j, 255, 40, 40);
+                else if (d2 <= (radius + 1) * (radius + 1))
+                    paint(ci + di, j, 0, 0, 0);
             }
     }
     return picture;

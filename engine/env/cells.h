@@ -2,12 +2,11 @@
 // Directional cells of an environment map (DESIGN.md §3): the output of every decomposition method,
 // and what the renderer turns into lights.
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "env/environment.h"
 #include "env/importance.h"
@@ -46,11 +45,11 @@ struct Decomposition {
     std::vector<std::uint16_t> texel_cell;  // cell index of every texel (j * width + i)
     glm::dvec3 integral{0.0};               // integral of L dw computed directly from the map
     double seconds = 0.0;
-    int iterations = 0;                     // Lloyd / CCVT iterations run
-    double final_movement = 0.0;            // largest site movement of the last iteration (radians)
-    std::vector<glm::dvec3> sites;          // the sites texel_cell was assigned to (one per cell)
-    std::vector<double> site_bias;          // CCVT's power-diagram biases (nearest_site.h); empty otherwise
-    bool uniform_importance = false;        // the map was black: importance fell back to solid angle
+    int iterations = 0;               // Lloyd / CCVT iterations run
+    double final_movement = 0.0;      // largest site movement of the last iteration (radians)
+    std::vector<glm::dvec3> sites;    // the sites texel_cell was assigned to (one per cell)
+    std::vector<double> site_bias;    // CCVT's power-diagram biases (nearest_site.h); empty otherwise
+    bool uniform_importance = false;  // the map was black: importance fell back to solid angle
 };
 
 // Throws UsageError for lights outside 1..kMaxLights and InputError when the map has fewer texels than

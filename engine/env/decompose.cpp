@@ -1,11 +1,11 @@
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <numbers>
 #include <string>
-
-#include <glm/geometric.hpp>
-#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 #include "env/cells.h"
@@ -16,11 +16,16 @@ namespace envshadow {
 
 std::string_view to_string(Method method) {
     switch (method) {
-        case Method::lloyd: return "lloyd";
-        case Method::ccvt: return "ccvt";
-        case Method::mediancut: return "mediancut";
-        case Method::random: return "random";
-        case Method::fs: return "fs";
+        case Method::lloyd:
+            return "lloyd";
+        case Method::ccvt:
+            return "ccvt";
+        case Method::mediancut:
+            return "mediancut";
+        case Method::random:
+            return "random";
+        case Method::fs:
+            return "fs";
     }
     return "?";
 }
@@ -39,12 +44,14 @@ std::vector<Cell> integrate_cells(const EnvironmentMap& map, const ImportanceMap
     // Radiance per cell: rows in fixed chunks, reduced in order (independent of the thread count).
     constexpr int kRowsPerChunk = 8;
     const int chunks = (map.height + kRowsPerChunk - 1) / kRowsPerChunk;
-    std::vector<std::vector<glm::dvec3>> partial(static_cast<size_t>(chunks), std::vector<glm::dvec3>(static_cast<size_t>(count), glm::dvec3(0.0)));
+    std::vector<std::vector<glm::dvec3>> partial(static_cast<size_t>(chunks),
+                                                 std::vector<glm::dvec3>(static_cast<size_t>(count), glm::dvec3(0.0)));
     tbb::parallel_for(0, chunks, [&](int chunk) {
         for (int j = chunk * kRowsPerChunk; j < std::min(map.height, (chunk + 1) * kRowsPerChunk); ++j) {
             const double dw = importance.row_solid_angle[size_t(j)];
             for (int i = 0; i < map.width; ++i)
-                partial[size_t(chunk)][texel_cell[size_t(j) * size_t(map.width) + size_t(i)]] += dw * glm::dvec3(map.at(i, j));
+                partial[size_t(chunk)][texel_cell[size_t(j) * size_t(map.width) + size_t(i)]] +=
+                    dw * glm::dvec3(map.at(i, j));
         }
     });
     std::vector<Cell> cells(static_cast<size_t>(count));
@@ -56,8 +63,10 @@ std::vector<Cell> integrate_cells(const EnvironmentMap& map, const ImportanceMap
         // Mean cosine about the centre, importance weighted (solid-angle weighted without importance):
         // sum I (w . c) = c . sum I w.
         double mean_cos = 1.0;
-        if (m.importance > 0.0) mean_cos = glm::dot(centre, m.importance_direction) / m.importance;
-        else if (m.solid_angle > 0.0) mean_cos = glm::dot(centre, m.solid_angle_direction) / m.solid_angle;
+        if (m.importance > 0.0)
+            mean_cos = glm::dot(centre, m.importance_direction) / m.importance;
+        else if (m.solid_angle > 0.0)
+            mean_cos = glm::dot(centre, m.solid_angle_direction) / m.solid_angle;
         Cell& cell = cells[size_t(k)];
         cell.direction = glm::vec3(centre);
         cell.radiance = glm::vec3(radiance);
@@ -101,11 +110,21 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
 
     SiteSet sites;
     switch (options.method) {
-        case Method::lloyd: sites = sites_lloyd(importance, options.lights, options.seed, partition); break;
-        case Method::ccvt: sites = sites_ccvt(importance, options.lights, options.seed, partition); break;
-        case Method::mediancut: sites = sites_median_cut(importance, options.lights); break;
-        case Method::random: sites = sites_random(importance, options.lights, options.seed); break;
-        case Method::fs: sites = sites_floyd_steinberg(importance, options.lights); break;
+        case Method::lloyd:
+            sites = sites_lloyd(importance, options.lights, options.seed, partition);
+            break;
+        case Method::ccvt:
+            sites = sites_ccvt(importance, options.lights, options.seed, partition);
+            break;
+        case Method::mediancut:
+            sites = sites_median_cut(importance, options.lights);
+            break;
+        case Method::random:
+            sites = sites_random(importance, options.lights, options.seed);
+            break;
+        case Method::fs:
+            sites = sites_floyd_steinberg(importance, options.lights);
+            break;
     }
 
     Decomposition result;

@@ -1,6 +1,8 @@
 // Loading lat-long environment maps: OpenEXR, Radiance .hdr, and maps generated in code (builtin:).
 #include "env/environment.h"
 
+#include <stb_image.h>
+
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -132,16 +134,21 @@ EnvironmentMap builtin_sky(const std::string& spec, std::string_view arguments) 
         const std::string_view item = arguments.substr(0, comma);
         arguments = comma == std::string_view::npos ? std::string_view() : arguments.substr(comma + 1);
         const size_t equals = item.find('=');
-        if (equals == std::string_view::npos)
-            throw InputError(spec + ": '" + std::string(item) + "' is not key=value");
+        if (equals == std::string_view::npos) throw InputError(spec + ": '" + std::string(item) + "' is not key=value");
         const std::string_view key = item.substr(0, equals), text = item.substr(equals + 1);
         const double value = parse_number(spec, key, text);
-        if (key == "elevation") check_range(spec, key, sky.elevation_degrees = value, -90.0, 90.0);
-        else if (key == "azimuth") sky.azimuth_degrees = value;
-        else if (key == "size") check_range(spec, key, sky.size_degrees = value, 0.01, 90.0);
-        else if (key == "intensity") check_range(spec, key, sky.intensity = value, 0.0, 1e12);
-        else if (key == "time") sky.time_hours = value, has_time = true;
-        else if (key == "width") check_range(spec, key, width = value, 2.0, kMaxEnvironmentWidth);
+        if (key == "elevation")
+            check_range(spec, key, sky.elevation_degrees = value, -90.0, 90.0);
+        else if (key == "azimuth")
+            sky.azimuth_degrees = value;
+        else if (key == "size")
+            check_range(spec, key, sky.size_degrees = value, 0.01, 90.0);
+        else if (key == "intensity")
+            check_range(spec, key, sky.intensity = value, 0.0, 1e12);
+        else if (key == "time")
+            sky.time_hours = value, has_time = true;
+        else if (key == "width")
+            check_range(spec, key, width = value, 2.0, kMaxEnvironmentWidth);
         else
             throw InputError(spec + ": unknown key '" + std::string(key) +
                              "' (elevation, azimuth, size, intensity, time, width)");
@@ -182,7 +189,8 @@ void render_sky(const SkyParameters& sky, EnvironmentMap& map) {
     const glm::dvec3 horizon(1.00, 0.97, 0.92), zenith(0.28, 0.48, 0.95);
     // The ground is lit by the sky (irradiance ~ pi x its mean radiance) and the sun above the horizon.
     const double sun_solid_angle = 2.0 * std::numbers::pi * (1.0 - cos_sun);
-    const glm::dvec3 irradiance = glm::dvec3(0.65 * std::numbers::pi) + sun_colour * sun_solid_angle * std::max(0.0, sun.y);
+    const glm::dvec3 irradiance =
+        glm::dvec3(0.65 * std::numbers::pi) + sun_colour * sun_solid_angle * std::max(0.0, sun.y);
     const glm::dvec3 ground = glm::dvec3(0.12, 0.10, 0.08) * irradiance / std::numbers::pi;
 
     auto sky_radiance = [&](const glm::dvec3& d) {

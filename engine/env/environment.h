@@ -1,10 +1,9 @@
 #pragma once
 // Lat-long HDR environment maps (row 0 = zenith, W = 2H), from files or generated (`builtin:`).
 #include <filesystem>
+#include <glm/vec3.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 namespace envshadow {
 
@@ -51,8 +50,8 @@ EnvironmentMap load_environment(const std::string& spec, const EnvironmentLoadOp
 struct SkyParameters {
     double elevation_degrees = 35.0;
     double azimuth_degrees = 60.0;
-    double size_degrees = 1.5;      // angular diameter of the disc
-    double intensity = 25000.0;     // radiance of the disc (times a warm white)
+    double size_degrees = 1.5;   // angular diameter of the disc
+    double intensity = 25000.0;  // radiance of the disc (times a warm white)
     double time_hours = 12.0;
 };
 glm::dvec3 sun_direction(const SkyParameters& sky);

@@ -2,9 +2,8 @@
 // Importance of an environment map's texels (DESIGN.md §2): I = lum(L) * dw, dw the exact texel solid
 // angle. The sampling and decomposition methods read only this; the map's RGB is read again by the
 // per-cell integration.
-#include <vector>
-
 #include <glm/vec3.hpp>
+#include <vector>
 
 #include "env/environment.h"
 
@@ -28,10 +27,10 @@ private:
 
 struct ImportanceMap {
     int width = 0, height = 0;
-    std::vector<float> importance;       // I per texel (j * width + i), finite and >= 0
+    std::vector<float> importance;        // I per texel (j * width + i), finite and >= 0
     std::vector<double> row_solid_angle;  // exact solid angle of one texel of row j
     TexelDirections directions;
-    double total = 0.0;                   // sum of I (> 0)
+    double total = 0.0;  // sum of I (> 0)
     // The map carries no luminance at all (all black): importance fell back to the texel solid
     // angle, so every method still gives well-defined cells (uniform by solid angle).
     bool uniform_fallback = false;
@@ -42,6 +41,10 @@ struct ImportanceMap {
 
 // Requires a valid map (finite, non-negative texels, W = 2H >= 2).
 ImportanceMap build_importance(const EnvironmentMap& map);
+
+// The same sphere at 1/factor of the resolution: the importance of factor x factor blocks of texels
+// summed, exact solid angles and directions of the coarse texels. Requires factor to divide W and H.
+ImportanceMap downsample_importance(const ImportanceMap& fine, int factor);
 
 // The integral of L dw over the sphere, summed texel by texel (RGB, double precision).
 glm::dvec3 integrate_radiance(const EnvironmentMap& map);

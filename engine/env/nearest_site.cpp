@@ -1,11 +1,11 @@
 #include "env/nearest_site.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
-
-#include <tbb/parallel_for.h>
 
 #include "env/latlong.h"
 
@@ -31,7 +31,9 @@ struct SiteRecord {
 
 // The single definition of a site's score, shared by the brute force and the tile search so that both
 // compare bit-identical numbers.
-inline double score(const glm::dvec3& p, const SiteRecord& s) { return p.x * s.x + p.y * s.y + p.z * s.z + s.bias; }
+inline double score(const glm::dvec3& p, const SiteRecord& s) {
+    return p.x * s.x + p.y * s.y + p.z * s.z + s.bias;
+}
 
 std::vector<SiteRecord> pack_sites(std::span<const glm::dvec3> sites, std::span<const double> bias) {
     std::vector<SiteRecord> records(sites.size());
@@ -71,7 +73,8 @@ int prune(const NearestSiteSearch::Cap& tile, const SiteRecord* sites, const std
         }
     }
     const double cb = centre_cos[best];
-    const double lowest = (cb <= -cr ? -1.0 : cb * cr - std::sqrt(std::max(0.0, 1.0 - cb * cb)) * sr) + sites[in[best]].bias;
+    const double lowest =
+        (cb <= -cr ? -1.0 : cb * cr - std::sqrt(std::max(0.0, 1.0 - cb * cb)) * sr) + sites[in[best]].bias;
     const double threshold = lowest - kPruneMargin;
     const double sr2 = sr * sr;
     int kept = 0;
@@ -127,8 +130,7 @@ std::vector<std::vector<std::uint16_t>> coarse_candidates(const std::vector<Leve
         const Level& level = levels[size_t(l)];
         std::uint16_t* out = lists[size_t(l)].data();
         const int kept = n == 1 ? (out[0] = in[0], 1)
-                                : prune(level.caps[level.index(tx, ty)], sites.data(), in,
-                                        n, out, centre_cos.data());
+                                : prune(level.caps[level.index(tx, ty)], sites.data(), in, n, out, centre_cos.data());
         if (l == kChunkLevel - 1) {
             result[level.index(tx, ty)].assign(out, out + kept);
             return;
@@ -224,7 +226,8 @@ void assign_nearest_brute_force(const ImportanceMap& importance, std::span<const
 std::vector<CellMoments> partition_moments(const ImportanceMap& importance, std::span<const std::uint16_t> texel_cell,
                                            int cell_count) {
     const int chunks = (importance.height + kRowsPerChunk - 1) / kRowsPerChunk;
-    std::vector<std::vector<CellMoments>> partial(static_cast<size_t>(chunks), std::vector<CellMoments>(static_cast<size_t>(cell_count)));
+    std::vector<std::vector<CellMoments>> partial(static_cast<size_t>(chunks),
+                                                  std::vector<CellMoments>(static_cast<size_t>(cell_count)));
     tbb::parallel_for(0, chunks, [&](int chunk) {
         std::vector<CellMoments>& acc = partial[size_t(chunk)];
         for (int j = chunk * kRowsPerChunk; j < std::min(importance.height, (chunk + 1) * kRowsPerChunk); ++j)
@@ -268,7 +271,7 @@ NearestSiteSearch::NearestSiteSearch(const ImportanceMap& importance) : importan
                 for (int j = j0; j < j1; ++j)
                     for (int i = i0; i < i1; ++i)
                         level.moments[t].add(importance.at(i, j), importance.row_solid_angle[size_t(j)],
-                                         importance.directions(i, j));
+                                             importance.directions(i, j));
             }
         });
     }

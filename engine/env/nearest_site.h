@@ -9,10 +9,9 @@
 // each bounded by a spherical cap, which keeps only the sites that can win somewhere in the tile. A tile
 // left with one candidate is taken whole (its precomputed moments added at once).
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <span>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 #include "env/importance.h"
 
@@ -20,10 +19,10 @@ namespace envshadow {
 
 // Sums over the texels of one cell: what Lloyd and CCVT need to move a site and weigh a cell.
 struct CellMoments {
-    double importance = 0.0;                  // sum of I
-    glm::dvec3 importance_direction{0.0};     // sum of I w
-    double solid_angle = 0.0;                 // sum of dw
-    glm::dvec3 solid_angle_direction{0.0};    // sum of dw w
+    double importance = 0.0;                // sum of I
+    glm::dvec3 importance_direction{0.0};   // sum of I w
+    double solid_angle = 0.0;               // sum of dw
+    glm::dvec3 solid_angle_direction{0.0};  // sum of dw w
 
     void add(double texel_importance, double texel_solid_angle, const glm::dvec3& direction) {
         importance += texel_importance;

@@ -1,15 +1,14 @@
 // Lloyd and capacity-constrained relaxation on the sphere.
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
-#include <limits>
-#include <queue>
-#include <cstdio>
-#include <cstdlib>
-
 #include <glm/geometric.hpp>
-#include <tbb/parallel_for.h>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <queue>
 
 #include "env/sites.h"
 
@@ -94,7 +93,8 @@ SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t se
             result.final_movement = 0.0;
             for (size_t k = 0; k < result.sites.size(); ++k)
                 result.final_movement =
-                    std::max(result.final_movement, angle_between(centroid_direction(cells[k], result.sites[k]), result.sites[k]));
+                    std::max(result.final_movement,
+                             angle_between(centroid_direction(cells[k], result.sites[k]), result.sites[k]));
             break;
         }
         previous_energy = energy;
@@ -115,24 +115,20 @@ struct HeavyTexel {
 // Texels that hold more than an equal share of what the cells without such texels share (water
 // filling): the k heaviest texels for the largest k < count with I_k > (total - I_1 - .. - I_{k-1}) / (count - k + 1).
 std::vector<HeavyTexel> heavy_texels(const ImportanceMap& importance, int count) {
-    // The `count` heaviest texels (a min-heap of (importance, texel)).
-    using Entry = std::pair<float, std::size_t>;
+    using Entry = std::pair<float, std::size_t>;  // the `count` heaviest texels, in a min-heap
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
     for (std::size_t t = 0; t < importance.texel_count(); ++t) {
         const float value = importance.importance[t];
-        if (int(heap.size()) < count) heap.push({value, t});
+        if (int(heap.size()) < count)
+            heap.push({value, t});
         else if (value > heap.top().first) {
             heap.pop();
             heap.push({value, t});
         }
     }
     std::vector<Entry> top;
-    while (!heap.empty()) {
-        top.push_back(heap.top());
-        heap.pop();
-    }
+    for (; !heap.empty(); heap.pop()) top.push_back(heap.top());
     std::reverse(top.begin(), top.end());  // heaviest first
-
     std::vector<HeavyTexel> heavy;
     double rest = importance.total;
     for (const Entry& e : top) {
@@ -143,15 +139,11 @@ std::vector<HeavyTexel> heavy_texels(const ImportanceMap& importance, int count)
     return heavy;
 }
 
-}  // namespace
-
-namespace {
-
-// How much importance crosses the border of cells a and b per unit of bias: the integral of the
-// importance density along the border over |s_a - s_b|, measured on the texel pairs (p, q) that
-// straddle it as 1/2 sum (I_p + I_q) / 2 / |(p - q) . (s_a - s_b)| (horizontal and vertical pairs
-// each measure the border once, whatever its slope). These weights make the graph Laplacian that is
-// the Hessian of the capacity problem (de Goes et al. 2012, §4).
+// Cells' adjacency, weighted by how much importance crosses each border per unit of bias: the integral
+// of the importance density along the border over |s_a - s_b|, measured on the texel pairs (p, q) that
+// straddle it as 1/2 sum (I_p + I_q) / 2 / |(p - q) . (s_a - s_b)| (horizontal and vertical pairs each
+// measure a border once, whatever its slope). The weighted graph Laplacian is the Hessian of the
+// capacity problem (de Goes et al. 2012, §4).
 class BorderWeights {
 public:
     static constexpr int kMaxNeighbours = 48;  // further borders of a cell are dropped (never seen)
@@ -171,11 +163,7 @@ public:
         if (n < kMaxNeighbours) row[n++] = {b, weight};
     }
     void add(const BorderWeights& o) {
-        for (int a = 0; a < cells_; ++a)
-            for (int k = 0; k < o.count_[size_t(a)]; ++k) {
-                const Slot& slot = o.slots_[size_t(a) * kMaxNeighbours + size_t(k)];
-                add(a, slot.other, slot.weight);
-            }
+        o.for_each([&](int a, int b, double w) { add(a, b, w); });
     }
     template <class F>
     void for_each(F&& f) const {  // f(a, b, weight) once per border
@@ -185,13 +173,10 @@ public:
                 f(a, slot.other, slot.weight);
             }
     }
-    std::vector<double> degrees() const {
-        std::vector<double> degree(static_cast<size_t>(cells_), 0.0);
-        for_each([&](int a, int b, double w) {
-            degree[size_t(a)] += w;
-            degree[size_t(b)] += w;
-        });
-        return degree;
+    double mean_degree() const {
+        double sum = 0.0;
+        for_each([&](int, int, double w) { sum += 2.0 * w; });
+        return cells_ > 0 ? sum / cells_ : 0.0;
     }
 
 private:
@@ -204,40 +189,117 @@ private:
     std::vector<Slot> slots_;
 };
 
-struct CellStatistics {
-    std::vector<CellMoments> moments;
-    BorderWeights borders;
+// How much importance an overfull cell would pass on to its runner-ups if its bias fell by a given
+// amount: its border texels counted at the gap between their scores for it and for their runner-up,
+// binned by quarter powers of two; reach() interpolates inside a bin.
+struct GapHistogram {
+    static constexpr int kPerOctave = 4, kBins = 40 * kPerOctave;  // gaps from 2^-40 to 2, and 0
+    std::array<double, kBins> mass{};
+
+    static double low(int b) { return b >= kBins - 1 ? 0.0 : std::exp2(-double(b) / kPerOctave); }
+    static int bin(double gap) {
+        if (!(gap > 0.0)) return kBins - 1;
+        return std::clamp(int(std::floor(-std::log2(gap) * kPerOctave)), 0, kBins - 1);
+    }
+    void add(double gap, double m) { mass[size_t(bin(gap))] += m; }
+    // The smallest fall that passes on `amount`, or the largest gap seen when there is not that much.
+    double reach(double amount) const {
+        double gathered = 0.0, upper = 0.0;
+        for (int b = kBins - 1; b >= 0; --b) {
+            if (mass[size_t(b)] <= 0.0) continue;
+            const double lo = low(b), hi = b == 0 ? 2.0 : low(b - 1);
+            if (gathered + mass[size_t(b)] >= amount) return lo + (hi - lo) * (amount - gathered) / mass[size_t(b)];
+            gathered += mass[size_t(b)];
+            upper = hi;
+        }
+        return upper;
+    }
+    GapHistogram& operator+=(const GapHistogram& o) {
+        for (int b = 0; b < kBins; ++b) mass[size_t(b)] += o.mass[size_t(b)];
+        return *this;
+    }
 };
 
-// One pass over an assignment: the cells' moments and border weights.
+// Everything the capacity solver reads from one assignment, in one pass over the texels.
+struct CellStatistics {
+    std::vector<CellMoments> moments;  // texel by texel, as the cells are
+    // Importance with each border texel shared with its runner-up c (the best cell among its four
+    // neighbouring texels'): d = score_a - score_c is taken as linear across the texel (a square of the
+    // texel's solid angle) and a keeps the fraction where d > 0. These masses change continuously with
+    // the biases, as in the continuous problem Newton's method is made for (Kitagawa, Merigot and
+    // Thibert 2019).
+    std::vector<double> mass;
+    BorderWeights borders;
+    std::vector<GapHistogram> loss;  // per cell, its border texels at their gap to the runner-up
+
+    explicit CellStatistics(int count = 0)
+        : moments(static_cast<size_t>(count)),
+          mass(static_cast<size_t>(count), 0.0),
+          borders(count),
+          loss(static_cast<size_t>(count)) {}
+};
+
 CellStatistics cell_statistics(const ImportanceMap& importance, std::span<const std::uint16_t> texel_cell,
-                               std::span<const glm::dvec3> sites) {
-    constexpr int kRowsPerChunk = 16;
+                               std::span<const glm::dvec3> sites, std::span<const double> bias) {
+    constexpr int kRowsPerChunk = 32;
     const int width = importance.width, height = importance.height, count = int(sites.size());
     const int chunks = (height + kRowsPerChunk - 1) / kRowsPerChunk;
-    std::vector<CellStatistics> partial(static_cast<size_t>(chunks),
-                                        CellStatistics{std::vector<CellMoments>(sites.size()), BorderWeights(count)});
-    auto pair = [&](BorderWeights& w, size_t p, const glm::dvec3& dp, int i2, int j2) {
-        const size_t q = size_t(j2) * size_t(width) + size_t(i2);
-        const int a = texel_cell[p], b = texel_cell[q];
-        if (a == b) return;
-        const double rate = std::abs(glm::dot(dp - importance.directions(i2, j2), sites[size_t(a)] - sites[size_t(b)]));
-        w.add(a, b, 0.25 * (double(importance.importance[p]) + importance.importance[q]) / std::max(rate, 1e-12));
-    };
+    std::vector<CellStatistics> partial(static_cast<size_t>(chunks), CellStatistics(count));
+    auto cell = [&](int i, int j) { return int(texel_cell[size_t(j) * size_t(width) + size_t(i)]); };
     tbb::parallel_for(0, chunks, [&](int chunk) {
         CellStatistics& out = partial[size_t(chunk)];
-        for (int j = chunk * kRowsPerChunk; j < std::min(height, (chunk + 1) * kRowsPerChunk); ++j)
+        for (int j = chunk * kRowsPerChunk; j < std::min(height, (chunk + 1) * kRowsPerChunk); ++j) {
+            const double side = std::sqrt(importance.row_solid_angle[size_t(j)]);
             for (int i = 0; i < width; ++i) {
-                const size_t p = size_t(j) * size_t(width) + size_t(i);
-                const glm::dvec3 dp = importance.directions(i, j);
-                out.moments[texel_cell[p]].add(importance.importance[p], importance.row_solid_angle[size_t(j)], dp);
-                pair(out.borders, p, dp, (i + 1) % width, j);  // across the seam too
-                if (j + 1 < height) pair(out.borders, p, dp, i, j + 1);
+                const size_t t = size_t(j) * size_t(width) + size_t(i);
+                const int a = texel_cell[t];
+                const double value = importance.importance[t];
+                const glm::dvec3 p = importance.directions(i, j);
+                out.moments[size_t(a)].add(value, importance.row_solid_angle[size_t(j)], p);
+                const int right = (i + 1) % width, left = (i + width - 1) % width;
+                const int neighbours[4] = {cell(right, j), cell(left, j), j + 1 < height ? cell(i, j + 1) : a,
+                                           j > 0 ? cell(i, j - 1) : a};
+                if (neighbours[0] == a && neighbours[1] == a && neighbours[2] == a && neighbours[3] == a) {
+                    out.mass[size_t(a)] += value;  // inside its cell
+                    continue;
+                }
+                // Borders with the texel to the right (across the seam too) and below.
+                for (const auto& [i2, j2, b] :
+                     {std::tuple{right, j, neighbours[0]}, std::tuple{i, j + 1, neighbours[2]}}) {
+                    if (b == a) continue;
+                    const size_t q = size_t(j2) * size_t(width) + size_t(i2);
+                    const double rate =
+                        std::abs(glm::dot(p - importance.directions(i2, j2), sites[size_t(a)] - sites[size_t(b)]));
+                    out.borders.add(a, b, 0.25 * (value + importance.importance[q]) / std::max(rate, 1e-12));
+                }
+                // Runner-up among the neighbouring texels' cells.
+                int runner_up = -1;
+                double second = -std::numeric_limits<double>::infinity();
+                for (int c : neighbours) {
+                    if (c == a || c == runner_up) continue;
+                    const double score = glm::dot(p, sites[size_t(c)]) + bias[size_t(c)];
+                    if (score > second) {
+                        second = score;
+                        runner_up = c;
+                    }
+                }
+                const double gap = std::max(0.0, glm::dot(p, sites[size_t(a)]) + bias[size_t(a)] - second);
+                const glm::dvec3 d = sites[size_t(a)] - sites[size_t(runner_up)];
+                const double span = glm::length(d - glm::dot(d, p) * p) * side;  // range of d over the texel
+                const double kept = span > 0.0 ? std::min(1.0, 0.5 + gap / span) : 1.0;
+                out.mass[size_t(a)] += kept * value;
+                out.mass[size_t(runner_up)] += (1.0 - kept) * value;
+                out.loss[size_t(a)].add(gap, value);
             }
+        }
     });
-    CellStatistics total{std::vector<CellMoments>(sites.size()), BorderWeights(count)};
+    CellStatistics total(count);
     for (const CellStatistics& c : partial) {
-        for (size_t k = 0; k < sites.size(); ++k) total.moments[k] += c.moments[k];
+        for (size_t k = 0; k < size_t(count); ++k) {
+            total.moments[k] += c.moments[k];
+            total.mass[k] += c.mass[k];
+            total.loss[k] += c.loss[k];
+        }
         total.borders.add(c.borders);
     }
     return total;
@@ -245,11 +307,9 @@ CellStatistics cell_statistics(const ImportanceMap& importance, std::span<const 
 
 // Solves (L + ridge I) x = r by conjugate gradients, L the border Laplacian. The ridge (a hundredth of
 // the mean degree) keeps cells with weak borders from taking huge steps (Levenberg-Marquardt).
-[[maybe_unused]] std::vector<double> solve_laplacian(const BorderWeights& borders, const std::vector<double>& r) {
+std::vector<double> solve_laplacian(const BorderWeights& borders, const std::vector<double>& r) {
     const size_t n = r.size();
-    double mean_degree = 0.0;
-    for (double d : borders.degrees()) mean_degree += d / double(n);
-    const double ridge = 1e-2 * std::max(mean_degree, 1e-300);
+    const double ridge = 1e-2 * std::max(borders.mean_degree(), 1e-300);
     auto multiply = [&](const std::vector<double>& x, std::vector<double>& y) {
         for (size_t k = 0; k < n; ++k) y[k] = ridge * x[k];
         borders.for_each([&](int a, int b, double w) {
@@ -280,344 +340,211 @@ CellStatistics cell_statistics(const ImportanceMap& importance, std::span<const 
     return x;
 }
 
-// Targets and capacity error of the cells of an assignment. A texel heavier than an equal share (a sun)
-// cannot be split, so a cell holding such texels is left free: it keeps what it has, and the other
-// cells aim at equal shares of the rest.
-class CapacityTargets {
-public:
-    CapacityTargets(const ImportanceMap& importance, int count)
-        : total_(importance.total), count_(count), heavy_(heavy_texels(importance, count)) {}
-
-    // The excess t - m per cell (0 for free cells); returns the coefficient of variation of the
-    // sharing cells' importance about their share.
-    double excess(std::span<const std::uint16_t> texel_cell, const std::vector<double>& mass,
-                  std::vector<double>& excess) const {
-        std::vector<bool> free(static_cast<size_t>(count_), false);
-        for (const HeavyTexel& h : heavy_) free[texel_cell[h.texel]] = true;
-        int sharing = 0;
-        double shared = total_;
-        for (int k = 0; k < count_; ++k) {
-            if (free[size_t(k)]) shared -= mass[size_t(k)];
-            else ++sharing;
-        }
-        const double share = sharing > 0 ? shared / sharing : 0.0;
-        excess.assign(size_t(count_), 0.0);
-        double squares = 0.0;
-        for (int k = 0; k < count_; ++k) {
-            if (free[size_t(k)]) continue;
-            excess[size_t(k)] = share - mass[size_t(k)];
-            squares += excess[size_t(k)] * excess[size_t(k)];
-        }
-        if (sharing == 0) return 0.0;
-        return share > 0.0 ? std::sqrt(squares / sharing) / share : std::numeric_limits<double>::infinity();
-    }
-
-private:
-    double total_;
-    int count_;
-    std::vector<HeavyTexel> heavy_;
-};
-
-// Keeps every site inside its own power cell (so that no cell empties and no cell drifts away from its
-// site): b_c - b_a <= (1 - s_a . s_c) (1 - 1e-3) for every pair, enforced by a few sweeps that split
-// each violation between the two biases; then removes the mean (only differences matter).
-[[maybe_unused]] void keep_sites_inside(const std::vector<glm::dvec3>& sites, std::vector<double>& bias) {
-    const size_t n = sites.size();
-    for (int sweep = 0; sweep < 8; ++sweep) {
-        bool changed = false;
-        for (size_t a = 0; a < n; ++a)
-            for (size_t c = 0; c < n; ++c) {
-                if (a == c) continue;
-                const double gap = (1.0 - glm::dot(sites[a], sites[c])) * (1.0 - 1e-3);
-                const double violation = bias[c] - bias[a] - gap;
-                if (violation > 0.0) {
-                    bias[c] -= 0.5 * violation;
-                    bias[a] += 0.5 * violation;
-                    changed = true;
-                }
-            }
-        if (!changed) break;
-    }
-    double mean = 0.0;
-    for (double b : bias) mean += b / double(n);
-    for (double& b : bias) b -= mean;
+double norm(const std::vector<double>& v) {
+    double sum = 0.0;
+    for (double x : v) sum += x * x;
+    return std::sqrt(sum);
 }
 
-// How much importance a cell would gain (or lose) if its bias rose (or fell) by a given amount, others
-// fixed: every texel is counted with the gap between the scores of its cell and its runner-up (the
-// best of the neighbouring cells), under the runner-up (gain) and its own cell (loss). Gaps are
-// binned by powers of two; reach() interpolates inside a bin.
-struct GapHistogram {
-    static constexpr int kPerOctave = 4;
-    static constexpr int kBins = 40 * kPerOctave;  // gaps from 2^-40 up to 1, and above
-    std::array<double, kBins> mass{};
-
-    // Bin b holds gaps in [lo(b), lo(b - 1)), lo(b) = 2^(-b / kPerOctave).
-    static double lo(int b) { return b >= kBins - 1 ? 0.0 : std::exp2(-double(b) / kPerOctave); }
-    static int bin(double gap) {
-        if (!(gap > 0.0)) return kBins - 1;
-        return std::clamp(int(std::floor(-std::log2(gap) * kPerOctave)), 0, kBins - 1);
-    }
-    void add(double gap, double m) { mass[size_t(bin(gap))] += m; }
-    // The smallest bias change that moves `amount` of importance, or the largest gap seen when there is
-    // not that much within reach.
-    double reach(double amount) const {
-        double gathered = 0.0, upper = 0.0;
-        for (int b = kBins - 1; b >= 0; --b) {
-            if (mass[size_t(b)] <= 0.0) continue;
-            const double lo = GapHistogram::lo(b), hi = b == 0 ? 2.0 : GapHistogram::lo(b - 1);
-            if (gathered + mass[size_t(b)] >= amount) return lo + (hi - lo) * (amount - gathered) / mass[size_t(b)];
-            gathered += mass[size_t(b)];
-            upper = hi;
-        }
-        return upper;
-    }
-    GapHistogram& operator+=(const GapHistogram& o) {
-        for (int b = 0; b < kBins; ++b) mass[size_t(b)] += o.mass[size_t(b)];
-        return *this;
-    }
-};
-
-struct GapHistograms {
-    std::vector<GapHistogram> gain, loss;
-};
-
-GapHistograms gap_histograms(const ImportanceMap& importance, std::span<const std::uint16_t> texel_cell,
-                             std::span<const glm::dvec3> sites, std::span<const double> bias,
-                             const BorderWeights& borders) {
-    const size_t count = sites.size();
-    std::vector<std::vector<int>> neighbours(count);
-    borders.for_each([&](int a, int b, double) {
-        neighbours[size_t(a)].push_back(b);
-        neighbours[size_t(b)].push_back(a);
-    });
-    constexpr int kRowsPerChunk = 32;
-    const int width = importance.width, height = importance.height;
-    const int chunks = (height + kRowsPerChunk - 1) / kRowsPerChunk;
-    std::vector<GapHistograms> partial(static_cast<size_t>(chunks), GapHistograms{std::vector<GapHistogram>(count), std::vector<GapHistogram>(count)});
-    tbb::parallel_for(0, chunks, [&](int chunk) {
-        GapHistograms& out = partial[size_t(chunk)];
-        for (int j = chunk * kRowsPerChunk; j < std::min(height, (chunk + 1) * kRowsPerChunk); ++j)
-            for (int i = 0; i < width; ++i) {
-                const size_t t = size_t(j) * size_t(width) + size_t(i);
-                const int a = texel_cell[t];
-                if (neighbours[size_t(a)].empty()) continue;
-                const glm::dvec3 p = importance.directions(i, j);
-                const double own = glm::dot(p, sites[size_t(a)]) + bias[size_t(a)];
-                int runner_up = -1;
-                double second = -std::numeric_limits<double>::infinity();
-                for (int c : neighbours[size_t(a)]) {
-                    const double score = glm::dot(p, sites[size_t(c)]) + bias[size_t(c)];
-                    if (score > second) {
-                        second = score;
-                        runner_up = c;
-                    }
-                }
-                const double gap = std::max(0.0, own - second);
-                out.loss[size_t(a)].add(gap, importance.importance[t]);
-                out.gain[size_t(runner_up)].add(gap, importance.importance[t]);
-            }
-    });
-    GapHistograms total{std::vector<GapHistogram>(count), std::vector<GapHistogram>(count)};
-    for (const GapHistograms& h : partial)
-        for (size_t k = 0; k < count; ++k) {
-            total.gain[k] += h.gain[k];
-            total.loss[k] += h.loss[k];
-        }
-    return total;
-}
-
-// Cell importance with the texels on a border shared between the two cells: the power function
-// difference d = score_a - score_c to the runner-up c is taken as linear across the texel (a square of
-// the texel's solid angle), and a keeps the fraction of the texel where d > 0. Masses then change
-// continuously with the biases, as in the continuous problem Newton's method is made for (Kitagawa,
-// Merigot and Thibert 2019); the assignment itself stays texel by texel.
-std::vector<double> shared_border_masses(const ImportanceMap& importance, std::span<const std::uint16_t> texel_cell,
-                                         std::span<const glm::dvec3> sites, std::span<const double> bias,
-                                         const BorderWeights& borders) {
-    const size_t count = sites.size();
-    std::vector<std::vector<int>> neighbours(count);
-    borders.for_each([&](int a, int b, double) {
-        neighbours[size_t(a)].push_back(b);
-        neighbours[size_t(b)].push_back(a);
-    });
-    constexpr int kRowsPerChunk = 16;
-    const int width = importance.width, height = importance.height;
-    const int chunks = (height + kRowsPerChunk - 1) / kRowsPerChunk;
-    std::vector<std::vector<double>> partial(static_cast<size_t>(chunks), std::vector<double>(count, 0.0));
-    tbb::parallel_for(0, chunks, [&](int chunk) {
-        std::vector<double>& mass = partial[size_t(chunk)];
-        for (int j = chunk * kRowsPerChunk; j < std::min(height, (chunk + 1) * kRowsPerChunk); ++j) {
-            const double side = std::sqrt(importance.row_solid_angle[size_t(j)]);
-            for (int i = 0; i < width; ++i) {
-                const size_t t = size_t(j) * size_t(width) + size_t(i);
-                const int a = texel_cell[t];
-                const double value = importance.importance[t];
-                const glm::dvec3 p = importance.directions(i, j);
-                const double own = glm::dot(p, sites[size_t(a)]) + bias[size_t(a)];
-                int runner_up = -1;
-                double second = -std::numeric_limits<double>::infinity();
-                for (int c : neighbours[size_t(a)]) {
-                    const double score = glm::dot(p, sites[size_t(c)]) + bias[size_t(c)];
-                    if (score > second) {
-                        second = score;
-                        runner_up = c;
-                    }
-                }
-                double kept = 1.0;
-                if (runner_up >= 0) {
-                    const glm::dvec3 d = sites[size_t(a)] - sites[size_t(runner_up)];
-                    const double span = glm::length(d - glm::dot(d, p) * p) * side;  // range of d over the texel
-                    if (span > 0.0) kept = std::min(1.0, 0.5 + (own - second) / span);
-                    mass[size_t(runner_up)] += (1.0 - kept) * value;
-                }
-                mass[size_t(a)] += kept * value;
-            }
+// A copy of `importance` box-blurred over (2 radius + 1)^2 texels (wrapping around the seam, clamped at
+// the poles) and scaled back to the same total: a smoother problem to start the capacity solve on.
+ImportanceMap blurred(const ImportanceMap& importance, int radius) {
+    const int w = importance.width, h = importance.height;
+    ImportanceMap out = importance;
+    std::vector<double> rows(importance.importance.size());
+    tbb::parallel_for(0, h, [&](int j) {
+        double sum = 0.0;  // running box sum along the row
+        for (int d = -radius; d <= radius; ++d) sum += importance.at(((d % w) + w) % w, j);
+        for (int i = 0; i < w; ++i) {
+            rows[size_t(j) * size_t(w) + size_t(i)] = sum;
+            sum += importance.at((i + radius + 1) % w, j) - importance.at(((i - radius) % w + w) % w, j);
         }
     });
-    std::vector<double> total(count, 0.0);
-    for (const auto& m : partial)
-        for (size_t k = 0; k < count; ++k) total[k] += m[k];
-    return total;
-}
-
-// The capacity problem for fixed sites: biases with m_a(b) = t_a. They minimise the convex
-// F(b) = sum over texels of I max_a (w . s_a + b_a) - sum_a b_a t_a = sum_a (s_a . M_a + b_a (m_a - t_a)),
-// whose gradient is m - t and whose Hessian is the border Laplacian (de Goes et al. 2012).
-class CapacitySolver {
-    static constexpr double kBalanceDamping = 0.5;  // neighbours move the same border from both sides
-    static double norm(const std::vector<double>& v) {
+    tbb::parallel_for(0, w, [&](int i) {
         double sum = 0.0;
-        for (double x : v) sum += x * x;
-        return std::sqrt(sum);
-    }
+        for (int d = -radius; d <= radius; ++d) sum += rows[size_t(std::clamp(d, 0, h - 1)) * size_t(w) + size_t(i)];
+        for (int j = 0; j < h; ++j) {
+            out.importance[size_t(j) * size_t(w) + size_t(i)] = float(std::max(0.0, sum));
+            sum += rows[size_t(std::clamp(j + radius + 1, 0, h - 1)) * size_t(w) + size_t(i)] -
+                   rows[size_t(std::clamp(j - radius, 0, h - 1)) * size_t(w) + size_t(i)];
+        }
+    });
+    double total = 0.0;
+    for (float v : out.importance) total += v;
+    const double scale = total > 0.0 ? importance.total / total : 1.0;
+    for (float& v : out.importance) v = float(v * scale);
+    return out;
+}
 
+// Biases that give every cell its target importance, for fixed sites. A cell holding a texel heavier
+// than an equal share (a sun) cannot be split and is left free: it keeps what it has, and the other
+// cells aim at equal shares of the rest.
+class CapacitySolver {
 public:
-    CapacitySolver(const ImportanceMap& importance, int count, const Partition& partition)
-        : importance_(&importance), partition_(partition), targets_(importance, count), texel_cell_(importance.texel_count()) {}
-    // Statistics (not the assignment) read this map from now on: a blurred copy for continuation.
-    void use_importance(const ImportanceMap& importance) { importance_ = &importance; }
+    // `heavy`: the texels (of this map) too heavy to share a cell's budget.
+    CapacitySolver(const ImportanceMap& importance, int count, std::vector<HeavyTexel> heavy,
+                   const Partition& partition, int evaluations)
+        : importance_(&importance),
+          count_(count),
+          partition_(partition),
+          heavy_(std::move(heavy)),
+          texel_cell_(importance.texel_count()),
+          evaluations_left_(evaluations) {}
 
-    // The assignment's statistics at (sites, bias), its capacity error (coefficient of variation of the
-    // sharing cells' importance) and F.
     struct State {
         CellStatistics statistics;
-        std::vector<double> mass;  // shared_border_masses
-        std::vector<double> excess;
-        double variation = 0.0, dual = 0.0;
+        std::vector<double> excess;  // target - mass per cell (0 for free cells)
+        double variation = 0.0;      // coefficient of variation of the sharing cells' masses
     };
+
+    bool exhausted() const { return evaluations_left_ <= 0; }
+    const std::vector<std::uint16_t>& texel_cell() const { return texel_cell_; }
+
     State evaluate(const std::vector<glm::dvec3>& sites, const std::vector<double>& bias) {
+        --evaluations_left_;
         partition_.assign(sites, bias, texel_cell_);
-        State state{cell_statistics(*importance_, texel_cell_, sites), {}, {}, 0.0, 0.0};
-        if (std::getenv("CCVT_DISCRETE")) { state.mass.resize(sites.size()); for (size_t k=0;k<sites.size();++k) state.mass[k] = state.statistics.moments[k].importance; }
-        else state.mass = shared_border_masses(*importance_, texel_cell_, sites, bias, state.statistics.borders);
-        state.variation = targets_.excess(texel_cell_, state.mass, state.excess);
-        for (size_t a = 0; a < sites.size(); ++a) {
-            const CellMoments& m = state.statistics.moments[a];
-            state.dual += glm::dot(sites[a], m.importance_direction) - bias[a] * state.excess[a];
+        State state{cell_statistics(*importance_, texel_cell_, sites, bias), {}, 0.0};
+        std::vector<bool> free(static_cast<size_t>(count_), false);
+        for (const HeavyTexel& h : heavy_) free[texel_cell_[h.texel]] = true;
+        int sharing = 0;
+        double shared = importance_->total;
+        for (int k = 0; k < count_; ++k) {
+            if (free[size_t(k)])
+                shared -= state.statistics.mass[size_t(k)];
+            else
+                ++sharing;
         }
+        const double share = sharing > 0 ? shared / sharing : 0.0;
+        state.excess.assign(size_t(count_), 0.0);
+        double squares = 0.0;
+        for (int k = 0; k < count_; ++k)
+            if (!free[size_t(k)]) {
+                state.excess[size_t(k)] = share - state.statistics.mass[size_t(k)];
+                squares += state.excess[size_t(k)] * state.excess[size_t(k)];
+            }
+        state.variation = sharing == 0  ? 0.0
+                          : share > 0.0 ? std::sqrt(squares / sharing) / share
+                                        : std::numeric_limits<double>::infinity();
         return state;
     }
 
-    // Up to `steps` damped Newton steps from `state` (at `bias`), until the capacity error is under
-    // kCcvtCapacityTolerance. Each trial keeps every site inside its own cell (keep_sites_inside) and
-    // is taken only if the error |t - m| shrinks by the factor (1 - alpha / 4); alpha halves until it
-    // does (after Kitagawa, Merigot and Thibert 2019). Leaves `state` at the final `bias`.
+    // Steps from `state` (at `bias`) until the capacity error is under kCcvtCapacityTolerance or
+    // `steps` are taken. A Newton step (the border Laplacian as the Hessian of the convex dual whose
+    // gradient is mass - target) is taken at length alpha = 1, 1/2, 1/4 or 1/8 if no cell falls under
+    // half the smallest mass now and |target - mass| shrinks by (1 - alpha / 4) (the damped Newton method
+    // of Kitagawa, Merigot and Thibert 2019). Where the linear model fails (a bright edge in reach),
+    // every overfull cell instead lowers its bias just enough to pass its excess on to its runner-ups,
+    // which cannot oscillate. Leaves `state` at the final `bias`.
     void improve(const std::vector<glm::dvec3>& sites, std::vector<double>& bias, State& state, int steps) {
-        // No trial may leave a cell with less than half the smallest (non-zero) importance of a cell now.
         double floor = std::numeric_limits<double>::infinity();
-        for (double m : state.mass)
+        for (double m : state.statistics.mass)
             if (m > 0.0) floor = std::min(floor, 0.5 * m);
-        for (int s = 0; s < steps && state.variation >= kCcvtCapacityTolerance; ++s) {
-            // Newton step with the KMT line search.
+        for (int s = 0; s < steps && state.variation >= kCcvtCapacityTolerance && !exhausted(); ++s) {
             const std::vector<double> step = solve_laplacian(state.statistics.borders, state.excess);
             const std::vector<double> start = bias;
             const double error = norm(state.excess);
             bool accepted = false;
-            for (double alpha = 1.0; alpha >= 1.0 / 8.0 && !accepted; alpha *= 0.5) {
+            for (double alpha = 1.0; alpha >= 1.0 / 8.0 && !accepted && !exhausted(); alpha *= 0.5) {
                 std::vector<double> trial(bias.size());
-                double mean = 0.0;
-                for (size_t k = 0; k < bias.size(); ++k) mean += (start[k] + alpha * step[k]) / double(bias.size());
-                for (size_t k = 0; k < bias.size(); ++k) trial[k] = start[k] + alpha * step[k] - mean;
+                for (size_t k = 0; k < bias.size(); ++k) trial[k] = start[k] + alpha * step[k];
+                centre(trial);
                 State next = evaluate(sites, trial);
                 bool kept = true;
                 for (size_t k = 0; k < bias.size(); ++k)
-                    kept = kept && (next.mass[k] >= floor || next.mass[k] >= state.mass[k]);
+                    kept = kept &&
+                           (next.statistics.mass[k] >= floor || next.statistics.mass[k] >= state.statistics.mass[k]);
                 if (kept && norm(next.excess) <= (1.0 - 0.25 * alpha) * error) {
                     bias = std::move(trial);
                     state = std::move(next);
                     accepted = true;
                 }
             }
-            if (!accepted) {
-                // Shedding: every overfull cell lowers its bias just enough to pass its excess on to its
-                // runner-ups (others fixed). Biases only fall, so it cannot oscillate.
-                const GapHistograms gaps = gap_histograms(*importance_, texel_cell_, sites, bias, state.statistics.borders);
+            if (!accepted && !exhausted()) {
                 for (size_t k = 0; k < bias.size(); ++k)
-                    if (state.excess[k] < 0.0) bias[k] -= gaps.loss[k].reach(-state.excess[k]);
+                    if (state.excess[k] < 0.0) bias[k] -= state.statistics.loss[k].reach(-state.excess[k]);
+                centre(bias);
                 state = evaluate(sites, bias);
             }
-            if (std::getenv("CCVT_DEBUG")) { int empty = 0; for (auto& m : state.statistics.moments) empty += m.solid_angle == 0; std::fprintf(stderr, "  step %d %s var %.4f empty %d\n", s, accepted ? "newton" : "shed", state.variation, empty); }
         }
     }
 
 private:
+    static void centre(std::vector<double>& bias) {  // only differences matter
+        double mean = 0.0;
+        for (double b : bias) mean += b / double(bias.size());
+        for (double& b : bias) b -= mean;
+    }
+
     const ImportanceMap* importance_;
+    int count_;
     const Partition& partition_;
-    CapacityTargets targets_;
+    std::vector<HeavyTexel> heavy_;
     std::vector<std::uint16_t> texel_cell_;
+    int evaluations_left_;
 };
 
-// A copy of `importance` box-blurred over (2 radius + 1)^2 texels (wrapping around the seam, clamped
-// at the poles), scaled back to the same total.
-ImportanceMap blurred(const ImportanceMap& importance, int radius) {
-    ImportanceMap out = importance;
-    const int w = importance.width, h = importance.height;
-    std::vector<float> row(importance.importance.size());
-    for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i) {
-            double sum = 0.0;
-            for (int d = -radius; d <= radius; ++d) sum += importance.at(((i + d) % w + w) % w, j);
-            row[size_t(j) * size_t(w) + size_t(i)] = float(sum);
-        }
-    double total = 0.0;
-    for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i) {
-            double sum = 0.0;
-            for (int d = -radius; d <= radius; ++d) sum += row[size_t(std::clamp(j + d, 0, h - 1)) * size_t(w) + size_t(i)];
-            out.importance[size_t(j) * size_t(w) + size_t(i)] = float(sum);
-            total += sum;
-        }
-    const double scale = total > 0.0 ? importance.total / total : 1.0;
-    for (float& v : out.importance) v = float(v * scale);
-    return out;
+}  // namespace
+
+namespace {
+
+// The problem at a coarser resolution, maybe blurred: its own importance map and tile search.
+struct Resolution {
+    std::unique_ptr<ImportanceMap> importance;  // the search keeps its address
+    std::unique_ptr<NearestSiteSearch> search;
+    Partition partition;
+    std::vector<HeavyTexel> heavy;
+};
+
+// `factor` is used only where it divides the map and leaves at least 16 rows.
+Resolution at_resolution(const ImportanceMap& fine, const std::vector<HeavyTexel>& heavy, int factor, int blur) {
+    if (fine.width % factor != 0 || fine.height % factor != 0 || fine.height / factor < 16) factor = 1;
+    Resolution r;
+    r.importance = std::make_unique<ImportanceMap>(factor > 1 ? downsample_importance(fine, factor) : fine);
+    if (blur > 0) *r.importance = blurred(*r.importance, blur);
+    r.search = std::make_unique<NearestSiteSearch>(*r.importance);
+    const NearestSiteSearch* search = r.search.get();
+    r.partition.moments = [search](std::span<const glm::dvec3> sites, std::span<const double> bias) {
+        return search->moments(sites, bias);
+    };
+    r.partition.assign = [search](std::span<const glm::dvec3> sites, std::span<const double> bias,
+                                  std::span<std::uint16_t> texel_cell) { search->assign(sites, bias, texel_cell); };
+    for (const HeavyTexel& h : heavy) {
+        const size_t i = h.texel % size_t(fine.width), j = h.texel / size_t(fine.width);
+        r.heavy.push_back({h.importance, (j / size_t(factor)) * size_t(r.importance->width) + i / size_t(factor)});
+    }
+    return r;
 }
 
 }  // namespace
 
-SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition) {
+SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*seed*/, const Partition& partition) {
     SiteSet result;
-    result.sites = std::getenv("CCVT_FS") ? initial_sites(importance, importance.importance, count, seed) : equal_importance_regions(importance, count);
+    result.sites = equal_importance_regions(importance, count);
     result.bias.assign(size_t(count), 0.0);
-    CapacitySolver capacity(importance, count, partition);
-    CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
-    if (!std::getenv("CCVT_NOBLUR")) {
-        for (int radius : {16, 4, 1}) {
-            const ImportanceMap soft = blurred(importance, radius);
-            capacity.use_importance(soft);
-            state = capacity.evaluate(result.sites, result.bias);
-            capacity.improve(result.sites, result.bias, state, kCcvtFirstNewtonSteps);
-            if (std::getenv("CCVT_DEBUG")) std::fprintf(stderr, "blur %d var %.4f\n", radius, state.variation);
-        }
-        capacity.use_importance(importance);
+    const std::vector<HeavyTexel> heavy = heavy_texels(importance, count);
+
+    // Capacity first at coarse resolutions on blurred importance (a smooth problem, which Newton's method
+    // solves well, and cheap to evaluate), then on the map at the working resolution.
+    for (const auto& [factor, blur] : kCcvtCoarseLevels) {
+        Resolution level = at_resolution(importance, heavy, factor, blur);
+        CapacitySolver capacity(*level.importance, count, level.heavy, level.partition, kCcvtEvaluationsPerLevel);
+        CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
+        capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
     }
-    state = capacity.evaluate(result.sites, result.bias);
-    capacity.improve(result.sites, result.bias, state, kCcvtFirstNewtonSteps);
-    for (int iteration = 1; iteration <= kCcvtMaxIterations; ++iteration) {
+    Resolution working = at_resolution(importance, heavy, kCcvtWorkingFactor, 0);
+    CapacitySolver capacity(*working.importance, count, working.heavy, working.partition, kCcvtMaxEvaluations);
+    CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
+    capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
+
+    // Moving the sites can upset the balance where the importance has sharp edges; the best balanced
+    // state seen is the one kept.
+    SiteSet best = result;
+    double best_variation = state.variation;
+    for (int iteration = 1; iteration <= kCcvtMaxIterations && !capacity.exhausted(); ++iteration) {
         result.iterations = iteration;
         const std::vector<CellMoments>& cells = state.statistics.moments;
-        // Sites towards their centroids, half way and at most kCcvtMoveFraction of the cell's radius,
-        // so that the biases stay nearly right; each bias keeps the cell's score at its centroid.
+        // Sites towards their centroids, half way and at most kCcvtMoveFraction of the cell's radius, so
+        // that the biases stay nearly right; each bias keeps the cell's score at its centroid.
         double relative = 0.0;
         std::vector<glm::dvec3> moved = result.sites;
         std::vector<double> moved_bias = result.bias;
@@ -631,19 +558,33 @@ SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t see
             result.final_movement = std::max(result.final_movement, full);
             relative = std::max(relative, radius > 0.0 ? full / radius : 0.0);
             if (!(full > 0.0)) continue;
-            if (std::getenv("CCVT_RESET")) { moved[size_t(k)] = c; moved_bias[size_t(k)] = 0.0; continue; }
             const double step = std::min(0.5 * full, kCcvtMoveFraction * radius);
             const glm::dvec3 axis = glm::normalize(c - s * glm::dot(c, s));
             moved[size_t(k)] = s * std::cos(step) + axis * std::sin(step);
             moved_bias[size_t(k)] += glm::dot(c, s) - glm::dot(c, moved[size_t(k)]);
         }
-        if (std::getenv("CCVT_DEBUG")) std::fprintf(stderr, "it %d var %.4f move %.3e rel %.3f\n", iteration, state.variation, result.final_movement, relative);
+        if (state.variation <= best_variation || state.variation < kCcvtCapacityTolerance) {
+            best = result;
+            best_variation = state.variation;
+        }
         if (relative < kCcvtRelativeMovementTolerance && state.variation < kCcvtCapacityTolerance) break;
         result.sites = std::move(moved);
         result.bias = std::move(moved_bias);
         reseed_empty_cells(result.sites, &result.bias, cells);
         state = capacity.evaluate(result.sites, result.bias);
         capacity.improve(result.sites, result.bias, state, kCcvtNewtonStepsPerIteration);
+    }
+    if (!(state.variation <= best_variation || state.variation < kCcvtCapacityTolerance)) {
+        const int iterations = result.iterations;
+        result = best;
+        result.iterations = iterations;
+    }
+
+    // A last balance at full resolution (the cells are assigned there).
+    if (working.importance->width != importance.width) {
+        CapacitySolver full(importance, count, heavy, partition, kCcvtPolishEvaluations);
+        CapacitySolver::State polish = full.evaluate(result.sites, result.bias);
+        full.improve(result.sites, result.bias, polish, kCcvtPolishEvaluations);
     }
     return result;
 }

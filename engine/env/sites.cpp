@@ -1,10 +1,10 @@
 // Site placement without relaxation: random, Floyd-Steinberg, median cut; and the importance sampler
 // the relaxations start from.
+#include "env/sites.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include "env/sites.h"
 
 namespace envshadow {
 namespace {
@@ -12,7 +12,9 @@ namespace {
 constexpr double kMaxAlongWeight = 15.0 / 16.0;
 }  // namespace
 
-double uniform01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
+double uniform01(std::mt19937_64& rng) {
+    return double(rng() >> 11) * 0x1.0p-53;
+}
 
 std::vector<std::size_t> sample_distinct_texels(const ImportanceMap& importance, int count, std::mt19937_64& rng) {
     const std::size_t texels = importance.texel_count();
@@ -41,9 +43,10 @@ std::vector<std::size_t> sample_distinct_texels(const ImportanceMap& importance,
         for (long attempt = 0; chosen.size() < size_t(count) && attempt < 64L * count + 1024; ++attempt) {
             const double x = uniform01(rng) * rows;
             const std::size_t j = std::min<std::size_t>(
-                size_t(importance.height) - 1, std::size_t(std::upper_bound(row_cdf.begin(), row_cdf.end(), x) - row_cdf.begin()));
-            const std::size_t i = std::min<std::size_t>(size_t(importance.width) - 1,
-                                                        std::size_t(uniform01(rng) * importance.width));
+                size_t(importance.height) - 1,
+                std::size_t(std::upper_bound(row_cdf.begin(), row_cdf.end(), x) - row_cdf.begin()));
+            const std::size_t i =
+                std::min<std::size_t>(size_t(importance.width) - 1, std::size_t(uniform01(rng) * importance.width));
             take(j * size_t(importance.width) + i);
         }
         for (std::size_t t = 0; chosen.size() < size_t(count) && t < texels; ++t) take(t);  // tiny maps
@@ -72,7 +75,8 @@ std::vector<glm::dvec3> floyd_steinberg_samples(const ImportanceMap& grid, std::
     const int width = grid.width, height = grid.height;
     int block = 1;
     while (block < height) {
-        const long long coarser = (long long)((width + 2 * block - 1) / (2 * block)) * ((height + 2 * block - 1) / (2 * block));
+        const long long coarser =
+            (long long)((width + 2 * block - 1) / (2 * block)) * ((height + 2 * block - 1) / (2 * block));
         if (coarser < (long long)kBlocksPerSample * count) break;
         block *= 2;
     }
@@ -134,7 +138,8 @@ std::vector<glm::dvec3> floyd_steinberg_samples(const ImportanceMap& grid, std::
         CellMoments m;
         for (int j = by * block; j < std::min(height, (by + 1) * block); ++j)
             for (int i = bx * block; i < std::min(width, (bx + 1) * block); ++i)
-                m.add(weight[size_t(j) * size_t(width) + size_t(i)], grid.row_solid_angle[size_t(j)], grid.directions(i, j));
+                m.add(weight[size_t(j) * size_t(width) + size_t(i)], grid.row_solid_angle[size_t(j)],
+                      grid.directions(i, j));
         const int ci = std::min(width - 1, bx * block + block / 2), cj = std::min(height - 1, by * block + block / 2);
         samples.push_back(centroid_direction(m, grid.directions(ci, cj)));
     }
@@ -212,11 +217,14 @@ bool split_region(const Region& r, int left, int right, const ImportanceTable& t
             int lo_at = first, hi_at = last;
             while (lo_at < hi_at) {
                 const int mid = lo_at + (hi_at - lo_at) / 2;
-                if (left_sum(mid) >= fraction * total) hi_at = mid;
-                else lo_at = mid + 1;
+                if (left_sum(mid) >= fraction * total)
+                    hi_at = mid;
+                else
+                    lo_at = mid + 1;
             }
             at = lo_at;
-            if (at > first && std::abs(left_sum(at - 1) - fraction * total) <= std::abs(left_sum(at) - fraction * total))
+            if (at > first &&
+                std::abs(left_sum(at - 1) - fraction * total) <= std::abs(left_sum(at) - fraction * total))
                 --at;
         } else {
             at = std::clamp(lo + int(std::lround(fraction * (hi - lo))), first, last);
@@ -236,11 +244,12 @@ bool split_region(const Region& r, int left, int right, const ImportanceTable& t
     return true;
 }
 
+// Leaves: regions and the number of cells each is meant for (more than one where it could not be split).
 void split_recursively(const Region& r, int cells, const ImportanceTable& table, const ImportanceMap& importance,
-                       std::vector<Region>& out) {
+                       std::vector<std::pair<Region, int>>& out) {
     Region a, b;
     if (cells <= 1 || !split_region(r, cells / 2, cells - cells / 2, table, importance, a, b)) {
-        out.push_back(r);
+        out.emplace_back(r, cells);
         return;
     }
     split_recursively(a, cells / 2, table, importance, out);
@@ -251,16 +260,46 @@ void split_recursively(const Region& r, int cells, const ImportanceTable& table,
 
 std::vector<glm::dvec3> equal_importance_regions(const ImportanceMap& importance, int count) {
     const ImportanceTable table(importance);
-    std::vector<Region> regions;
+    std::vector<std::pair<Region, int>> regions;
     split_recursively({0, importance.width, 0, importance.height}, count, table, importance, regions);
     std::vector<glm::dvec3> sites;
-    for (const Region& r : regions) {
+    std::vector<bool> taken(importance.texel_count(), false);
+    int missing = 0;
+    for (const auto& [r, cells] : regions) {
         CellMoments m;
+        std::vector<std::size_t> texels;
         for (int j = r.j0; j < r.j1; ++j)
-            for (int i = r.i0; i < r.i1; ++i)
+            for (int i = r.i0; i < r.i1; ++i) {
                 m.add(importance.at(i, j), importance.row_solid_angle[size_t(j)], importance.directions(i, j));
+                texels.push_back(size_t(j) * size_t(importance.width) + size_t(i));
+            }
         const glm::dvec3 middle = importance.directions((r.i0 + r.i1) / 2, (r.j0 + r.j1) / 2);
         sites.push_back(centroid_direction(m, middle));
+        // A region too small or too bright to split into its cells: the others at its heaviest texels.
+        std::sort(texels.begin(), texels.end(),
+                  [&](std::size_t x, std::size_t y) { return importance.importance[x] > importance.importance[y]; });
+        for (int extra = 1; extra < cells; ++extra) {
+            if (size_t(extra - 1) < texels.size()) {
+                taken[texels[size_t(extra - 1)]] = true;
+                sites.push_back(texel_centres(importance, std::span(&texels[size_t(extra - 1)], 1)).front());
+            } else {
+                ++missing;
+            }
+        }
+    }
+    // Still short (a region had fewer texels than cells): the heaviest texels not used yet.
+    if (missing > 0) {
+        std::vector<std::size_t> order(importance.texel_count());
+        for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+            return importance.importance[x] > importance.importance[y];
+        });
+        for (std::size_t t : order) {
+            if (missing == 0) break;
+            if (taken[t]) continue;
+            sites.push_back(texel_centres(importance, std::span(&t, 1)).front());
+            --missing;
+        }
     }
     return sites;
 }

@@ -165,13 +165,15 @@ void Renderer::set_environment_rotation(float degrees) {
     select_lights();
 }
 
-void Renderer::set_lights(std::vector<Cell> cells) {
+void Renderer::set_lights(std::vector<Cell> cells, CellSpace space) {
     cells_ = std::move(cells);
+    cell_space_ = space;
     select_lights();
 }
 
 void Renderer::select_lights() {
-    lights_ = render::select_lights(cells_, world_from_map(rotation_degrees_), has_ground_, settings_.skip_lights);
+    const glm::mat3 rotation = cell_space_ == CellSpace::map ? world_from_map(rotation_degrees_) : glm::mat3(1.0f);
+    lights_ = render::select_lights(cells_, rotation, has_ground_, settings_.skip_lights);
     light_frames_.clear();
     for (const WorldLight& light : lights_.kept) light_frames_.push_back(light_frame(light.direction));
     records_.assign(lights_.kept.size(), LightRecord{});

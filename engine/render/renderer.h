@@ -76,8 +76,10 @@ public:
     void set_environment(const EnvironmentMap& map);
     // Rotation of the map about +Y (env/orientation.h); set_scene sets the scene's.
     void set_environment_rotation(float degrees);
-    // Cells in map space (a decomposition's output); they become world-space lights.
-    void set_lights(std::vector<Cell> cells);
+    // Cells of a decomposition; map-space ones are rotated into the world by the environment's
+    // rotation, world-space ones (FsSampler::read_lights) are taken as they are.
+    enum class CellSpace { map, world };
+    void set_lights(std::vector<Cell> cells, CellSpace space = CellSpace::map);
 
     // Renders one frame at animation time `time` into the linear HDR target (RGBA32F): objects
     // alpha 1, background alpha 0 (or transparent black without a background).
@@ -86,6 +88,7 @@ public:
     Image read_back() const;
 
     const gl::Texture& color_texture() const { return color_; }
+    const gl::Texture& environment_texture() const { return environment_; }  // RGB32F lat-long, or empty
     const gl::Texture& atlas_texture() const { return atlas_depth_; }
     const gl::Framebuffer& framebuffer() const { return target_; }
     const AtlasLayout& atlas_layout() const { return layout_; }
@@ -125,6 +128,7 @@ private:
     float rotation_degrees_ = 0.0f;
 
     std::vector<Cell> cells_;
+    CellSpace cell_space_ = CellSpace::map;
     LightSelection lights_;
     std::vector<LightFrame> light_frames_;
     std::vector<LightRecord> records_;      // rewritten every frame

@@ -1,0 +1,104 @@
+// `envshadow render` through the real executable: what it writes and prints, and its exit codes
+// (2 for bad usage, 3 for bad input) with no output file left behind.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/image.h"
+
+namespace envshadow {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kSource = ENVSHADOW_SOURCE_DIR;
+const fs::path kOutput = fs::path(ENVSHADOW_BINARY_DIR) / "cmd_render_test";
+
+struct CommandResult {
+    int status = -1;
+    std::string output;
+};
+
+CommandResult render(const std::string& arguments) {
+    fs::create_directories(kOutput);
+    // One log per test: ctest runs this file's tests in parallel processes.
+    const fs::path log = kOutput / (std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".log");
+    const std::string command = std::string(ENVSHADOW_EXE) + " render " + arguments + " > '" + log.string() + "' 2>&1";
+    const int raw = std::system(command.c_str());
+    CommandResult run;
+    run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    run.output = text.str();
+    return run;
+}
+
+const std::string kSmall = "--width 64 --height 48 --lights 8 --tile 128 --backend osmesa";
+std::string scene(const std::string& name) {
+    return "--scene '" + (kSource / "assets/scenes" / name).string() + "'";
+}
+
+TEST(CmdRender, WritesPngAndExrAndReportsTheFrame) {
+    const fs::path png = kOutput / "spheres.png", exr = kOutput / "spheres.exr";
+    fs::remove(png);
+    fs::remove(exr);
+    const CommandResult run =
+        render(scene("spheres.json") + " " + kSmall + " --out '" + png.string() + "' --exr '" + exr.string() + "'");
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find("decomposition: lloyd, 8 cells"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("bytes"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("shadow atlas"), std::string::npos) << run.output;
+    const Image8 picture = read_png(png);
+    EXPECT_EQ(picture.width, 64);
+    EXPECT_EQ(picture.height, 48);
+    const ExrContents linear = read_exr(exr);
+    ASSERT_TRUE(linear.had_alpha);
+    EXPECT_EQ(linear.image.at(1, 1).a, 0.0f);    // the environment above the horizon
+    EXPECT_EQ(linear.image.at(32, 40).a, 1.0f);  // the ground in front of the spheres
+}
+
+TEST(CmdRender, GpuFloydSteinbergGivesTheLights) {
+    const fs::path png = kOutput / "fs_gpu.png";
+    fs::remove(png);
+    const CommandResult run =
+        render(scene("spheres.json") + " " + kSmall + " --method fs-gpu --out '" + png.string() + "'");
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find("fs-gpu: "), std::string::npos) << run.output;  // lights sampled every frame
+    EXPECT_TRUE(fs::exists(png));
+}
+
+TEST(CmdRender, BadValuesAreUsageErrors) {
+    const fs::path png = kOutput / "bad.png";
+    fs::remove(png);
+    const std::string out = " --out '" + png.string() + "'";
+    for (const std::string& bad :
+         {std::string("--lights 0"), std::string("--lights 257"), std::string("--tile 64"),
+          std::string("--depth-bits 24"), std::string("--pcf 3x3"), std::string("--specular double"),
+          std::string("--cap round"), std::string("--diffuse both"), std::string("--method nope"),
+          std::string("--backend vulkan"), std::string("--width 0")}) {
+        const CommandResult run = render(scene("spheres.json") + " " + kSmall + " " + bad + out);
+        EXPECT_EQ(run.status, 2) << bad << ": " << run.output;
+        EXPECT_FALSE(fs::exists(png)) << bad;
+    }
+    EXPECT_EQ(render(scene("spheres.json") + " " + kSmall).status, 2);  // neither --out nor --exr
+}
+
+TEST(CmdRender, BadFilesAreInputErrors) {
+    const fs::path png = kOutput / "missing.png";
+    fs::remove(png);
+    const std::string out = " --out '" + png.string() + "'";
+    CommandResult run = render("--scene '" + (kOutput / "no_such_scene.json").string() + "' " + kSmall + out);
+    EXPECT_EQ(run.status, 3) << run.output;
+    EXPECT_NE(run.output.find("no_such_scene.json"), std::string::npos) << run.output;
+    run = render(scene("spheres.json") + " --env '" + (kOutput / "no_such_map.exr").string() + "' " + kSmall + out);
+    EXPECT_EQ(run.status, 3) << run.output;
+    EXPECT_NE(run.output.find("no_such_map.exr"), std::string::npos) << run.output;
+    EXPECT_FALSE(fs::exists(png));
+}
+
+}  // namespace
+}  // namespace envshadow
