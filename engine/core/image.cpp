@@ -27,7 +27,9 @@ namespace {
 // and reads the offset table of every tile, all before any size could be checked. Throws InputError
 // for attributes past the end of the file, a missing data window or channel list, sizes out of
 // limits, chunk buffers over 1 GiB, or an offset table larger than the file.
-void check_exr_header(const std::filesystem::path& path, const std::string& name) {
+// `check_size` (the caller's own limit) sees the data window's size as soon as it is known to be
+// within limits, before the chunk and offset-table checks and long before any pixel buffer.
+void check_exr_header(const std::filesystem::path& path, const std::string& name, const ImageSizeCheck& check_size) {
     constexpr std::uint64_t kMaxChunkBytes = 1ull << 30;
     constexpr std::int32_t kMaxChannelListBytes = 1 << 20;
     std::ifstream in(path, std::ios::binary);
@@ -93,6 +95,7 @@ void check_exr_header(const std::filesystem::path& path, const std::string& name
         throw corrupt("image size " + std::to_string(width) + "x" + std::to_string(height) +
                       " is outside the accepted 1x1.." + std::to_string(kMaxImageWidth) + "x" +
                       std::to_string(kMaxImageHeight));
+    if (check_size) check_size(int(width), int(height));
     const bool tiled = tile[0] != 0 || tile[1] != 0;
     if (tiled && (tile[0] == 0 || tile[1] == 0)) throw corrupt("OpenEXR tile of zero size");
     const std::uint64_t chunk_pixels = tiled ? std::uint64_t(tile[0]) * tile[1] : 256ull * std::uint64_t(width);
@@ -108,11 +111,11 @@ void check_exr_header(const std::filesystem::path& path, const std::string& name
 
 }  // namespace
 
-ExrContents read_exr(const std::filesystem::path& path) {
+ExrContents read_exr(const std::filesystem::path& path, const ImageSizeCheck& check_size) {
     const std::string name = path.string();
     std::error_code ec;  // a FIFO or device would block or never end: regular files only
     if (!std::filesystem::is_regular_file(path, ec)) throw InputError(name + ": file not found");
-    check_exr_header(path, name);
+    check_exr_header(path, name, check_size);
     try {
         Imf::InputFile file(name.c_str());
         const Imath::Box2i window = file.header().dataWindow();

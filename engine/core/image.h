@@ -3,6 +3,7 @@
 // filmic tone map, sRGB). Used by every layer that reads or writes pictures; no GL here.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -43,13 +44,19 @@ struct ExrContents {
     bool had_alpha = false;
 };
 
+// A caller's own limit on a picture's size (e.g. the environment loader's 2:1 shape), called by the
+// readers with the declared width and height once the header is read (and found within
+// kMaxImageWidth x kMaxImageHeight), before anything the size of the picture is allocated. It throws
+// (InputError) to refuse the picture.
+using ImageSizeCheck = std::function<void(int width, int height)>;
+
 // Reads any OpenEXR file with R, G, B channels (half, float or uint; scanline or tiled; any
 // compression). Throws InputError naming the file and the reason.
-ExrContents read_exr(const std::filesystem::path& path);
+ExrContents read_exr(const std::filesystem::path& path, const ImageSizeCheck& check_size = {});
 
 // Reads a Radiance RGBE (.hdr) file: run-length or flat scanlines, "-Y H +X W" layout; A reads as
 // 1. Throws InputError naming the file and the reason (truncation, bad run lengths, sizes).
-Image read_radiance_hdr(const std::filesystem::path& path);
+Image read_radiance_hdr(const std::filesystem::path& path, const ImageSizeCheck& check_size = {});
 
 // Writes RGBA float EXR (ZIP compressed), atomically.
 void write_exr(const std::filesystem::path& path, const Image& image);

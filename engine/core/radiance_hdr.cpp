@@ -24,8 +24,9 @@ class RgbeReader {
 public:
     RgbeReader(std::string name, std::vector<std::uint8_t> bytes) : name_(std::move(name)), bytes_(std::move(bytes)) {}
 
-    Image read() {
+    Image read(const ImageSizeCheck& check_size) {
         const auto [width, height] = header();
+        if (check_size) check_size(width, height);
         // The smallest possible scanline: flat, or four channels of runs of at most 127 texels.
         const std::size_t rle_min = 4 + 4 * 2 * ((std::size_t(width) + 126) / 127);
         const std::size_t flat = 4 * std::size_t(width);
@@ -152,7 +153,7 @@ private:
 
 }  // namespace
 
-Image read_radiance_hdr(const std::filesystem::path& path) {
+Image read_radiance_hdr(const std::filesystem::path& path, const ImageSizeCheck& check_size) {
     const std::string name = path.string();
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) throw InputError(name + ": file not found");
@@ -164,7 +165,7 @@ Image read_radiance_hdr(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
         throw InputError(name + ": cannot read the file");
-    return RgbeReader(name, std::move(bytes)).read();
+    return RgbeReader(name, std::move(bytes)).read(check_size);
 }
 
 }  // namespace envshadow

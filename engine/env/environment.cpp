@@ -51,9 +51,10 @@ void sanitise(EnvironmentMap& map, const EnvironmentLoadOptions& options, Enviro
                          " texel values are NaN, infinite or above 1e30 (--clamp-invalid sets them to 0)");
 }
 
+// The shape is checked as soon as the reader knows the size: a 16384 x 16383 picture is within
+// read_exr's limits (4 GiB of pixels) but no map, and must be refused before it is allocated.
 EnvironmentMap load_exr(const std::string& path) {
-    const ExrContents exr = read_exr(path);
-    check_shape(path, exr.image.width, exr.image.height);
+    const ExrContents exr = read_exr(path, [&](int width, int height) { check_shape(path, width, height); });
     EnvironmentMap map;
     map.width = exr.image.width;
     map.height = exr.image.height;
@@ -66,8 +67,7 @@ EnvironmentMap load_exr(const std::string& path) {
 // core's checked reader, not stb_image: Debian's stb_image 2.27 loops for ever on a run-length
 // scanline cut short (CVE-2021-42715).
 EnvironmentMap load_radiance_hdr(const std::string& path) {
-    const Image image = read_radiance_hdr(path);
-    check_shape(path, image.width, image.height);
+    const Image image = read_radiance_hdr(path, [&](int width, int height) { check_shape(path, width, height); });
     EnvironmentMap map;
     map.width = image.width;
     map.height = image.height;

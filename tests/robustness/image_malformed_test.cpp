@@ -2,6 +2,7 @@
 // truncation and random bit flips either load soundly or fail with one line naming the file; the
 // run-length scanline cut short that hangs stb_image (CVE-2021-42715) fails at once; absurd sizes
 // fail before any allocation.
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "core/image.h"
+#include "env/environment.h"
 #include "robustness_support.h"
 #include "sample_inputs.h"
 
@@ -272,6 +274,80 @@ TEST(RobustExr, HeaderSizesAreCheckedBeforeOpenExrAllocates) {
     test::write_bytes(dir / "tile.exr", bytes);
     expect_input_error(dir / "tile.exr", [&] { read_exr(dir / "tile.exr"); },
                        "OpenEXR chunks (tiles or line blocks) over 1 GiB");
+}
+
+// --- Environment maps: the shape is checked before the pixels are allocated ---------------------
+
+// The process's peak resident memory so far, in MiB.
+long peak_rss_mib() {
+    rusage usage{};
+    ::getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss / 1024;
+}
+
+// An EXR of a few kilobytes whose header declares `width` x `height` (ZIP, 16 lines a chunk) and
+// whose line offset table is whole, every entry pointing at the one real chunk: OpenEXR opens it
+// and only fails when it reads the pixels, after read_exr has allocated them.
+std::vector<std::uint8_t> exr_declaring(const fs::path& dir, std::int32_t width, std::int32_t height) {
+    test::write_sample_exr(dir / "small.exr", 16, 8, 3);  // one ZIP chunk
+    const auto small = test::read_bytes(dir / "small.exr");
+    std::size_t at = 8;  // magic and version, then "name\0type\0" + int32 size + value, until an empty name
+    const auto skip_string = [&] {
+        while (small.at(at) != 0) ++at;
+        return small.at(at++) == 0 && small.at(at - 2) != 0;
+    };
+    while (small.at(at) != 0) {
+        skip_string();
+        skip_string();
+        std::int32_t size;
+        std::memcpy(&size, &small.at(at), 4);
+        at += 4 + std::size_t(size);
+    }
+    const std::size_t header_end = at + 1, chunks = std::size_t(height + 15) / 16;
+    std::vector<std::uint8_t> bytes(small.begin(), small.begin() + std::ptrdiff_t(header_end));
+    const std::size_t window = attribute_size_at(bytes, std::string("dataWindow\0box2i\0", 17)) + 4;
+    const std::int32_t box[4] = {0, 0, width - 1, height - 1};
+    std::memcpy(&bytes[window], box, 16);
+    const std::uint64_t chunk_at = header_end + 8 * chunks;
+    for (std::size_t k = 0; k < chunks; ++k)
+        bytes.insert(bytes.end(), reinterpret_cast<const std::uint8_t*>(&chunk_at),
+                     reinterpret_cast<const std::uint8_t*>(&chunk_at) + 8);
+    bytes.insert(bytes.end(), small.begin() + std::ptrdiff_t(header_end + 8), small.end());
+    return bytes;
+}
+
+// Files whose headers declare a picture within the readers' limits (16384 x 16384) but no lat-long
+// map: read in full one would take 4 GiB. load_environment must refuse them for their shape, naming
+// the file, before the readers allocate anything that size (the resident peak must not grow by
+// more than a few hundred MiB).
+TEST(RobustEnvironment, AWronglyShapedMapIsRefusedBeforeItsPixelsAreAllocated) {
+    const fs::path dir = fresh_folder();
+    const struct {
+        const char* name;
+        std::int32_t width, height;
+        const char* expected;
+    } exr_cases[] = {
+        {"tall", 16384, 16383, "map size 16384x16383 is outside the accepted 2x1..16384x8192"},
+        {"square", 16384, 16384, "map size 16384x16384 is outside the accepted 2x1..16384x8192"},
+        {"narrow", 16383, 8192, "map size 16383x8192 is not a lat-long map"},
+    };
+    for (const auto& c : exr_cases) {
+        const fs::path file = dir / (std::string(c.name) + ".exr");
+        test::write_bytes(file, exr_declaring(dir, c.width, c.height));
+        ASSERT_LT(fs::file_size(file), 16u * 1024);
+        const long before = peak_rss_mib();
+        expect_input_error(file, [&] { load_environment(file.string()); }, c.expected);
+        EXPECT_LT(peak_rss_mib() - before, 256) << c.name << ": MiB allocated before the shape was checked";
+    }
+
+    // Radiance HDR: the shape is checked before the length of the file (which bounds the picture
+    // only to what run-length encoding can reach: ~250 bytes of texels per byte of file).
+    write_text(dir / "tall.hdr", "#?RADIANCE\n\n-Y 16383 +X 16384\n" + std::string("\2\2\x40\0", 4));
+    expect_input_error(dir / "tall.hdr", [&] { load_environment((dir / "tall.hdr").string()); },
+                       "map size 16384x16383 is outside the accepted 2x1..16384x8192");
+
+    // The readers alone still take any picture within their limits (compare reads such EXRs).
+    expect_input_error(dir / "tall.hdr", [&] { read_radiance_hdr(dir / "tall.hdr"); }, "file too short");
 }
 
 TEST(RobustExr, NonFiniteAndNegativeTexelsAreReadAsTheyAre) {
