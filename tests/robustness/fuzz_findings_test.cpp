@@ -2,6 +2,7 @@
 // same loader in the same surroundings as its fuzz target (tests/fuzz/fuzz_TARGET.cpp), so the
 // default suite (and its sanitizer build) keeps each fix.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/image.h"
+#include "env/environment.h"
 #include "robustness_support.h"
 #include "sample_inputs.h"
 #include "scene/gltf.h"
@@ -74,19 +76,25 @@ TEST(FuzzFindings, SceneInputsLoadSoundlyOrFailCleanly) {
     }
 }
 
-TEST(FuzzFindings, ExrInputsLoadSoundlyOrFailCleanly) {
+// As fuzz_exr and fuzz_hdr: load_environment (the reader, then the map's shape and texel checks).
+void expect_sound_map(const EnvironmentMap& map) {
+    ASSERT_GE(map.width, 2);
+    ASSERT_EQ(map.width, 2 * map.height);
+    ASSERT_LE(map.width, kMaxEnvironmentWidth);
+    ASSERT_EQ(map.texels.size(), std::size_t(map.width) * std::size_t(map.height));
+    for (const glm::vec3& t : map.texels)
+        for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(t[c]) && t[c] >= 0.0f) << t[c];
+}
+
+TEST(FuzzFindings, MapInputsLoadSoundlyOrFailCleanly) {
     const fs::path dir = test::fresh_folder();
-    for (const fs::path& finding : findings("exr")) {
-        const fs::path file = dir / "input.exr";
-        test::write_bytes(file, test::read_bytes(finding));
-        test::loads_or_fails_cleanly(
-            file,
-            [&] {
-                const Image image = read_exr(file).image;
-                EXPECT_EQ(image.pixels.size(), std::size_t(image.width) * std::size_t(image.height));
-            },
-            finding.string());
-    }
+    for (const char* format : {"exr", "hdr"})
+        for (const fs::path& finding : findings(format)) {
+            const fs::path file = dir / (std::string("input.") + format);
+            test::write_bytes(file, test::read_bytes(finding));
+            test::loads_or_fails_cleanly(file, [&] { expect_sound_map(load_environment(file.string())); },
+                                         finding.string());
+        }
 }
 
 TEST(OneLineMessages, ControlCharactersFromInputsAreEscaped) {
