@@ -37,7 +37,8 @@ fi
 ctest -j"$(nproc)" --output-on-failure --label-exclude 'fuzz|slow'
 
 # The malformed-input tests under ASan + UBSan: only test_robustness and what it links (core, env,
-# scene), about 4 minutes of the 2-core CI machine from clean; the whole suite sanitized is --sanitize.
+# scene; 23 files, ~280 s of CPU from clean, so 2-3 minutes on 2 cores), then its 39 tests (~15 s).
+# The whole suite sanitized (the renderer and GL too) is --sanitize.
 asan="$root/build-asan-robustness"
 cmake -S "$root" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DENVSHADOW_WERROR=ON -DENVSHADOW_SANITIZE=ON \
   -DENVSHADOW_BUILD_BENCHMARKS=OFF >/dev/null
