@@ -40,7 +40,7 @@ TEST(CliRender, WritesBothOutputsWholeAndNoTemporary) {
         expected.insert({"out.png", "out.exr"});
         EXPECT_EQ(files_in(dir), expected) << test::describe(args, run);
         // Whole files: PNG's last chunk is IEND; an EXR this small is a few kilobytes at least.
-        const std::string png = test::file_text(dir / "out.png");
+        const std::string png = test::read_text(dir / "out.png");
         ASSERT_GT(png.size(), 12u);
         EXPECT_EQ(png.substr(png.size() - 8, 4), "IEND") << backend;
         EXPECT_GT(fs::file_size(dir / "out.exr"), 2000u) << backend;

@@ -16,19 +16,14 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_files.h"
+
 namespace envshadow::test {
 
 struct CliRun {
     int exit_code = -1;  // 128 + signal when killed by one
     std::string out, err;
 };
-
-inline std::string file_text(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 // Runs `envshadow args...` with `folder` as working directory, killed after `timeout_seconds`.
 inline CliRun run_envshadow(const std::vector<std::string>& args, const std::filesystem::path& folder,
@@ -54,8 +49,8 @@ inline CliRun run_envshadow(const std::vector<std::string>& args, const std::fil
     ::waitpid(pid, &status, 0);
     CliRun run;
     run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    run.out = file_text(out);
-    run.err = file_text(err);
+    run.out = read_text(out);
+    run.err = read_text(err);
     std::filesystem::remove(out);
     std::filesystem::remove(err);
     return run;

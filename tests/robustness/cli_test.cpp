@@ -22,10 +22,7 @@ namespace fs = std::filesystem;
 using test::fails_with;
 using test::files_in;
 using test::run_envshadow;
-
-void write_text(const fs::path& path, const std::string& text) {
-    test::write_bytes(path, std::vector<std::uint8_t>(text.begin(), text.end()));
-}
+using test::write_text;
 
 std::vector<std::uint8_t> prefix(const std::vector<std::uint8_t>& bytes, std::size_t n) {
     return std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + std::ptrdiff_t(n));
@@ -193,7 +190,7 @@ TEST(CliInput, TinyAndBlackMapsGiveWellDefinedLightsOrAClearError) {
                 continue;
             }
             ASSERT_EQ(run.exit_code, 0) << test::describe(args, run);
-            const std::string json = test::file_text(dir / "cells.json");
+            const std::string json = test::read_text(dir / "cells.json");
             EXPECT_EQ(json.find("nan"), std::string::npos) << test::describe(args, run) << json;
             EXPECT_EQ(json.find("inf"), std::string::npos) << test::describe(args, run) << json;
             EXPECT_EQ(json.find("null"), std::string::npos) << test::describe(args, run) << json;
@@ -215,8 +212,8 @@ TEST(CliOutput, AFailedRunKeepsTheEarlierOutputAndLeavesNoTemporary) {
         EXPECT_EQ(run.exit_code, 3) << test::describe(args, run);
         EXPECT_EQ(files_in(dir), before) << test::describe(args, run);
     }
-    EXPECT_EQ(test::file_text(dir / "cells.json"), "earlier");
-    EXPECT_EQ(test::file_text(dir / "out.png"), "earlier");
+    EXPECT_EQ(test::read_text(dir / "cells.json"), "earlier");
+    EXPECT_EQ(test::read_text(dir / "out.png"), "earlier");
 }
 
 TEST(CliOutput, OutputsIntoAMissingFolderFailCleanly) {

@@ -25,15 +25,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using test::fresh_folder;
 using test::loads_or_fails_cleanly;
-
-std::string text_of(const fs::path& path) {
-    const auto bytes = test::read_bytes(path);
-    return std::string(bytes.begin(), bytes.end());
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-    test::write_bytes(path, std::vector<std::uint8_t>(text.begin(), text.end()));
-}
+using test::write_text;
 
 // What the renderer relies on in a loaded mesh.
 void expect_sound_mesh(const Mesh& mesh, const std::string& what) {
@@ -61,7 +53,7 @@ void expect_input_error(const fs::path& file, const std::string& expected) {
 
 json sample_document(const fs::path& dir) {
     test::write_sample_gltf_embedded(dir / "sample.gltf");
-    return json::parse(text_of(dir / "sample.gltf"));
+    return json::parse(test::read_text(dir / "sample.gltf"));
 }
 
 TEST(RobustGltf, TheSampleModelsLoadWithTheirKnownShape) {

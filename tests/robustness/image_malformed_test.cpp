@@ -25,16 +25,13 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_folder;
 using test::loads_or_fails_cleanly;
+using test::write_text;
 
 std::vector<glm::vec3> sample_texels(int width, int height) {
     std::vector<glm::vec3> texels;
     for (int j = 0; j < height; ++j)
         for (int i = 0; i < width; ++i) texels.push_back(test::sample_radiance(i, j, width, height));
     return texels;
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-    test::write_bytes(path, std::vector<std::uint8_t>(text.begin(), text.end()));
 }
 
 void expect_sound_image(const Image& image) {

@@ -10,18 +10,12 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_folder.h"
 #include "core/error.h"
 
 namespace envshadow::test {
 
-inline std::filesystem::path fresh_folder() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const auto dir = std::filesystem::path(::testing::TempDir()) / "envshadow_robustness" /
-                     (std::string(info->test_suite_name()) + "." + info->name());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
+inline std::filesystem::path fresh_folder() { return fresh_test_folder("envshadow_robustness"); }
 
 // "<file>: <reason>" on one line, the reason not empty.
 inline ::testing::AssertionResult is_one_line_naming(const std::string& message, const std::filesystem::path& file) {

@@ -105,10 +105,6 @@ json box_document(std::vector<std::uint8_t>& bin) {
     return doc;
 }
 
-void write_text(const std::filesystem::path& path, const std::string& text) {
-    write_bytes(path, std::vector<std::uint8_t>(text.begin(), text.end()));
-}
-
 // Radiance's RGBE: a shared exponent, mantissas scaled to 0..255.
 void to_rgbe(const glm::vec3& c, std::uint8_t out[4]) {
     const float largest = std::max({c.r, c.g, c.b});
@@ -320,23 +316,6 @@ std::string sample_scene_json(const std::string& model, const std::string& envir
               {{"mesh", {{"type", "figure"}, {"height", 1.7}, {"triangles", 2000}}}},
               {{"mesh", {{"type", "virus"}, {"radius", 0.2}, {"spikes", 6}, {"spike_length", 0.1}, {"detail", 2}}}}})}};
     return scene.dump(1);
-}
-
-void write_bytes(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
-    // Removed first: truncating a file in place makes ext4 flush it to disk on close (auto_da_alloc),
-    // about 3 ms each, which the tests that write thousands of mutants cannot afford.
-    std::error_code ignored;
-    std::filesystem::remove(path, ignored);
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + path.string());
-}
-
-std::vector<std::uint8_t> read_bytes(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot read " + path.string());
-    return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 }  // namespace envshadow::test

@@ -9,6 +9,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "common/test_files.h"  // write_bytes, read_bytes, write_text
+
 namespace envshadow::test {
 
 // A sky-like lat-long picture: blue above, brown below, a small bright sun; every texel finite and > 0.
@@ -39,7 +41,5 @@ void write_sample_gltf_interleaved_strip(const std::filesystem::path& path);
 // A scene JSON using every kind of key, with a model and an environment at the given (relative) paths.
 std::string sample_scene_json(const std::string& model, const std::string& environment);
 
-void write_bytes(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes);
-std::vector<std::uint8_t> read_bytes(const std::filesystem::path& path);
 
 }  // namespace envshadow::test

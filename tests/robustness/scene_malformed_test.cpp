@@ -20,10 +20,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using test::fresh_folder;
 using test::loads_or_fails_cleanly;
-
-void write_text(const fs::path& path, const std::string& text) {
-    test::write_bytes(path, std::vector<std::uint8_t>(text.begin(), text.end()));
-}
+using test::write_text;
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 

@@ -12,17 +12,12 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include "common/test_folder.h"
+
 namespace envshadow::test {
 
 // A fresh folder per test.
-inline std::filesystem::path test_folder() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const auto dir = std::filesystem::path(::testing::TempDir()) / "envshadow_scene" /
-                     (std::string(info->test_suite_name()) + "." + info->name());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
+inline std::filesystem::path test_folder() { return fresh_test_folder("envshadow_scene"); }
 
 class GltfWriter {
 public:
