@@ -26,12 +26,14 @@ namespace {
 // 240-byte file can ask for 2 GB), buffers whole tiles or chunks of up to 256 lines of every channel,
 // and reads the offset table of every tile, all before any size could be checked. Throws InputError
 // for attributes past the end of the file, a missing data window or channel list, sizes out of
-// limits, chunk buffers over 1 GiB, or an offset table larger than the file.
+// limits, chunk buffers over 1 GiB, tiles larger than both the picture and 1 M texels, or an offset
+// table larger than the file.
 // `check_size` (the caller's own limit) sees the data window's size as soon as it is known to be
 // within limits, before the chunk and offset-table checks and long before any pixel buffer.
 void check_exr_header(const std::filesystem::path& path, const std::string& name, const ImageSizeCheck& check_size) {
     constexpr std::uint64_t kMaxChunkBytes = 1ull << 30;
     constexpr std::int32_t kMaxChannelListBytes = 1 << 20;
+    constexpr std::uint64_t kMaxTileOverhang = 1 << 20;  // texels a tile may have beyond the picture's
     std::ifstream in(path, std::ios::binary);
     std::error_code ec;
     const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
@@ -101,6 +103,12 @@ void check_exr_header(const std::filesystem::path& path, const std::string& name
     const std::uint64_t chunk_pixels = tiled ? std::uint64_t(tile[0]) * tile[1] : 256ull * std::uint64_t(width);
     if (chunk_pixels > kMaxChunkBytes || chunk_pixels * bytes_per_pixel > kMaxChunkBytes)
         throw corrupt("OpenEXR chunks (tiles or line blocks) over 1 GiB");
+    // A tile may overhang a small picture (64x64 tiles over a 16x8 picture are common), but OpenEXR
+    // allocates whole tiles, and a flipped bit in a tile size makes one of hundreds of MB.
+    if (tiled && chunk_pixels > std::max<std::uint64_t>(std::uint64_t(width) * std::uint64_t(height), kMaxTileOverhang))
+        throw corrupt("OpenEXR tiles of " + std::to_string(tile[0]) + "x" + std::to_string(tile[1]) +
+                      " texels, larger than the " + std::to_string(width) + "x" + std::to_string(height) +
+                      " picture and than 1 M texels");
     if (tiled) {
         const std::uint64_t tiles = ((std::uint64_t(width) + tile[0] - 1) / tile[0]) *
                                     ((std::uint64_t(height) + tile[1] - 1) / tile[1]);

@@ -271,6 +271,17 @@ TEST(RobustExr, HeaderSizesAreCheckedBeforeOpenExrAllocates) {
     test::write_bytes(dir / "tile.exr", bytes);
     expect_input_error(dir / "tile.exr", [&] { read_exr(dir / "tile.exr"); },
                        "OpenEXR chunks (tiles or line blocks) over 1 GiB");
+
+    // One flipped bit (7 of byte 337 in tests/env_contract's 64x32 file) turns 16x16 tiles into
+    // 16 x 8,388,624: under 1 GiB, but 800 MB for OpenEXR to allocate for a 40x20 picture.
+    const std::uint32_t long_tile[2] = {16, 0x00800010};
+    std::memcpy(&bytes[tiles], long_tile, 8);
+    test::write_bytes(dir / "long_tile.exr", bytes);
+    expect_input_error(dir / "long_tile.exr", [&] { read_exr(dir / "long_tile.exr"); },
+                       "OpenEXR tiles of 16x8388624 texels, larger than the 40x20 picture and than 1 M texels");
+    // Tiles overhanging a small picture (16x16 over 8x4) stay readable.
+    test::write_sample_exr(dir / "overhang.exr", 8, 4, 0, test::ExrLayout::tiled);
+    EXPECT_EQ(read_exr(dir / "overhang.exr").image.width, 8);
 }
 
 // --- Environment maps: the shape is checked before the pixels are allocated ---------------------
