@@ -154,6 +154,7 @@ public:
             const double dt = std::chrono::duration<double>(now - last).count();
             last = now;
             if (playing_) time_ += dt * speed_;
+            last_frame_ = options_.frames > 0 && frame + 1 >= options_.frames;
 
             handle_drops();
             finish_jobs();
@@ -161,7 +162,6 @@ public:
 
             int width = 0, height = 0;
             glfwGetFramebufferSize(window_, &width, &height);
-            last_frame_ = options_.frames > 0 && frame + 1 >= options_.frames;
             if (width > 0 && height > 0) draw_frame(width, height, dt);
 
             if (last_frame_ && !options_.screenshot.empty()) save_window(options_.screenshot, width, height);
@@ -205,7 +205,8 @@ private:
     }
 
     void finish_jobs() {
-        if (auto loaded = environment_job_.poll(error_)) {
+        // The last frame of an automated run shows the map it was given, however slow the machine.
+        if (auto loaded = last_frame_ ? environment_job_.wait(error_) : environment_job_.poll(error_)) {
             const bool new_map = !environment_ || environment_->map != loaded->map;
             environment_ = std::make_unique<LoadedEnvironment>(std::move(*loaded));
             if (new_map) renderer_->set_environment(*environment_->map), animated_sky_time_.reset();
