@@ -82,7 +82,8 @@ Command add_decompose_command(CLI::App& parent) {
     app->add_option("--env", args->env, "Environment: an .exr or .hdr lat-long map, or builtin:constant, builtin:sky")
         ->required();
     app->add_option("--lights", args->lights, "Number of cells N, 1..256 (mediancut: the largest power of two below)");
-    app->add_option("--method", args->method, "lloyd (default), ccvt, mediancut, random or fs");
+    app->add_option("--method", args->method, "lloyd (default), ccvt, mediancut, random or fs")
+        ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs"}));
     app->add_option("--seed", args->seed, "Seed of the random choices (random; lloyd's start)");
     app->add_option("--json", args->json, "Write the cells as JSON here");
     app->add_option("--png", args->png, "Write a picture of the cells over the map here");

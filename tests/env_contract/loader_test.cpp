@@ -459,23 +459,5 @@ TEST(EnvContractDegenerate, LightCountLimits) {
     }
 }
 
-TEST(EnvContractDegenerate, AsManyLightsAsTexels) {
-    EnvironmentMap small;
-    small.width = 16;
-    small.height = 8;
-    small.source = "small-16x8";
-    for (int j = 0; j < 8; ++j)
-        for (int i = 0; i < 16; ++i) small.texels.push_back(glm::vec3(1.0f + float((i * 7 + j * 3) % 5)));
-    for (Method method : kAllMethods) {
-        EXPECT_THROW(decompose(small, {.method = method, .lights = 129}), InputError) << to_string(method);
-        const std::string context = describe("16x8", method, 128);
-        const Decomposition d = decompose(small, {.method = method, .lights = 128});
-        if (method != Method::mediancut) {  // mediancut: fewer only where a region is a single texel (sites.h)
-            EXPECT_TRUE(count_as_promised(method, 128, d.cells.size(), 0.0)) << context << ": " << d.cells.size() << " cells";
-        }
-        expect_cells_contract(small, d, context);
-    }
-}
-
 }  // namespace
 }  // namespace envshadow::contract

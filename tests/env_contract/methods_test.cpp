@@ -48,7 +48,7 @@ TEST_P(EnvContractCcvtEqualImportance, CellsCarryEqualImportanceWithinTenPercent
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(NoSun, EnvContractCcvtEqualImportance, ::testing::Values("courtyard", "studio"));
+INSTANTIATE_TEST_SUITE_P(NoSun, EnvContractCcvtEqualImportance, ::testing::Values("courtyard"));
 
 class EnvContractCcvtSunCell : public ::testing::TestWithParam<const char*> {};
 
@@ -86,7 +86,7 @@ TEST_P(EnvContractCcvtSunCell, CellsWithoutASunTexelShareTheRestWithinTenPercent
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Sun, EnvContractCcvtSunCell, ::testing::Values("city", "sunrise"));
+INSTANTIATE_TEST_SUITE_P(Sun, EnvContractCcvtSunCell, ::testing::Values("city"));
 
 // --- lloyd -----------------------------------------------------------------------------------------
 

@@ -62,9 +62,9 @@ TEST_P(FsGpuCli, RendersAndBuiltinSkyFollowsTime) {
     const Image afternoon_from_spec = render(GetParam(), "builtin:sky:time=9", 6.0, "afternoon_from_spec");
     ASSERT_EQ(morning.pixels.size(), size_t(160 * 90));
     ASSERT_EQ(afternoon.pixels.size(), morning.pixels.size());
-    EXPECT_EQ(mean_abs_difference(morning, morning_again), 0.0);          // deterministic
+    EXPECT_EQ(mean_abs_difference(morning, morning_again), 0.0);               // deterministic
     EXPECT_GT(mean_abs_difference(morning, afternoon), 0.05 * mean(morning));  // the sun moved
-    EXPECT_EQ(mean_abs_difference(afternoon, afternoon_from_spec), 0.0);  // 12 h + 3 h = 9 h + 6 h
+    EXPECT_EQ(mean_abs_difference(afternoon, afternoon_from_spec), 0.0);       // 12 h + 3 h = 9 h + 6 h
 }
 
 INSTANTIATE_TEST_SUITE_P(Headless, FsGpuCli, ::testing::Values("egl", "osmesa"));

@@ -206,7 +206,9 @@ inline glm::dvec3 sun_at(double elevation, double azimuth) {
 }
 
 // The blender-data city photograph through the project's loader (negatives clamped, DESIGN.md §2).
-inline EnvironmentMap city_map() { return load_environment(kCityExr); }
+inline EnvironmentMap city_map() {
+    return load_environment(kCityExr);
+}
 
 // The map as an RGBA32F texture, texel (i, j) = map texel (i, j) (row 0, the zenith, first).
 inline gl::Texture upload(const EnvironmentMap& map) {

@@ -36,7 +36,9 @@ glm::ivec2 pixel_of(const render::CameraView& view, glm::vec3 p) {
     return {int((ndc.x * 0.5f + 0.5f) * float(view.width)), int((0.5f - ndc.y * 0.5f) * float(view.height))};
 }
 
-float luminance(const glm::vec4& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+float luminance(const glm::vec4& c) {
+    return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
 
 TEST_P(FsRenderTest, BoxShadowFollowsBuiltinSkysSunWithLightsSampledOnTheGpu) {
     Scene scene;

@@ -129,8 +129,8 @@ TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnAnAnalyticSky) {
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnBuiltinSky) {
     const EnvironmentMap sky = load_environment("builtin:sky:width=256");
-    expect_reference_samples(project_shaders(), upload(sky), importance_map(sky), 256, 128,
-                             FsSamplerOptions{256, 128}, "builtin:sky 256x128");
+    expect_reference_samples(project_shaders(), upload(sky), importance_map(sky), 256, 128, FsSamplerOptions{256, 128},
+                             "builtin:sky 256x128");
 }
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnCityAtFullResolution) {
@@ -151,7 +151,8 @@ TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnCityDownsampledOnTheGpu) {
 
 // The CPU method's rules (FsWeighting::adaptive_blocks) against their transcription: same blocks in
 // the same order, directions at the blocks' importance-weighted means.
-void expect_adaptive_block_samples(const gl::ShaderLibrary& shaders, const EnvironmentMap& map, const std::string& what) {
+void expect_adaptive_block_samples(const gl::ShaderLibrary& shaders, const EnvironmentMap& map,
+                                   const std::string& what) {
     FsSamplerOptions options;
     options.weighting = render::FsWeighting::adaptive_blocks;
     FsSampler sampler(shaders, options);
@@ -225,7 +226,9 @@ TEST_P(FsSamplerTest, SameSamplesAsTheCpuMethodOnBuiltinSky) {
     expect_cpu_method_samples(project_shaders(), "builtin:sky");
 }
 
-TEST_P(FsSamplerTest, SameSamplesAsTheCpuMethodOnCity) { expect_cpu_method_samples(project_shaders(), kCityExr); }
+TEST_P(FsSamplerTest, SameSamplesAsTheCpuMethodOnCity) {
+    expect_cpu_method_samples(project_shaders(), kCityExr);
+}
 
 // The listing's weights spread the error so thinly when M is far below the texel count that most of
 // it never becomes a sample (the warm-up of seed 000 §1.3.1); the warm-up-matched ones do not.
