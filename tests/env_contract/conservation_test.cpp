@@ -13,17 +13,25 @@
 namespace envshadow::contract {
 namespace {
 
-std::vector<std::string> conservation_maps() {
+using MapAndMethod = std::tuple<std::string, Method>;
+
+// The eight maps and the two builtins with every method; two more skies (the sun's disc straddling the
+// u = 0/1 seam, and covering the zenith's tiny texels) with every method but CCVT, which takes seconds
+// per sky and whose seam handling SunOnTheWrapIsNotSplitThere covers.
+std::vector<MapAndMethod> conservation_cases() {
     std::vector<std::string> specs;
     for (const char* name : kBlenderMaps) specs.push_back(blender_map(name));
     specs.push_back("builtin:constant");
     specs.push_back("builtin:sky");
-    specs.push_back("builtin:sky:azimuth=0,elevation=20");  // the sun's disc straddles the u = 0/1 seam
-    specs.push_back("builtin:sky:elevation=89.5,size=3");   // the disc covers the zenith (tiny texels)
-    return specs;
+    std::vector<MapAndMethod> cases;
+    for (const std::string& spec : specs)
+        for (Method method : kAllMethods) cases.emplace_back(spec, method);
+    for (const char* spec : {"builtin:sky:azimuth=0,elevation=20", "builtin:sky:elevation=89.5,size=3"})
+        for (Method method : kAllMethods)
+            if (method != Method::ccvt) cases.emplace_back(spec, method);
+    return cases;
 }
 
-using MapAndMethod = std::tuple<std::string, Method>;
 class EnvContractConservation : public ::testing::TestWithParam<MapAndMethod> {};
 
 TEST_P(EnvContractConservation, EveryNConservesAndCellsMatchTheirTexels) {
@@ -52,7 +60,7 @@ std::string map_and_method_name(const ::testing::TestParamInfo<MapAndMethod>& in
 }
 
 INSTANTIATE_TEST_SUITE_P(MapsAndMethods, EnvContractConservation,
-                         ::testing::Combine(::testing::ValuesIn(conservation_maps()), ::testing::ValuesIn(kAllMethods)),
+                         ::testing::ValuesIn(conservation_cases()),
                          map_and_method_name);
 
 // White furnace: a uniform sphere of radiance R carries 4πR in every channel, whatever the cutting.
