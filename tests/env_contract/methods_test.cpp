@@ -2,6 +2,7 @@
 // here from the map: CCVT equalises importance, Lloyd's site density follows the importance as quantisation
 // theory predicts, random sites are distributed as the importance, fs and mediancut give their counts,
 // and everything is deterministic.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -23,11 +24,6 @@ std::vector<std::string> all_maps() {
     return specs;
 }
 
-// Importance per cell (Σ lum(L) dω over its texels), recomputed here.
-std::vector<double> cell_importance(const EnvironmentMap& map, const std::vector<double>& importance, const Decomposition& d) {
-    return cell_sums(map, importance, d.texel_cell, d.cells.size()).importance;
-}
-
 // --- ccvt ------------------------------------------------------------------------------------------
 
 class EnvContractCcvtEqualImportance : public ::testing::TestWithParam<const char*> {};
@@ -40,11 +36,13 @@ TEST_P(EnvContractCcvtEqualImportance, CellsCarryEqualImportanceWithinTenPercent
     for (int lights : {16, 64, 128}) {
         const Decomposition d = decompose(map, {.method = Method::ccvt, .lights = lights});
         ASSERT_EQ(int(d.cells.size()), lights) << describe(spec, Method::ccvt, lights);
-        const std::vector<double> per_cell = cell_importance(map, importance, d);
+        const CellSums sums = cell_sums(map, importance, d.texel_cell, d.cells.size());
+        const std::vector<double>& per_cell = sums.importance;
         const auto [lo, hi] = std::minmax_element(per_cell.begin(), per_cell.end());
         EXPECT_LT(coefficient_of_variation(per_cell), 0.10)
             << describe(spec, Method::ccvt, lights) << ": per-cell importance from " << *lo / mean(per_cell) << " to "
-            << *hi / mean(per_cell) << " of the mean";
+            << *hi / mean(per_cell) << " of the mean; " << std::count(sums.texels.begin(), sums.texels.end(), 0L)
+            << " cells without texels";
     }
 }
 
@@ -74,15 +72,19 @@ TEST_P(EnvContractCcvtSunCell, CellsWithoutASunTexelShareTheRestWithinTenPercent
                 ++heavy_texels;
             }
         ASSERT_TRUE(sun[d.texel_cell[brightest]]) << context << ": the brightest texel is heavier than 1/N here";
-        const std::vector<double> per_cell = cell_importance(map, importance, d);
+        const CellSums sums = cell_sums(map, importance, d.texel_cell, d.cells.size());
         std::vector<double> rest;
-        for (std::size_t k = 0; k < per_cell.size(); ++k)
-            if (!sun[k]) rest.push_back(per_cell[k]);
+        long empty = 0;
+        for (std::size_t k = 0; k < sums.importance.size(); ++k)
+            if (!sun[k]) {
+                rest.push_back(sums.importance[k]);
+                empty += sums.texels[k] == 0;
+            }
         ASSERT_GE(rest.size(), d.cells.size() - std::size_t(heavy_texels)) << context;
         const auto [lo, hi] = std::minmax_element(rest.begin(), rest.end());
         EXPECT_LT(coefficient_of_variation(rest), 0.10)
             << context << ": " << d.cells.size() - rest.size() << " sun cells; the other cells' importance ranges from "
-            << *lo / mean(rest) << " to " << *hi / mean(rest) << " of their mean";
+            << *lo / mean(rest) << " to " << *hi / mean(rest) << " of their mean; " << empty << " of them without texels";
     }
 }
 
