@@ -3,6 +3,7 @@
 // queries and the wall time of each frame; medians and 95th percentiles. `--sweep` repeats the run
 // for each setting, so the growth of the cost with N (or resolution, or tile size) can be read off.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -137,6 +138,8 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
 }
 
 int run_bench(const BenchOptions& o) {
+    // CLI::Range lets NaN through (every comparison with it is false).
+    if (!std::isfinite(o.time_step)) throw UsageError("--time-step must be a finite number of seconds");
     const std::vector<SweepPoint> points = o.sweep.empty() ? std::vector<SweepPoint>{SweepPoint{0, 0, 0, 0, "default"}}
                                                            : parse_sweep(o.sweep);
     for (const SweepPoint& p : points) {

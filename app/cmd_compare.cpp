@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "core/error.h"
 #include "core/image.h"
 #include "reference/image_compare.h"
 
@@ -31,6 +32,8 @@ Command add_compare_command(CLI::App& parent) {
         ->check(CLI::Range(1e-6, 1e6));
     return {
         app, [o] {
+            // CLI::Range lets NaN through (every comparison with it is false).
+            if (!std::isfinite(o->diff_scale)) throw UsageError("--diff-scale must be a finite number");
             const ExrContents a = read_exr(o->a), b = read_exr(o->b);
             std::optional<Image8> mask;
             if (!o->mask.empty()) mask = read_png(o->mask);

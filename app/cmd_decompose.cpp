@@ -1,13 +1,13 @@
-// `envshadow decompose`: an environment map cut into N directional cells (DESIGN.md §3), written as
-// the JSON of DESIGN.md §6 and, for people, as a picture of the map with the cells drawn over it.
+// envshadow decompose: cut an environment map into N directional cells (DESIGN.md §3) and write them
+// as JSON (DESIGN.md §6) and/or as a picture of the cells over the map.
 #include <cstdio>
 #include <memory>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "commands.h"
 #include "core/atomic_file.h"
+#include "core/error.h"
 #include "core/image.h"
 #include "core/log.h"
 #include "env/cell_overlay.h"
@@ -17,22 +17,23 @@
 namespace envshadow::app {
 namespace {
 
-struct DecomposeCommandOptions {
+struct DecomposeArguments {
     std::string env, method = "lloyd", json, png;
     int lights = 128;
     std::uint64_t seed = 1;
     bool clamp_invalid = false;
 };
 
-nlohmann::json to_json(const Decomposition& d) {
-    nlohmann::json lights = nlohmann::json::array();
+// Keys in the order of DESIGN.md §6.
+nlohmann::ordered_json to_json(const Decomposition& d) {
+    nlohmann::ordered_json lights = nlohmann::ordered_json::array();
     for (const Cell& c : d.cells)
-        lights.push_back({{"dir", {c.direction.x, c.direction.y, c.direction.z}},
-                          {"radiance", {c.radiance.r, c.radiance.g, c.radiance.b}},
-                          {"solid_angle", c.solid_angle},
-                          {"cos_radius", c.cos_radius},
-                          {"cos_radius_weighted", c.cos_radius_weighted}});
-    return {{"method", to_string(d.method)},
+        lights.push_back(nlohmann::ordered_json{{"dir", {c.direction.x, c.direction.y, c.direction.z}},
+                                                {"radiance", {c.radiance.r, c.radiance.g, c.radiance.b}},
+                                                {"solid_angle", c.solid_angle},
+                                                {"cos_radius", c.cos_radius},
+                                                {"cos_radius_weighted", c.cos_radius_weighted}});
+    return {{"method", std::string(to_string(d.method))},
             {"width", d.width},
             {"height", d.height},
             {"lights", lights},
@@ -42,43 +43,52 @@ nlohmann::json to_json(const Decomposition& d) {
             {"final_movement", d.final_movement}};
 }
 
-int run_decompose(const DecomposeCommandOptions& o) {
-    EnvironmentLoadReport report;
-    const EnvironmentMap map = load_environment(o.env, EnvironmentLoadOptions{o.clamp_invalid}, &report);
-    if (report.negative_clamped > 0)
-        log::info(o.env + ": " + std::to_string(report.negative_clamped) + " negative texel components clamped to 0");
-    if (report.invalid_clamped > 0)
-        log::info(o.env + ": " + std::to_string(report.invalid_clamped) + " NaN/Inf texel components set to 0");
-    const Decomposition d = decompose(map, DecomposeOptions{parse_method(o.method), o.lights, o.seed});
+int run_decompose(const DecomposeArguments& args) {
+    DecomposeOptions options;
+    options.method = parse_method(args.method);
+    options.lights = args.lights;
+    options.seed = args.seed;
+    if (options.lights < 1 || options.lights > kMaxLights)
+        throw UsageError("--lights " + std::to_string(options.lights) + " is outside 1.." + std::to_string(kMaxLights));
 
+    EnvironmentLoadReport report;
+    const EnvironmentMap map = load_environment(args.env, {args.clamp_invalid}, &report);
+    if (report.negative_clamped > 0)
+        log::info(args.env + ": " + std::to_string(report.negative_clamped) + " negative texel values set to 0");
+    if (report.invalid_clamped > 0)
+        log::warn(args.env + ": " + std::to_string(report.invalid_clamped) + " NaN/infinite texel values set to 0");
+
+    const Decomposition d = decompose(map, options);
+    if (d.uniform_importance) log::warn(args.env + ": the map is black; cells follow solid angle (uniform importance)");
+    if (!args.json.empty()) write_file_atomically(args.json, to_json(d).dump(2) + "\n");
+    if (!args.png.empty()) write_png(args.png, draw_cells(map, d));
+
+    std::printf("decompose: %s %dx%d, %s, %zu lights, %.3f s", args.env.c_str(), d.width, d.height,
+                std::string(to_string(d.method)).c_str(), d.cells.size(), d.seconds);
+    if (options.method == Method::lloyd || options.method == Method::ccvt)
+        std::printf(", %d iterations (final movement %.2e rad)", d.iterations, d.final_movement);
     glm::dvec3 sum(0.0);
     for (const Cell& c : d.cells) sum += glm::dvec3(c.radiance);
-    std::printf("%s: %dx%d, %s, %zu cells in %.1f ms", o.env.c_str(), map.width, map.height, o.method.c_str(),
-                d.cells.size(), d.seconds * 1000.0);
-    if (d.iterations > 0) std::printf(" (%d iterations, last move %.2e rad)", d.iterations, d.final_movement);
-    std::printf("\nintegral of L dw = (%.6g, %.6g, %.6g), sum over cells = (%.6g, %.6g, %.6g)\n", d.integral.r,
+    std::printf("\nintegral of L dw = (%.6g, %.6g, %.6g), sum over the cells = (%.6g, %.6g, %.6g)\n", d.integral.r,
                 d.integral.g, d.integral.b, sum.r, sum.g, sum.b);
-    if (!o.json.empty()) write_file_atomically(o.json, to_json(d).dump(2) + "\n");
-    if (!o.png.empty()) write_png(o.png, draw_cells(map, d));
     return 0;
 }
 
 }  // namespace
 
 Command add_decompose_command(CLI::App& parent) {
-    auto o = std::make_shared<DecomposeCommandOptions>();
+    auto args = std::make_shared<DecomposeArguments>();
     CLI::App* app = parent.add_subcommand("decompose", "Cut an environment map into N directional cells");
-    app->add_option("--env", o->env, "Environment map: .exr, .hdr, builtin:constant or builtin:sky[:key=value,…]")
+    app->add_option("--env", args->env, "Environment: an .exr or .hdr lat-long map, or builtin:constant, builtin:sky")
         ->required();
-    app->add_option("--lights", o->lights, "Number of cells N (1..256; mediancut rounds down to a power of two)")
-        ->check(CLI::Range(1, kMaxLights));
-    app->add_option("--method", o->method, "lloyd, ccvt, mediancut, random or fs")
+    app->add_option("--lights", args->lights, "Number of cells N, 1..256 (mediancut: the largest power of two below)");
+    app->add_option("--method", args->method, "lloyd (default), ccvt, mediancut, random or fs")
         ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs"}));
-    app->add_option("--seed", o->seed, "Seed (lloyd, ccvt and random draw their initial sites with it)");
-    app->add_option("--json", o->json, "Write the cells as JSON (DESIGN.md §6)");
-    app->add_option("--png", o->png, "Write the map with the cell borders and centres drawn over it");
-    app->add_flag("--clamp-invalid", o->clamp_invalid, "Set NaN/Inf texels to 0 instead of refusing the map");
-    return {app, [o] { return run_decompose(*o); }};
+    app->add_option("--seed", args->seed, "Seed of the random choices (random; lloyd's start)");
+    app->add_option("--json", args->json, "Write the cells as JSON here");
+    app->add_option("--png", args->png, "Write a picture of the cells over the map here");
+    app->add_flag("--clamp-invalid", args->clamp_invalid, "Set NaN and infinite texels to 0 instead of failing");
+    return {app, [args] { return run_decompose(*args); }};
 }
 
 }  // namespace envshadow::app

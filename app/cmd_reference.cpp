@@ -2,12 +2,14 @@
 // Parse, load the scene and its map, render, report the standard errors, write.
 #include <tbb/info.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "commands.h"
+#include "core/error.h"
 #include "core/image.h"
 #include "env/environment.h"
 #include "reference/reference.h"
@@ -53,6 +55,9 @@ Command add_reference_command(CLI::App& parent) {
     app->add_option("--seed", o->render.seed, "Random seed");
     app->add_option("--error-exr", o->error_exr, "EXR of the per-pixel standard error (alpha: samples taken)");
     return {app, [o] {
+                if (!std::isfinite(o->render.time)) throw UsageError("--time must be a finite number of seconds");
+                // CLI::Range lets NaN through; a NaN target is never met and every pixel takes --samples.
+                if (std::isnan(o->render.target_error)) throw UsageError("--error must be a number");
                 const Scene scene = load_scene(o->scene);
                 const EnvironmentMap map = load_environment(o->env.empty() ? scene.environment.source : o->env);
                 const reference::ReferenceImage result = reference::render_reference(scene, map, o->render);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <optional>
@@ -17,9 +18,7 @@
 #include "core/image.h"
 #include "env/cells.h"
 #include "env/environment.h"
-#include "env/orientation.h"
 #include "gl/context.h"
-#include "gl/shader.h"
 #include "glsl/embedded.h"
 #include "render/fs_sampler.h"
 #include "render/renderer.h"
@@ -67,10 +66,22 @@ std::vector<render::AtlasMode> atlas_modes(const RenderOptions& o, const render:
     return {render::parse_atlas_mode(o.atlas, "--atlas")};
 }
 
+// builtin:sky follows --time: its sun advances one hour per second of animation from the spec's time
+// (noon by default), so the environment animates with the scene (with fs-gpu, nothing is computed at
+// load time for it). Other environments do not change with time.
+std::string environment_at(const std::string& spec, double seconds) {
+    if (seconds == 0.0 || (spec != "builtin:sky" && spec.rfind("builtin:sky:", 0) != 0)) return spec;
+    const std::size_t at = spec.find("time=");
+    const double hours = (at == std::string::npos ? 12.0 : std::strtod(spec.c_str() + at + 5, nullptr)) + seconds;
+    return spec + (spec == "builtin:sky" ? ":" : ",") + "time=" + std::to_string(hours);  // the last key wins
+}
+
 int run_render(const RenderOptions& o) {
     if (o.out.empty() && o.exr.empty()) throw UsageError("render: give --out OUT.png and/or --exr OUT.exr");
     if (!std::isfinite(o.time)) throw UsageError("--time must be a finite number of seconds");
-    const bool fs_gpu = o.method == "fs-gpu";  // Floyd-Steinberg on the GPU (render/fs_sampler.h)
+    // fs-gpu: Floyd-Steinberg samples of the environment texture made on the GPU every frame
+    // (docs/FS_GPU.md), instead of a decomposition at load time.
+    const bool fs_gpu = o.method == "fs-gpu";
     const Method method = fs_gpu ? Method::fs : parse_method(o.method);
     render::RenderSettings settings = settings_from(o);
     const std::vector<render::AtlasMode> modes = atlas_modes(o, settings);
@@ -78,35 +89,21 @@ int run_render(const RenderOptions& o) {
 
     Scene scene = load_scene(o.scene);
     if (!o.env.empty()) scene.environment.source = o.env;
-    const EnvironmentMap map = load_environment(scene.environment.source);
-    std::size_t cell_count = 0;
-    double decomposition_seconds = 0.0;
-    std::optional<Decomposition> decomposition;
-    if (!fs_gpu) {
-        decomposition = decompose(map, DecomposeOptions{method, o.lights, o.seed});
-        cell_count = decomposition->cells.size();
-        decomposition_seconds = decomposition->seconds;
-    }
+    const EnvironmentMap map = load_environment(environment_at(scene.environment.source, o.time));
+    const Decomposition decomposition =
+        fs_gpu ? Decomposition{} : decompose(map, DecomposeOptions{method, o.lights, o.seed});
 
     auto context = gl::create_context(gl::parse_backend(o.backend));
     render::Renderer renderer(settings);
     renderer.set_scene(scene);
     renderer.set_environment(map);
+    std::optional<render::FsSampler> fs_sampler;
     if (fs_gpu) {
-        // One read-back of the sampler's lights (docs/FS_GPU.md, "Wiring into the renderer", step 1);
-        // they are world-space already. Timed to the end of the read-back.
         gl::ShaderLibrary shaders;
-        for (const glsl::File& file : glsl::files()) shaders.add(file.name, file.source);
-        render::FsSampler sampler(shaders);
-        const auto start = std::chrono::steady_clock::now();
-        sampler.sample(renderer.environment_texture(),
-                       render::FsSampleRequest{o.lights, world_from_map(scene.environment.rotation_degrees), 1.0f});
-        std::vector<Cell> cells = sampler.read_lights();
-        decomposition_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        cell_count = cells.size();
-        renderer.set_lights(std::move(cells), render::Renderer::CellSpace::world);
+        for (const glsl::File& f : glsl::files()) shaders.add(f.name, f.source);
+        fs_sampler.emplace(shaders);
     } else {
-        renderer.set_lights(decomposition->cells);
+        renderer.set_lights(decomposition.cells);
     }
     const render::CameraView view = render::camera_view(scene, o.width, o.height, o.time);
 
@@ -120,6 +117,12 @@ int run_render(const RenderOptions& o) {
             settings.atlas = mode;
             renderer.set_settings(settings);
             const auto start = std::chrono::steady_clock::now();
+            if (fs_sampler) {  // the lights are regenerated every frame; in map space, as cells are
+                fs_sampler->sample(renderer.environment_texture(), render::FsSampleRequest{o.lights});
+                renderer.set_lights(fs_sampler->read_lights());
+                const std::chrono::duration<double, std::milli> sampled = std::chrono::steady_clock::now() - start;
+                if (frame >= warmup) times[mode]["fs-gpu sampling wall"].push_back(sampled.count());
+            }
             stats = renderer.render(o.time, view);  // returns after the GPU's timer results are in
             const std::chrono::duration<double, std::milli> wall = std::chrono::steady_clock::now() - start;
             if (frame >= warmup) {
@@ -131,9 +134,15 @@ int run_render(const RenderOptions& o) {
 
     std::printf("scene %s, %dx%d, %s on %s\n", o.scene.c_str(), o.width, o.height,
                 std::string(gl::to_string(context->backend())).c_str(), context->renderer().c_str());
-    std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n",
-                fs_gpu ? "fs-gpu" : std::string(to_string(method)).c_str(), cell_count, map.width, map.height,
-                map.source.c_str(), decomposition_seconds);
+    if (fs_sampler)
+        std::printf("fs-gpu: %u lights of %u samples from a %dx%d importance map of %s, every frame, %.2f ms wall\n",
+                    fs_sampler->read_counts().light_count, fs_sampler->read_counts().samples,
+                    fs_sampler->importance_size().x, fs_sampler->importance_size().y, map.source.c_str(),
+                    median(times[modes.front()]["fs-gpu sampling wall"]));
+    else
+        std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n",
+                    std::string(to_string(decomposition.method)).c_str(), decomposition.cells.size(),
+                    decomposition.width, decomposition.height, map.source.c_str(), decomposition.seconds);
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
@@ -176,12 +185,13 @@ Command add_render_command(CLI::App& parent) {
     app->add_option("--scene", o->scene, "Scene JSON, or a .gltf/.glb")->required();
     app->add_option("--env", o->env, "Environment map (.exr/.hdr or builtin:...), overriding the scene's");
     app->add_option("--lights", o->lights, "Number of cells (lights)")->check(CLI::Range(1, 256));
-    app->add_option("--method", o->method, "Decomposition: lloyd, ccvt, mediancut, random, fs, fs-gpu");
+    app->add_option("--method", o->method,
+                    "Decomposition: lloyd, ccvt, mediancut, random, fs; or fs-gpu (sampled on the GPU every frame)");
     app->add_option("--seed", o->seed, "Seed of the decomposition");
     app->add_option("--width", o->width, "Image width")->check(CLI::Range(16, 8192));
     app->add_option("--height", o->height, "Image height")->check(CLI::Range(16, 8192));
     app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
-    app->add_option("--time", o->time, "Animation time in seconds");
+    app->add_option("--time", o->time, "Animation time in seconds (builtin:sky's sun: one hour per second)");
     app->add_option("--out", o->out, "PNG to write (exposure, filmic tone map, sRGB)");
     app->add_option("--exr", o->exr, "EXR to write (linear; alpha 1 on objects, 0 on the background)");
     app->add_option("--tile", o->tile, "Shadow map tile size (128..2048)")->check(CLI::Range(128, 2048));

@@ -26,8 +26,8 @@ int main(int argc, char** argv) {
         return cli.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
         return cli.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "envshadow: %s\nRun with --help for usage.\n", e.what());
+    } catch (const CLI::ParseError& e) {  // one line, like every other error
+        std::fprintf(stderr, "envshadow: %s (run with --help for usage)\n", one_line_text(e.what()).c_str());
         return 2;
     }
 

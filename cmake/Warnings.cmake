@@ -4,6 +4,11 @@ function(envshadow_target_defaults target)
   if(ENVSHADOW_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
+  if(ENVSHADOW_SANITIZE AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    # GCC's instrumentation makes -Wmaybe-uninitialized report false positives (in libstdc++'s
+    # <regex>, for one); GCC's manual says as much for -fsanitize=address.
+    target_compile_options(${target} PRIVATE -Wno-maybe-uninitialized)
+  endif()
 endfunction()
 
 if(ENVSHADOW_SANITIZE)

@@ -1,22 +1,20 @@
 // Shared by the Floyd-Steinberg GPU sampler's stages (engine/render/fs_sampler.h).
 
-// Lat-long convention of engine/env/latlong.h (DESIGN.md §2): texel (i, j) centre u = (i + 0.5) / W,
-// v = (j + 0.5) / H, row 0 the zenith (+Y); theta = pi v, phi = 2 pi u.
-// TODO(fsgpu): switch to glsl/cells.glsl's twins of these once it lands (no duplicate at the end).
-const float FS_PI = 3.14159265358979;
+// The lat-long convention (engine/env/latlong.h) comes from cells.glsl; its storage block of the
+// renderer's lights is not used here, so it gets a binding no fs_* stage uses.
+#ifndef LIGHTS_BINDING
+#define LIGHTS_BINDING 7
+#endif
+#include "cells.glsl"
 
-vec3 fs_texel_direction(ivec2 texel, ivec2 size) {
-    const float theta = FS_PI * (float(texel.y) + 0.5) / float(size.y);
-    const float phi = 2.0 * FS_PI * (float(texel.x) + 0.5) / float(size.x);
-    return vec3(sin(theta) * cos(phi), cos(theta), sin(theta) * sin(phi));
-}
+vec3 fs_texel_direction(ivec2 texel, ivec2 size) { return latlong_direction((vec2(texel) + 0.5) / vec2(size)); }
 
 // (2 pi / W)(cos theta_top - cos theta_bottom) = (4 pi / W) sin(theta_centre) sin(pi / 2H): a product
 // of sines keeps float's precision for thin rows, and taking theta_centre from the nearer pole keeps
 // it at the south pole too (sin near pi would lose it).
 float fs_texel_solid_angle(int row, ivec2 size) {
     const float from_pole = min(float(row) + 0.5, float(size.y - row) - 0.5);
-    return (4.0 * FS_PI / float(size.x)) * sin(FS_PI * from_pole / float(size.y)) * sin(FS_PI / (2.0 * float(size.y)));
+    return (4.0 * PI / float(size.x)) * sin(PI * from_pole / float(size.y)) * sin(PI / (2.0 * float(size.y)));
 }
 
 float fs_luminance(vec3 rgb) { return dot(rgb, vec3(0.2126, 0.7152, 0.0722)); }

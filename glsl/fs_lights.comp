@@ -15,7 +15,7 @@ layout(binding = 0) uniform sampler2D u_radiance;  // sum L dw (rgb) and importa
 layout(binding = 1) uniform sampler2D u_moments;   // sum lum(L) dw w (xyz) per importance texel
 layout(std430, binding = 0) readonly buffer FsSamples { uint captured_sample[]; };
 layout(std430, binding = 1) readonly buffer FsCounts { FS_COUNTS_MEMBERS };
-layout(std430, binding = 2) writeonly buffer FsLights { FsLight lights[]; };
+layout(std430, binding = 2) writeonly buffer FsLights { FsLight fs_lights[]; };
 
 layout(location = 0) uniform mat3 u_world_from_map;
 layout(location = 1) uniform float u_radiance_scale;  // exposure
@@ -31,7 +31,7 @@ void main() {
     const float texel_importance = texel_radiance.a;  // lum(rgb)
     // A texel may be chosen by carried error alone while itself black: give it a neutral colour.
     const vec3 chromaticity = texel_importance > 0.0 ? texel_radiance.rgb / texel_importance : vec3(1.0);
-    const float solid_angle = 4.0 * FS_PI * share;
+    const float solid_angle = 4.0 * PI * share;
     const float light_importance = importance_sum * share;
     const float local_solid_angle = texel_importance > 0.0
         ? min(solid_angle, light_importance * fs_texel_solid_angle(texel.y, size) / texel_importance)
@@ -45,8 +45,8 @@ void main() {
     light.direction = normalize(u_world_from_map * map_direction);
     light.solid_angle = solid_angle;
     light.radiance = chromaticity * (u_radiance_scale * light_importance);
-    light.cos_radius = 1.0 - solid_angle / (2.0 * FS_PI);
-    light.cos_radius_weighted = 1.0 - local_solid_angle / (2.0 * FS_PI);
+    light.cos_radius = 1.0 - solid_angle / (2.0 * PI);
+    light.cos_radius_weighted = 1.0 - local_solid_angle / (2.0 * PI);
     light.unused0 = light.unused1 = light.unused2 = 0.0;
-    lights[index] = light;
+    fs_lights[index] = light;
 }

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <string>
 
 #include <ImfChannelList.h>
@@ -16,10 +19,100 @@
 #include "core/error.h"
 
 namespace envshadow {
+namespace {
+
+// Walks the first header's attributes (magic, version, then "name\0type\0" + int32 size + value
+// until an empty name) before OpenEXR does: OpenEXR allocates whatever an attribute declares (a
+// 240-byte file can ask for 2 GB), buffers whole tiles or chunks of up to 256 lines of every channel,
+// and reads the offset table of every tile, all before any size could be checked. Throws InputError
+// for attributes past the end of the file, a missing data window or channel list, sizes out of
+// limits, chunk buffers over 1 GiB, or an offset table larger than the file.
+void check_exr_header(const std::filesystem::path& path, const std::string& name) {
+    constexpr std::uint64_t kMaxChunkBytes = 1ull << 30;
+    constexpr std::int32_t kMaxChannelListBytes = 1 << 20;
+    std::ifstream in(path, std::ios::binary);
+    std::error_code ec;
+    const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
+    const auto corrupt = [&](const std::string& reason) { return InputError(name + ": " + reason); };
+    char magic[8];
+    if (!in.read(magic, 8) || std::memcmp(magic, "\x76\x2f\x31\x01", 4) != 0)
+        throw corrupt("not an OpenEXR file (bad magic number)");
+    auto read_string = [&](std::string& out) {
+        out.clear();
+        for (char c; in.get(c);) {
+            if (c == '\0') return true;
+            if (out.size() >= 255) return false;  // OpenEXR's longest attribute name or type
+            out += c;
+        }
+        return false;
+    };
+
+    long long width = -1, height = -1;
+    std::uint64_t bytes_per_pixel = 0;
+    std::uint32_t tile[2] = {0, 0};
+    for (std::string attribute, type;;) {
+        if (!read_string(attribute)) throw corrupt("truncated or corrupt OpenEXR header");
+        if (attribute.empty()) break;
+        std::int32_t size = 0;
+        if (!read_string(type) || !in.read(reinterpret_cast<char*>(&size), 4))
+            throw corrupt("truncated or corrupt OpenEXR header");
+        const auto at = static_cast<std::uintmax_t>(in.tellg());
+        if (size < 0 || std::uintmax_t(size) > file_size - std::min(at, file_size))
+            throw corrupt("OpenEXR header attribute '" + attribute + "' claims " + std::to_string(size) +
+                          " bytes, more than the file holds");
+        if (attribute == "dataWindow" && type == "box2i" && size == 16) {
+            std::int32_t box[4];
+            in.read(reinterpret_cast<char*>(box), 16);
+            width = 1ll + box[2] - box[0];
+            height = 1ll + box[3] - box[1];
+        } else if (attribute == "channels" && type == "chlist" && size <= kMaxChannelListBytes) {
+            // name\0, pixel type (int32: 0 uint, 1 half, 2 float), pLinear, 3 reserved, x and y sampling.
+            std::vector<char> list(static_cast<std::size_t>(size));
+            in.read(list.data(), size);
+            for (std::size_t k = 0; k < list.size() && list[k] != '\0';) {
+                const auto end = std::find(list.begin() + std::ptrdiff_t(k), list.end(), '\0');
+                k = std::size_t(end - list.begin()) + 1;
+                if (list.size() - std::min(k, list.size()) < 16) throw corrupt("corrupt OpenEXR channel list");
+                std::int32_t pixel_type;
+                std::memcpy(&pixel_type, &list[k], 4);
+                bytes_per_pixel += pixel_type == 1 ? 2 : 4;
+                k += 16;
+            }
+        } else if (attribute == "channels") {
+            throw corrupt("OpenEXR channel list of " + std::to_string(size) + " bytes (limit 1 MiB)");
+        } else if (attribute == "tiles" && type == "tiledesc" && size == 9) {
+            in.read(reinterpret_cast<char*>(tile), 8);
+            in.seekg(1, std::ios::cur);
+        } else {
+            in.seekg(size, std::ios::cur);
+        }
+    }
+    if (!in) throw corrupt("truncated or corrupt OpenEXR header");
+    if (width == -1 || bytes_per_pixel == 0) throw corrupt("OpenEXR header without a data window or channels");
+    if (width <= 0 || height <= 0 || width > kMaxImageWidth || height > kMaxImageHeight)
+        throw corrupt("image size " + std::to_string(width) + "x" + std::to_string(height) +
+                      " is outside the accepted 1x1.." + std::to_string(kMaxImageWidth) + "x" +
+                      std::to_string(kMaxImageHeight));
+    const bool tiled = tile[0] != 0 || tile[1] != 0;
+    if (tiled && (tile[0] == 0 || tile[1] == 0)) throw corrupt("OpenEXR tile of zero size");
+    const std::uint64_t chunk_pixels = tiled ? std::uint64_t(tile[0]) * tile[1] : 256ull * std::uint64_t(width);
+    if (chunk_pixels > kMaxChunkBytes || chunk_pixels * bytes_per_pixel > kMaxChunkBytes)
+        throw corrupt("OpenEXR chunks (tiles or line blocks) over 1 GiB");
+    if (tiled) {
+        const std::uint64_t tiles = ((std::uint64_t(width) + tile[0] - 1) / tile[0]) *
+                                    ((std::uint64_t(height) + tile[1] - 1) / tile[1]);
+        if (8 * tiles > file_size)
+            throw corrupt("the offset table of " + std::to_string(tiles) + " tiles is larger than the file");
+    }
+}
+
+}  // namespace
 
 ExrContents read_exr(const std::filesystem::path& path) {
     const std::string name = path.string();
-    if (!std::filesystem::exists(path)) throw InputError(name + ": file not found");
+    std::error_code ec;  // a FIFO or device would block or never end: regular files only
+    if (!std::filesystem::is_regular_file(path, ec)) throw InputError(name + ": file not found");
+    check_exr_header(path, name);
     try {
         Imf::InputFile file(name.c_str());
         const Imath::Box2i window = file.header().dataWindow();

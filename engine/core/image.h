@@ -47,6 +47,10 @@ struct ExrContents {
 // compression). Throws InputError naming the file and the reason.
 ExrContents read_exr(const std::filesystem::path& path);
 
+// Reads a Radiance RGBE (.hdr) file: run-length or flat scanlines, "-Y H +X W" layout; A reads as
+// 1. Throws InputError naming the file and the reason (truncation, bad run lengths, sizes).
+Image read_radiance_hdr(const std::filesystem::path& path);
+
 // Writes RGBA float EXR (ZIP compressed), atomically.
 void write_exr(const std::filesystem::path& path, const Image& image);
 

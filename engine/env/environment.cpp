@@ -6,6 +6,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <string_view>
@@ -62,25 +63,23 @@ EnvironmentMap load_exr(const std::string& path) {
     return map;
 }
 
+// core's checked reader, not stb_image: Debian's stb_image 2.27 loops for ever on a run-length
+// scanline cut short (CVE-2021-42715).
 EnvironmentMap load_radiance_hdr(const std::string& path) {
-    int width = 0, height = 0, channels = 0;
-    if (!stbi_info(path.c_str(), &width, &height, &channels))
-        throw InputError(path + ": not a readable Radiance HDR file (" + std::string(stbi_failure_reason()) + ")");
-    check_shape(path, width, height);  // before decoding: an absurd header must not allocate
-    float* data = stbi_loadf(path.c_str(), &width, &height, &channels, 3);
-    if (!data)
-        throw InputError(path + ": not a readable Radiance HDR file (" + std::string(stbi_failure_reason()) + ")");
+    const Image image = read_radiance_hdr(path);
+    check_shape(path, image.width, image.height);
     EnvironmentMap map;
-    map.width = width;
-    map.height = height;
+    map.width = image.width;
+    map.height = image.height;
     map.source = path;
-    map.texels.resize(size_t(width) * size_t(height));
-    for (size_t t = 0; t < map.texels.size(); ++t) map.texels[t] = {data[3 * t], data[3 * t + 1], data[3 * t + 2]};
-    stbi_image_free(data);
+    map.texels.resize(image.pixels.size());
+    for (size_t t = 0; t < map.texels.size(); ++t) map.texels[t] = glm::vec3(image.pixels[t]);
     return map;
 }
 
 EnvironmentMap load_file(const std::string& path) {
+    std::error_code ec;  // opening a FIFO would block for ever, a device never end
+    if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": file not found or not a regular file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": file not found or not readable");
     std::array<char, 4> magic{};

@@ -57,6 +57,27 @@ ImportanceMap build_importance(const EnvironmentMap& map) {
     return result;
 }
 
+ImportanceMap downsample_importance(const ImportanceMap& fine, int factor) {
+    ImportanceMap coarse;
+    coarse.width = fine.width / factor;
+    coarse.height = fine.height / factor;
+    coarse.directions = TexelDirections(coarse.width, coarse.height);
+    coarse.uniform_fallback = fine.uniform_fallback;
+    coarse.row_solid_angle.resize(size_t(coarse.height));
+    coarse.importance.assign(size_t(coarse.width) * size_t(coarse.height), 0.0f);
+    for (int j = 0; j < coarse.height; ++j) {
+        coarse.row_solid_angle[size_t(j)] = latlong::texel_solid_angle(j, coarse.width, coarse.height);
+        for (int i = 0; i < coarse.width; ++i) {
+            double sum = 0.0;
+            for (int b = 0; b < factor; ++b)
+                for (int a = 0; a < factor; ++a) sum += fine.at(i * factor + a, j * factor + b);
+            coarse.importance[size_t(j) * size_t(coarse.width) + size_t(i)] = float(sum);
+            coarse.total += float(sum);
+        }
+    }
+    return coarse;
+}
+
 glm::dvec3 integrate_radiance(const EnvironmentMap& map) {
     std::vector<glm::dvec3> row_sum(size_t(map.height), glm::dvec3(0.0));
     tbb::parallel_for(0, map.height, [&](int j) {

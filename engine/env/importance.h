@@ -42,6 +42,10 @@ struct ImportanceMap {
 // Requires a valid map (finite, non-negative texels, W = 2H >= 2).
 ImportanceMap build_importance(const EnvironmentMap& map);
 
+// The same sphere at 1/factor of the resolution: the importance of factor x factor blocks of texels
+// summed, exact solid angles and directions of the coarse texels. Requires factor to divide W and H.
+ImportanceMap downsample_importance(const ImportanceMap& fine, int factor);
+
 // The integral of L dw over the sphere, summed texel by texel (RGB, double precision).
 glm::dvec3 integrate_radiance(const EnvironmentMap& map);
 

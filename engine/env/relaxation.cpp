@@ -6,6 +6,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <queue>
 
@@ -222,14 +223,14 @@ struct GapHistogram {
 // Everything the capacity solver reads from one assignment, in one pass over the texels.
 struct CellStatistics {
     std::vector<CellMoments> moments;  // texel by texel, as the cells are
-    // Importance with each border texel shared with its runner-up c (the best of its cell's
-    // neighbours): d = score_a - score_c is taken as linear across the texel (a square of the
+    // Importance with each border texel shared with its runner-up c (the best cell among its four
+    // neighbouring texels'): d = score_a - score_c is taken as linear across the texel (a square of the
     // texel's solid angle) and a keeps the fraction where d > 0. These masses change continuously with
     // the biases, as in the continuous problem Newton's method is made for (Kitagawa, Merigot and
     // Thibert 2019).
     std::vector<double> mass;
     BorderWeights borders;
-    std::vector<GapHistogram> loss;  // per cell, its texels at their gap to the runner-up
+    std::vector<GapHistogram> loss;  // per cell, its border texels at their gap to the runner-up
 
     explicit CellStatistics(int count = 0)
         : moments(static_cast<size_t>(count)),
@@ -245,41 +246,8 @@ CellStatistics cell_statistics(const ImportanceMap& importance, std::span<const 
     const int chunks = (height + kRowsPerChunk - 1) / kRowsPerChunk;
     std::vector<CellStatistics> partial(static_cast<size_t>(chunks), CellStatistics(count));
     auto cell = [&](int i, int j) { return int(texel_cell[size_t(j) * size_t(width) + size_t(i)]); };
-    // Pass 1: moments and borders (with the texel to the right, across the seam too, and below).
     tbb::parallel_for(0, chunks, [&](int chunk) {
         CellStatistics& out = partial[size_t(chunk)];
-        for (int j = chunk * kRowsPerChunk; j < std::min(height, (chunk + 1) * kRowsPerChunk); ++j)
-            for (int i = 0; i < width; ++i) {
-                const size_t t = size_t(j) * size_t(width) + size_t(i);
-                const int a = texel_cell[t];
-                const glm::dvec3 p = importance.directions(i, j);
-                out.moments[size_t(a)].add(importance.importance[t], importance.row_solid_angle[size_t(j)], p);
-                for (const auto& [i2, j2] : {std::pair{(i + 1) % width, j}, std::pair{i, j + 1}}) {
-                    if (j2 >= height || cell(i2, j2) == a) continue;
-                    const int b = cell(i2, j2);
-                    const size_t q = size_t(j2) * size_t(width) + size_t(i2);
-                    const double rate =
-                        std::abs(glm::dot(p - importance.directions(i2, j2), sites[size_t(a)] - sites[size_t(b)]));
-                    out.borders.add(
-                        a, b,
-                        0.25 * (double(importance.importance[t]) + importance.importance[q]) / std::max(rate, 1e-12));
-                }
-            }
-    });
-    CellStatistics total(count);
-    for (const CellStatistics& c : partial) {
-        for (size_t k = 0; k < size_t(count); ++k) total.moments[k] += c.moments[k];
-        total.borders.add(c.borders);
-    }
-    // Pass 2: every texel against its cell's neighbours for the runner-up.
-    std::vector<std::vector<int>> neighbours(static_cast<size_t>(count));
-    total.borders.for_each([&](int a, int b, double) {
-        neighbours[size_t(a)].push_back(b);
-        neighbours[size_t(b)].push_back(a);
-    });
-    std::vector<CellStatistics> second(static_cast<size_t>(chunks), CellStatistics(count));
-    tbb::parallel_for(0, chunks, [&](int chunk) {
-        CellStatistics& out = second[size_t(chunk)];
         for (int j = chunk * kRowsPerChunk; j < std::min(height, (chunk + 1) * kRowsPerChunk); ++j) {
             const double side = std::sqrt(importance.row_solid_angle[size_t(j)]);
             for (int i = 0; i < width; ++i) {
@@ -287,21 +255,35 @@ CellStatistics cell_statistics(const ImportanceMap& importance, std::span<const 
                 const int a = texel_cell[t];
                 const double value = importance.importance[t];
                 const glm::dvec3 p = importance.directions(i, j);
-                const double own = glm::dot(p, sites[size_t(a)]) + bias[size_t(a)];
+                out.moments[size_t(a)].add(value, importance.row_solid_angle[size_t(j)], p);
+                const int right = (i + 1) % width, left = (i + width - 1) % width;
+                const int neighbours[4] = {cell(right, j), cell(left, j), j + 1 < height ? cell(i, j + 1) : a,
+                                           j > 0 ? cell(i, j - 1) : a};
+                if (neighbours[0] == a && neighbours[1] == a && neighbours[2] == a && neighbours[3] == a) {
+                    out.mass[size_t(a)] += value;  // inside its cell
+                    continue;
+                }
+                // Borders with the texel to the right (across the seam too) and below.
+                for (const auto& [i2, j2, b] :
+                     {std::tuple{right, j, neighbours[0]}, std::tuple{i, j + 1, neighbours[2]}}) {
+                    if (b == a) continue;
+                    const size_t q = size_t(j2) * size_t(width) + size_t(i2);
+                    const double rate =
+                        std::abs(glm::dot(p - importance.directions(i2, j2), sites[size_t(a)] - sites[size_t(b)]));
+                    out.borders.add(a, b, 0.25 * (value + importance.importance[q]) / std::max(rate, 1e-12));
+                }
+                // Runner-up among the neighbouring texels' cells.
                 int runner_up = -1;
-                double best = -std::numeric_limits<double>::infinity();
-                for (int c : neighbours[size_t(a)]) {
+                double second = -std::numeric_limits<double>::infinity();
+                for (int c : neighbours) {
+                    if (c == a || c == runner_up) continue;
                     const double score = glm::dot(p, sites[size_t(c)]) + bias[size_t(c)];
-                    if (score > best) {
-                        best = score;
+                    if (score > second) {
+                        second = score;
                         runner_up = c;
                     }
                 }
-                if (runner_up < 0) {
-                    out.mass[size_t(a)] += value;
-                    continue;
-                }
-                const double gap = std::max(0.0, own - best);
+                const double gap = std::max(0.0, glm::dot(p, sites[size_t(a)]) + bias[size_t(a)] - second);
                 const glm::dvec3 d = sites[size_t(a)] - sites[size_t(runner_up)];
                 const double span = glm::length(d - glm::dot(d, p) * p) * side;  // range of d over the texel
                 const double kept = span > 0.0 ? std::min(1.0, 0.5 + gap / span) : 1.0;
@@ -311,11 +293,15 @@ CellStatistics cell_statistics(const ImportanceMap& importance, std::span<const 
             }
         }
     });
-    for (const CellStatistics& c : second)
+    CellStatistics total(count);
+    for (const CellStatistics& c : partial) {
         for (size_t k = 0; k < size_t(count); ++k) {
+            total.moments[k] += c.moments[k];
             total.mass[k] += c.mass[k];
             total.loss[k] += c.loss[k];
         }
+        total.borders.add(c.borders);
+    }
     return total;
 }
 
@@ -395,11 +381,13 @@ ImportanceMap blurred(const ImportanceMap& importance, int radius) {
 // cells aim at equal shares of the rest.
 class CapacitySolver {
 public:
-    CapacitySolver(const ImportanceMap& importance, int count, const Partition& partition, int evaluations)
+    // `heavy`: the texels (of this map) too heavy to share a cell's budget.
+    CapacitySolver(const ImportanceMap& importance, int count, std::vector<HeavyTexel> heavy,
+                   const Partition& partition, int evaluations)
         : importance_(&importance),
           count_(count),
           partition_(partition),
-          heavy_(heavy_texels(importance, count)),
+          heavy_(std::move(heavy)),
           texel_cell_(importance.texel_count()),
           evaluations_left_(evaluations) {}
 
@@ -409,8 +397,6 @@ public:
         double variation = 0.0;      // coefficient of variation of the sharing cells' masses
     };
 
-    // Statistics read `importance` from now on (the assignment does not depend on it).
-    void use_importance(const ImportanceMap& importance) { importance_ = &importance; }
     bool exhausted() const { return evaluations_left_ <= 0; }
     const std::vector<std::uint16_t>& texel_cell() const { return texel_cell_; }
 
@@ -499,23 +485,56 @@ private:
 
 }  // namespace
 
+namespace {
+
+// The problem at a coarser resolution, maybe blurred: its own importance map and tile search.
+struct Resolution {
+    std::unique_ptr<ImportanceMap> importance;  // the search keeps its address
+    std::unique_ptr<NearestSiteSearch> search;
+    Partition partition;
+    std::vector<HeavyTexel> heavy;
+};
+
+// `factor` is used only where it divides the map and leaves at least 16 rows.
+Resolution at_resolution(const ImportanceMap& fine, const std::vector<HeavyTexel>& heavy, int factor, int blur) {
+    if (fine.width % factor != 0 || fine.height % factor != 0 || fine.height / factor < 16) factor = 1;
+    Resolution r;
+    r.importance = std::make_unique<ImportanceMap>(factor > 1 ? downsample_importance(fine, factor) : fine);
+    if (blur > 0) *r.importance = blurred(*r.importance, blur);
+    r.search = std::make_unique<NearestSiteSearch>(*r.importance);
+    const NearestSiteSearch* search = r.search.get();
+    r.partition.moments = [search](std::span<const glm::dvec3> sites, std::span<const double> bias) {
+        return search->moments(sites, bias);
+    };
+    r.partition.assign = [search](std::span<const glm::dvec3> sites, std::span<const double> bias,
+                                  std::span<std::uint16_t> texel_cell) { search->assign(sites, bias, texel_cell); };
+    for (const HeavyTexel& h : heavy) {
+        const size_t i = h.texel % size_t(fine.width), j = h.texel / size_t(fine.width);
+        r.heavy.push_back({h.importance, (j / size_t(factor)) * size_t(r.importance->width) + i / size_t(factor)});
+    }
+    return r;
+}
+
+}  // namespace
+
 SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*seed*/, const Partition& partition) {
     SiteSet result;
     result.sites = equal_importance_regions(importance, count);
     result.bias.assign(size_t(count), 0.0);
-    CapacitySolver capacity(importance, count, partition, kCcvtMaxEvaluations);
+    const std::vector<HeavyTexel> heavy = heavy_texels(importance, count);
 
-    // Capacity first on blurred importance (a smooth problem Newton's method solves well), then sharper.
-    CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
-    for (int radius : kCcvtBlurRadii) {
-        const ImportanceMap soft = blurred(importance, radius);
-        capacity.use_importance(soft);
-        state = capacity.evaluate(result.sites, result.bias);
-        capacity.improve(result.sites, result.bias, state, kCcvtNewtonStepsPerLevel);
+    // Capacity first at coarse resolutions on blurred importance (a smooth problem, which Newton's method
+    // solves well, and cheap to evaluate), then on the map at the working resolution.
+    for (const auto& [factor, blur] : kCcvtCoarseLevels) {
+        Resolution level = at_resolution(importance, heavy, factor, blur);
+        CapacitySolver capacity(*level.importance, count, level.heavy, level.partition, kCcvtEvaluationsPerLevel);
+        CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
+        capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
     }
-    capacity.use_importance(importance);
-    state = capacity.evaluate(result.sites, result.bias);
-    capacity.improve(result.sites, result.bias, state, kCcvtNewtonStepsPerLevel);
+    Resolution working = at_resolution(importance, heavy, kCcvtWorkingFactor, 0);
+    CapacitySolver capacity(*working.importance, count, working.heavy, working.partition, kCcvtMaxEvaluations);
+    CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
+    capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
 
     // Moving the sites can upset the balance where the importance has sharp edges; the best balanced
     // state seen is the one kept.
@@ -555,9 +574,19 @@ SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*s
         state = capacity.evaluate(result.sites, result.bias);
         capacity.improve(result.sites, result.bias, state, kCcvtNewtonStepsPerIteration);
     }
-    if (state.variation <= best_variation || state.variation < kCcvtCapacityTolerance) return result;
-    best.iterations = result.iterations;
-    return best;
+    if (!(state.variation <= best_variation || state.variation < kCcvtCapacityTolerance)) {
+        const int iterations = result.iterations;
+        result = best;
+        result.iterations = iterations;
+    }
+
+    // A last balance at full resolution (the cells are assigned there).
+    if (working.importance->width != importance.width) {
+        CapacitySolver full(importance, count, heavy, partition, kCcvtPolishEvaluations);
+        CapacitySolver::State polish = full.evaluate(result.sites, result.bias);
+        full.improve(result.sites, result.bias, polish, kCcvtPolishEvaluations);
+    }
+    return result;
 }
 
 }  // namespace envshadow

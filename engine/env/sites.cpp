@@ -244,11 +244,12 @@ bool split_region(const Region& r, int left, int right, const ImportanceTable& t
     return true;
 }
 
+// Leaves: regions and the number of cells each is meant for (more than one where it could not be split).
 void split_recursively(const Region& r, int cells, const ImportanceTable& table, const ImportanceMap& importance,
-                       std::vector<Region>& out) {
+                       std::vector<std::pair<Region, int>>& out) {
     Region a, b;
     if (cells <= 1 || !split_region(r, cells / 2, cells - cells / 2, table, importance, a, b)) {
-        out.push_back(r);
+        out.emplace_back(r, cells);
         return;
     }
     split_recursively(a, cells / 2, table, importance, out);
@@ -259,16 +260,46 @@ void split_recursively(const Region& r, int cells, const ImportanceTable& table,
 
 std::vector<glm::dvec3> equal_importance_regions(const ImportanceMap& importance, int count) {
     const ImportanceTable table(importance);
-    std::vector<Region> regions;
+    std::vector<std::pair<Region, int>> regions;
     split_recursively({0, importance.width, 0, importance.height}, count, table, importance, regions);
     std::vector<glm::dvec3> sites;
-    for (const Region& r : regions) {
+    std::vector<bool> taken(importance.texel_count(), false);
+    int missing = 0;
+    for (const auto& [r, cells] : regions) {
         CellMoments m;
+        std::vector<std::size_t> texels;
         for (int j = r.j0; j < r.j1; ++j)
-            for (int i = r.i0; i < r.i1; ++i)
+            for (int i = r.i0; i < r.i1; ++i) {
                 m.add(importance.at(i, j), importance.row_solid_angle[size_t(j)], importance.directions(i, j));
+                texels.push_back(size_t(j) * size_t(importance.width) + size_t(i));
+            }
         const glm::dvec3 middle = importance.directions((r.i0 + r.i1) / 2, (r.j0 + r.j1) / 2);
         sites.push_back(centroid_direction(m, middle));
+        // A region too small or too bright to split into its cells: the others at its heaviest texels.
+        std::sort(texels.begin(), texels.end(),
+                  [&](std::size_t x, std::size_t y) { return importance.importance[x] > importance.importance[y]; });
+        for (int extra = 1; extra < cells; ++extra) {
+            if (size_t(extra - 1) < texels.size()) {
+                taken[texels[size_t(extra - 1)]] = true;
+                sites.push_back(texel_centres(importance, std::span(&texels[size_t(extra - 1)], 1)).front());
+            } else {
+                ++missing;
+            }
+        }
+    }
+    // Still short (a region had fewer texels than cells): the heaviest texels not used yet.
+    if (missing > 0) {
+        std::vector<std::size_t> order(importance.texel_count());
+        for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+            return importance.importance[x] > importance.importance[y];
+        });
+        for (std::size_t t : order) {
+            if (missing == 0) break;
+            if (taken[t]) continue;
+            sites.push_back(texel_centres(importance, std::span(&t, 1)).front());
+            --missing;
+        }
     }
     return sites;
 }

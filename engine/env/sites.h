@@ -6,6 +6,7 @@
 #include <glm/vec3.hpp>
 #include <random>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "env/importance.h"
@@ -62,7 +63,8 @@ SiteSet sites_floyd_steinberg(const ImportanceMap& importance, int count);
 // Cuts the map into `count` lat-long rectangles of equal importance (up to texel granularity) by
 // recursive splits across the angularly longest side (width measured at the middle latitude), a region
 // meant for n cells splitting into n/2 and n - n/2 in proportion; returns the regions' importance
-// centroids. Fewer regions only where a region is a single texel.
+// centroids. A region that cannot be split into its cells (too few texels, or one bright texel) gives
+// its other sites at its heaviest texels, so there are always `count` sites (count <= texels).
 std::vector<glm::dvec3> equal_importance_regions(const ImportanceMap& importance, int count);
 
 // mediancut: Debevec 2005, solid-angle corrected: equal_importance_regions for the largest 2^k <= count
@@ -86,18 +88,22 @@ SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t see
 
 inline constexpr double kLloydEnergyTolerance = 1e-4;
 inline constexpr int kLloydMaxIterations = 500;
-// CCVT: Newton steps on each blurred importance (box radii in texels), then on the map itself, before
-// the sites first move; steps after each move. It stops when the sharing cells' importance varies by
-// under kCcvtCapacityTolerance (coefficient of variation) and no site is further from its cell's
-// centroid than kCcvtRelativeMovementTolerance of the cell's radius, or after kCcvtMaxIterations moves
-// or kCcvtMaxEvaluations assignments, returning then the best balanced state seen.
-inline constexpr int kCcvtBlurRadii[] = {16, 4, 1};
-inline constexpr int kCcvtNewtonStepsPerLevel = 20;
+// CCVT: the capacity problem is solved first at coarse resolutions on blurred importance ({factor,
+// blur radius in coarse texels}), then the sites move at the working resolution (1/kCcvtWorkingFactor),
+// and a last balance runs at full resolution. Each stage has a budget of evaluations (an assignment and
+// a pass over the texels). The moves stop when the sharing cells' importance varies by under
+// kCcvtCapacityTolerance (coefficient of variation) and no site is further from its cell's centroid than
+// kCcvtRelativeMovementTolerance of the cell's radius, or after kCcvtMaxIterations moves or
+// kCcvtMaxEvaluations evaluations, keeping the best balanced state seen.
+inline constexpr std::pair<int, int> kCcvtCoarseLevels[] = {{4, 4}, {2, 2}};
+inline constexpr int kCcvtWorkingFactor = 2;
+inline constexpr int kCcvtEvaluationsPerLevel = 30;
 inline constexpr int kCcvtNewtonStepsPerIteration = 2;
+inline constexpr int kCcvtPolishEvaluations = 12;
 inline constexpr double kCcvtCapacityTolerance = 0.02;
 inline constexpr double kCcvtMoveFraction = 0.1;  // a site moves at most this fraction of its cell's radius
 inline constexpr double kCcvtRelativeMovementTolerance = 0.1;
 inline constexpr int kCcvtMaxIterations = 40;
-inline constexpr int kCcvtMaxEvaluations = 600;
+inline constexpr int kCcvtMaxEvaluations = 300;
 
 }  // namespace envshadow

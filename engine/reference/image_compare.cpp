@@ -70,7 +70,8 @@ Image8 relative_error_image(const Image& a, const Image& b, const Image8* mask, 
             if (selected[k]) {
                 const glm::dvec3 va(a.pixels[k]), vb(b.pixels[k]);
                 const double error = glm::length(vb - va) / std::max(glm::length(va), floor);
-                const double position = std::clamp(error / full_scale, 0.0, 1.0) * 4.0;
+                const double ratio = error / full_scale;  // NaN (a NaN scale or texel) shows as full scale
+                const double position = (std::isnan(ratio) ? 1.0 : std::clamp(ratio, 0.0, 1.0)) * 4.0;
                 const int segment = std::min(int(position), 3);
                 const double f = position - segment;
                 colour = (1.0 - f) * ramp[segment] + f * ramp[segment + 1];

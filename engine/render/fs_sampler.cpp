@@ -83,8 +83,10 @@ const gl::Program& FsSampler::sampler_program(int width, int vertices) {
         std::vector<std::string> defines = {"FS_IMPORTANCE_WIDTH " + std::to_string(width),
                                             "FS_MAX_VERTICES " + std::to_string(vertices)};
         if (!options_.double_precision_scan) defines.push_back("FS_SCAN_FLOAT");
-        if (options_.weighting == FsWeighting::adaptive_blocks) defines.push_back("FS_ADAPTIVE");
-        else if (options_.merge_samples_per_texel) defines.push_back("FS_MERGE");
+        if (options_.weighting == FsWeighting::adaptive_blocks)
+            defines.push_back("FS_ADAPTIVE");
+        else if (options_.merge_samples_per_texel)
+            defines.push_back("FS_MERGE");
         sampler_program_ = shaders_.build(
             {{GL_VERTEX_SHADER, "fs_sampler.vert"}, {GL_GEOMETRY_SHADER, "fs_sampler.geom"}}, defines, {"fs_texel"});
         sampler_program_width_ = width;

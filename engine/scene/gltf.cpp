@@ -32,6 +32,8 @@ using nlohmann::json;
 
 constexpr std::uintmax_t kMaxFileBytes = 2'000'000'000;  // tinygltf takes unsigned int lengths
 constexpr std::size_t kMaxVertices = 3 * kMaxGltfTriangles;
+constexpr int kMaxNodeDepth = 1000;  // node hierarchy levels: the traversal recurses once per level
+constexpr int kMaxJsonDepth = 64;    // nesting of JSON values: tinygltf converts "extras" recursively
 
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& reason) {
     throw InputError(file.string() + ": " + reason);
@@ -134,7 +136,7 @@ public:
         }
 
         state_.assign(model_.nodes.size(), Visit::never);
-        for (const int root : roots) visit(root, glm::dmat4(1.0), "scene");
+        for (const int root : roots) visit(root, glm::dmat4(1.0), "scene", 1);
 
         if (mesh_.indices.empty()) fail(path_, "no triangles in the default scene");
         mesh_.compute_bounds();
@@ -148,9 +150,12 @@ public:
 private:
     enum class Visit { never, on_path, done };
 
-    void visit(int node_index, const glm::dmat4& parent, const std::string& parent_name) {
+    void visit(int node_index, const glm::dmat4& parent, const std::string& parent_name, int depth) {
         if (node_index < 0 || std::size_t(node_index) >= model_.nodes.size())
             fail(path_, parent_name + " refers to node " + std::to_string(node_index) + ", which does not exist");
+        if (depth > kMaxNodeDepth)
+            fail(path_, "node hierarchy deeper than " + std::to_string(kMaxNodeDepth) + " levels (at node " +
+                            std::to_string(node_index) + ")");
         const auto n = std::size_t(node_index);
         if (state_[n] == Visit::on_path)
             fail(path_, "node cycle: node " + std::to_string(node_index) + " is its own ancestor");
@@ -167,7 +172,7 @@ private:
                                 ", which does not exist");
             add_mesh(std::size_t(node.mesh), world);
         }
-        for (const int child : node.children) visit(child, world, "node " + std::to_string(node_index));
+        for (const int child : node.children) visit(child, world, "node " + std::to_string(node_index), depth + 1);
         state_[n] = Visit::done;
     }
 
@@ -349,11 +354,15 @@ private:
             part.positions.resize(source.size());
             for (std::size_t v = 0; v < source.size(); ++v) {
                 const glm::vec3 local = read_vec3(positions, source[v]);
-                const glm::vec3 w(world * glm::dvec4(glm::dvec3(local), 1.0));
+                const glm::dvec3 w(world * glm::dvec4(glm::dvec3(local), 1.0));
                 if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z) ||
                     !std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
                     fail(path_, what + " POSITION " + std::to_string(source[v]) + " is not finite");
-                part.positions[v] = w;
+                // Beyond the limit, sums and extents downstream (bounds, fitting, cameras) overflow.
+                if (std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) > kMaxCoordinate)
+                    fail(path_, what + " POSITION " + std::to_string(source[v]) + 
+                                    " lies beyond 1e12 after its node transforms (coordinate limit)");
+                part.positions[v] = glm::vec3(w);
             }
             if (mirrored)  // a mirroring transform turns counter-clockwise faces clockwise: turn them back
                 for (std::size_t t = 0; t < tris.size(); t += 3) std::swap(tris[t + 1], tris[t + 2]);
@@ -408,6 +417,25 @@ bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, in
     return true;  // textures are not used: do not decode them
 }
 
+// tinygltf's file access, limited to regular files: it reads every image and buffer a URI names,
+// and opening a FIFO (or a device) there would block or read for ever.
+bool regular_file_exists(const std::string& path, void*) {
+    std::error_code ec;
+    return std::filesystem::is_regular_file(path, ec);
+}
+
+std::string path_unchanged(const std::string& path, void*) { return path; }
+
+bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+    try {
+        *out = read_bytes(path);
+        return true;
+    } catch (const InputError& e) {
+        if (err) *err += e.what();
+        return false;
+    }
+}
+
 }  // namespace
 
 GltfModel load_gltf(const std::filesystem::path& path) {
@@ -423,7 +451,11 @@ GltfModel load_gltf(const std::filesystem::path& path) {
 
     json document;
     try {
-        document = json::parse(json_text);
+        document = json::parse(json_text, [&](int depth, json::parse_event_t, json&) {
+            if (depth > kMaxJsonDepth)
+                fail(path, "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+            return true;
+        });
     } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers too large
         fail(path, "invalid JSON: " + json_reason(e));
     }
@@ -448,6 +480,7 @@ GltfModel load_gltf(const std::filesystem::path& path) {
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skip_image, nullptr);
+    loader.SetFsCallbacks({regular_file_exists, path_unchanged, read_regular_file, nullptr, nullptr});
     tinygltf::Model model;
     std::string err, warn;
     const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()),

@@ -79,6 +79,12 @@ struct Camera {
     glm::mat4 clip_from_view(float aspect, float near_plane, float far_plane) const;
 };
 
+// Largest scene any loader builds, all objects together (README "Input limits").
+inline constexpr std::size_t kMaxSceneTriangles = 50'000'000;
+// Largest world coordinate (metres) of any vertex, camera or animation point: products and sums of
+// a few such values (bounds, extents, projection fits) stay far inside float range.
+inline constexpr double kMaxCoordinate = 1e12;
+
 struct Scene {
     std::filesystem::path file;
     EnvironmentSettings environment;

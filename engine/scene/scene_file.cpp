@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 constexpr const char* kDefaultEnvironmentFile = "/usr/share/blender/datafiles/studiolights/world/courtyard.exr";
 constexpr float kBareModelSize = 2.0f;      // metres: a bare glTF's largest side
 constexpr float kBareGroundFactor = 15.0f;  // ground plane side, in model sizes: room for long shadows
+constexpr int kMaxJsonDepth = 64;           // nesting of JSON values: dump() and the reader recurse
 
 std::string lowercase_extension(const fs::path& path) {
     std::string e = path.extension().string();
@@ -68,10 +69,17 @@ public:
         const auto objects = document.find("objects");
         if (objects == document.end()) fail("objects", "required: the list of objects");
         if (!objects->is_array() || objects->empty()) fail("objects", "expected a non-empty array of objects");
+        // The sizes built-in meshes ask for, summed before any is built (building them takes seconds).
+        double declared = 0.0;
+        for (const json& o : *objects) declared += declared_triangles(o);
+        if (declared > double(kMaxSceneTriangles)) fail("objects", too_many_triangles());
         std::vector<bool> is_ground;
+        std::size_t triangles = 0;
         for (std::size_t i = 0; i < objects->size(); ++i) {
             bool ground = false;
             scene.objects.push_back(object((*objects)[i], "objects[" + std::to_string(i) + "]", ground));
+            triangles += scene.objects.back().mesh->triangle_count();
+            if (triangles > kMaxSceneTriangles) fail("objects[" + std::to_string(i) + "]", too_many_triangles());
             is_ground.push_back(ground);
             if (ground) {
                 if (scene.has_ground)
@@ -95,6 +103,29 @@ private:
     [[noreturn]] void fail(const std::string& where, const std::string& reason) const {
         throw InputError(file_.string() + ": " + where + ": " + reason);
     }
+    static std::string too_many_triangles() {
+        return "the scene has more than " + std::to_string(kMaxSceneTriangles) + " triangles (limit)";
+    }
+    // Triangles a built-in mesh asks for (meshes.h), from its parameters as written: 0 for anything
+    // else, or for values of the wrong type (reported when the mesh is read).
+    static double declared_triangles(const json& object) {
+        const auto mesh = object.is_object() ? object.find("mesh") : object.end();
+        if (!object.is_object() || mesh == object.end() || !mesh->is_object()) return 0.0;
+        const auto get = [&](const char* key, double fallback) {
+            const auto it = mesh->find(key);
+            return it != mesh->end() && it->is_number() ? it->get<double>() : fallback;
+        };
+        const auto type = mesh->find("type");
+        if (type == mesh->end() || !type->is_string()) return 0.0;
+        if (*type == "sphere") {
+            const double segments = get("segments", SphereShape{}.segments);
+            return 2.0 * segments * (segments / 2.0 - 1.0);
+        }
+        if (*type == "torus") return 2.0 * get("segments", TorusShape{}.segments) * get("sides", TorusShape{}.sides);
+        if (*type == "blob") return get("triangles", BlobShape{}.triangles);
+        if (*type == "figure") return get("triangles", FigureShape{}.triangles);
+        return 0.0;
+    }
     static std::string join(const std::string& where, const std::string& key) {
         return where.empty() ? key : where + "." + key;
     }
@@ -102,7 +133,8 @@ private:
     // Unknown keys are errors: they are nearly always typos.
     void expect_keys(const json& value, const std::string& where, std::initializer_list<const char*> keys) const {
         if (!value.is_object()) fail(where.empty() ? "scene" : where, "expected an object");
-        for (const auto& [key, unused] : value.items()) {
+        for (const auto& item : value.items()) {
+            const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture those
             if (std::find_if(keys.begin(), keys.end(), [&](const char* k) { return key == k; }) != keys.end()) continue;
             std::string known;
             for (const char* k : keys) known += std::string(known.empty() ? "" : ", ") + k;
@@ -170,6 +202,22 @@ private:
         if (!fs::is_regular_file(path, ec)) fail(where, path.string() + " not found");
     }
 
+    // Coordinates past kMaxCoordinate make bounds, extents and projection fits overflow downstream.
+    void require_within_limit(const glm::vec3& p, const std::string& where) const {
+        if (!(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) <= kMaxCoordinate))
+            fail(where, "lies beyond 1e12 (coordinate limit)");
+    }
+    void require_within_limit(const glm::mat4& world_from_object, const Mesh& mesh, const std::string& where) const {
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::vec3 p(corner & 1 ? mesh.bounds_max.x : mesh.bounds_min.x,
+                              corner & 2 ? mesh.bounds_max.y : mesh.bounds_min.y,
+                              corner & 4 ? mesh.bounds_max.z : mesh.bounds_min.z);
+            const glm::dvec4 w = glm::dmat4(world_from_object) * glm::dvec4(glm::dvec3(p), 1.0);
+            if (!(std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) <= kMaxCoordinate))
+                fail(where, "puts the object beyond 1e12 (coordinate limit)");
+        }
+    }
+
     EnvironmentSettings environment(const json& value) {
         EnvironmentSettings env;
         const json* source = &value;
@@ -206,6 +254,8 @@ private:
         if (target == value.end()) fail("camera.target", "required");
         c.position = vec3(*position, "camera.position");
         c.target = vec3(*target, "camera.target");
+        require_within_limit(c.position, "camera.position");
+        require_within_limit(c.target, "camera.target");
         if (const auto it = value.find("up"); it != value.end()) c.up = vec3(*it, "camera.up");
         if (const auto it = value.find("fov"); it != value.end())
             c.fov_y_degrees = number_in(*it, "camera.fov", 1.0f, 170.0f);
@@ -365,6 +415,8 @@ private:
             if (const auto it = value.find("radius"); it != value.end())
                 a.radius = number_in(*it, where + ".radius", 0.0f, 1e6f);
             if (const auto it = value.find("height"); it != value.end()) a.height = number(*it, where + ".height");
+            require_within_limit(a.center + glm::vec3(a.radius, a.height, a.radius), where);
+            require_within_limit(a.center - glm::vec3(a.radius, -a.height, a.radius), where);
         } else if (type == "path") {
             expect_keys(value, where, {"type", "points", "period", "face_motion"});
             a.kind = Animation::Kind::path;
@@ -373,6 +425,8 @@ private:
                 fail(where + ".points", "expected an array of at least 2 points [x, y, z]");
             for (std::size_t i = 0; i < points->size(); ++i)
                 a.points.push_back(vec3((*points)[i], where + ".points[" + std::to_string(i) + "]"));
+            for (std::size_t i = 0; i < a.points.size(); ++i)
+                require_within_limit(a.points[i], where + ".points[" + std::to_string(i) + "]");
             double length = 0.0;
             for (std::size_t i = 0; i < a.points.size(); ++i)
                 length += glm::distance(a.points[i], a.points[(i + 1) % a.points.size()]);
@@ -414,6 +468,7 @@ private:
         if (const auto it = value.find("transform"); it != value.end())
             placement = transform(*it, where + ".transform");
         object.transform = placement * fit;
+        require_within_limit(object.transform, *object.mesh, where + ".transform");
 
         object.material.rho_d = default_diffuse;
         if (const auto it = value.find("material"); it != value.end())
@@ -454,7 +509,12 @@ Scene load_scene_json(const fs::path& path) {
     if (!in) throw InputError(path.string() + ": cannot read the file");
     json document;
     try {
-        document = json::parse(in);
+        document = json::parse(in, [&](int depth, json::parse_event_t, json&) {
+            if (depth > kMaxJsonDepth)
+                throw InputError(path.string() + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                                 " levels");
+            return true;
+        });
     } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers too large
         std::string what = e.what();
         if (const auto bracket = what.find("] "); what.rfind("[json.exception", 0) == 0 && bracket != std::string::npos)

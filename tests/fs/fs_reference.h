@@ -201,17 +201,13 @@ inline EnvironmentMap analytic_sky(int width, glm::dvec3 sun, double sun_radianc
 }
 
 // Sun direction from elevation and azimuth (radians), azimuth measured from +X towards +Z.
-inline glm::dvec3 sun_direction(double elevation, double azimuth) {
+inline glm::dvec3 sun_at(double elevation, double azimuth) {
     return {std::cos(elevation) * std::cos(azimuth), std::sin(elevation), std::cos(elevation) * std::sin(azimuth)};
 }
 
-// The blender-data city photograph, negatives clamped to zero (DESIGN.md §2).
+// The blender-data city photograph through the project's loader (negatives clamped, DESIGN.md §2).
 inline EnvironmentMap city_map() {
-    const ExrContents exr = read_exr(kCityExr);
-    EnvironmentMap map{exr.image.width, exr.image.height, {}, kCityExr};
-    map.texels.reserve(exr.image.pixels.size());
-    for (const glm::vec4& p : exr.image.pixels) map.texels.push_back(glm::max(glm::vec3(p), glm::vec3(0.0f)));
-    return map;
+    return load_environment(kCityExr);
 }
 
 // The map as an RGBA32F texture, texel (i, j) = map texel (i, j) (row 0, the zenith, first).

@@ -48,12 +48,14 @@ Setup& setup() {
     return s;
 }
 
-// Arguments: importance width, M, double-precision scan (1/0).
+// Arguments: importance width (0: the CPU method's blocks, FsWeighting::adaptive_blocks), M,
+// double-precision scan (1/0).
 void BM_FsSampler(benchmark::State& state) {
     Setup& s = setup();
     const int width = int(state.range(0)), samples = int(state.range(1));
     render::FsSamplerOptions options{width, width / 2};
     options.double_precision_scan = state.range(2) != 0;
+    if (width == 0) options.weighting = render::FsWeighting::adaptive_blocks;
     render::FsSampler sampler(s.shaders, options);
     for (int warm_up = 0; warm_up < 3; ++warm_up) sampler.sample(s.city, render::FsSampleRequest{samples});
     const gl::Query begin = gl::Query::create(GL_TIMESTAMP), end = gl::Query::create(GL_TIMESTAMP);
@@ -76,6 +78,7 @@ void BM_FsSampler(benchmark::State& state) {
     state.counters["gpu_ms_median"] = median(totals);
     state.counters["wall_ms_median"] = median(walls);
     state.counters["lights"] = double(sampler.read_counts().light_count);
+    state.counters["importance_width"] = double(sampler.importance_size().x);
     state.SetLabel(s.context->renderer());
 }
 
@@ -87,6 +90,7 @@ BENCHMARK(BM_FsSampler)
     ->Args({1024, 128, 0})
     ->Args({256, 64, 1})
     ->Args({1024, 256, 1})
+    ->Args({0, 128, 1})
     ->UseManualTime()
     ->Iterations(25)
     ->Unit(benchmark::kMillisecond);

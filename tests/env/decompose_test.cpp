@@ -1,0 +1,333 @@
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "core/error.h"
+#include "env/cell_overlay.h"
+#include "env/cells.h"
+#include "env/importance.h"
+#include "env/latlong.h"
+#include "env/nearest_site.h"
+#include "env/sites.h"
+#include "env_test_data.h"
+
+namespace envshadow {
+namespace {
+
+constexpr double kFourPi = 4.0 * std::numbers::pi;
+const Method kMethods[] = {Method::lloyd, Method::ccvt, Method::mediancut, Method::random, Method::fs};
+
+Decomposition run(const EnvironmentMap& map, Method method, int lights, std::uint64_t seed = 1) {
+    DecomposeOptions options;
+    options.method = method;
+    options.lights = lights;
+    options.seed = seed;
+    return decompose(map, options);
+}
+
+int expected_cells(Method method, int lights) {
+    if (method != Method::mediancut) return lights;
+    int power = 1;
+    while (2 * power <= lights) power *= 2;
+    return power;
+}
+
+// The properties every decomposition has (DESIGN.md §3), checked against values computed here.
+void expect_valid(const EnvironmentMap& map, const Decomposition& d, const glm::dvec3& integral, Method method,
+                  int lights, const std::string& label) {
+    SCOPED_TRACE(label);
+    const int cells = int(d.cells.size());
+    if (method == Method::fs)
+        EXPECT_LE(std::abs(cells - lights), 2);
+    else
+        EXPECT_EQ(cells, expected_cells(method, lights));
+    // Every texel is in exactly one cell.
+    ASSERT_EQ(d.texel_cell.size(), map.texels.size());
+    EXPECT_LT(*std::max_element(d.texel_cell.begin(), d.texel_cell.end()), cells);
+    glm::dvec3 radiance(0.0);
+    double solid_angle = 0.0;
+    for (const Cell& c : d.cells) {
+        radiance += glm::dvec3(c.radiance);
+        solid_angle += c.solid_angle;
+        EXPECT_NEAR(glm::length(c.direction), 1.0f, 1e-5f);
+        EXPECT_GE(c.cos_radius, -1.0f);
+        EXPECT_LE(c.cos_radius, 1.0f);
+        EXPECT_GE(c.cos_radius_weighted, -1.0f);
+        EXPECT_LE(c.cos_radius_weighted, 1.0f);
+        EXPECT_GE(c.solid_angle, 0.0f);
+    }
+    // Sum of cell radiance equals the integral of L dw; solid angles sum to 4 pi.
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(radiance[c], integral[c], 1e-4 * integral[c] + 1e-12);
+        EXPECT_NEAR(d.integral[c], integral[c], 1e-9 * integral[c] + 1e-12);
+    }
+    EXPECT_NEAR(solid_angle, kFourPi, 1e-4 * kFourPi);
+}
+
+class Conservation : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Conservation, EveryMethodAndLightCount) {
+    const EnvironmentMap& map = test::world(GetParam());
+    const glm::dvec3 integral = test::direct_integral(map);
+    for (Method method : kMethods)
+        for (int lights : {1, 16, 64, 128, 256})
+            expect_valid(map, run(map, method, lights), integral, method, lights,
+                         GetParam() + " " + std::string(to_string(method)) + " N=" + std::to_string(lights));
+}
+
+INSTANTIATE_TEST_SUITE_P(Maps, Conservation,
+                         ::testing::Values("city", "courtyard", "forest", "interior", "night", "studio", "sunrise",
+                                           "sunset", "builtin:constant", "builtin:sky"),
+                         [](const auto& param_info) {
+                             std::string name = param_info.param;
+                             std::replace(name.begin(), name.end(), ':', '_');
+                             return name;
+                         });
+
+TEST(Decompose, WhiteFurnaceGivesFourPiPerChannel) {
+    const EnvironmentMap map = load_environment("builtin:constant");
+    for (Method method : kMethods) {
+        glm::dvec3 sum(0.0);
+        for (const Cell& c : run(map, method, 64).cells) sum += glm::dvec3(c.radiance);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], kFourPi, 1e-4 * kFourPi) << to_string(method);
+    }
+}
+
+// Each cell from its texels, recomputed here: the importance-weighted mean direction and both caps.
+TEST(Decompose, CellsAreIntegratedFromTheirTexels) {
+    const EnvironmentMap& map = test::world("interior");
+    const Decomposition d = run(map, Method::lloyd, 32);
+    std::vector<glm::dvec3> weighted(d.cells.size(), glm::dvec3(0.0));
+    std::vector<double> importance(d.cells.size(), 0.0), solid_angle(d.cells.size(), 0.0);
+    for (int j = 0; j < map.height; ++j) {
+        const double dw = latlong::texel_solid_angle(j, map.width, map.height);
+        for (int i = 0; i < map.width; ++i) {
+            const size_t k = d.texel_cell[size_t(j) * size_t(map.width) + size_t(i)];
+            const double I = latlong::luminance(glm::dvec3(map.at(i, j))) * dw;
+            weighted[k] += I * latlong::texel_direction(i, j, map.width, map.height);
+            importance[k] += I;
+            solid_angle[k] += dw;
+        }
+    }
+    for (size_t k = 0; k < d.cells.size(); ++k) {
+        const glm::dvec3 centre = glm::normalize(weighted[k]);
+        EXPECT_NEAR(glm::length(glm::dvec3(d.cells[k].direction) - centre), 0.0, 1e-5);
+        EXPECT_NEAR(d.cells[k].solid_angle, solid_angle[k], 1e-5);
+        EXPECT_NEAR(d.cells[k].cos_radius, 1.0 - solid_angle[k] / (2.0 * std::numbers::pi), 1e-5);
+        EXPECT_NEAR(d.cells[k].cos_radius_weighted, 2.0 * glm::length(weighted[k]) / importance[k] - 1.0, 1e-4);
+    }
+}
+
+TEST(Decompose, CellsAreTheNearestSiteAssignment) {
+    const EnvironmentMap& map = test::world("sunset");
+    const ImportanceMap importance = build_importance(map);
+    for (Method method : kMethods) {
+        const Decomposition d = run(map, method, 48);
+        std::vector<std::uint16_t> brute(importance.texel_count());
+        assign_nearest_brute_force(importance, d.sites, d.site_bias, brute);
+        EXPECT_EQ(brute, d.texel_cell) << to_string(method);
+    }
+}
+
+TEST(Decompose, BruteForceSearchGivesTheSameCells) {
+    const EnvironmentMap map = load_environment("builtin:sky:width=256");
+    DecomposeOptions options;
+    options.lights = 24;
+    for (Method method : {Method::lloyd, Method::ccvt}) {
+        options.method = method;
+        options.search = SiteSearch::tiles;
+        const Decomposition tiles = decompose(map, options);
+        options.search = SiteSearch::brute_force;
+        const Decomposition brute = decompose(map, options);
+        EXPECT_EQ(tiles.texel_cell, brute.texel_cell) << to_string(method);
+        EXPECT_EQ(tiles.iterations, brute.iterations);
+    }
+}
+
+TEST(Decompose, SameSeedSameCellsWhateverTheThreadCount) {
+    const EnvironmentMap& map = test::world("forest");
+    for (Method method : {Method::lloyd, Method::ccvt, Method::random}) {
+        Decomposition one, two;
+        tbb::task_arena(1).execute([&] { one = run(map, method, 40, 7); });
+        tbb::task_arena(2).execute([&] { two = run(map, method, 40, 7); });
+        ASSERT_EQ(one.cells.size(), two.cells.size());
+        for (size_t k = 0; k < one.cells.size(); ++k) {
+            EXPECT_EQ(one.cells[k].direction, two.cells[k].direction) << to_string(method);
+            EXPECT_EQ(one.cells[k].radiance, two.cells[k].radiance) << to_string(method);
+        }
+        EXPECT_EQ(one.texel_cell, two.texel_cell);
+    }
+    // And the seed matters where it is used.
+    EXPECT_NE(run(map, Method::random, 40, 7).texel_cell, run(map, Method::random, 40, 8).texel_cell);
+}
+
+// Coefficient of variation of the cells' importance, leaving out cells that hold a texel heavier than
+// an equal share (a sun cannot be split).
+double importance_variation(const EnvironmentMap& map, const Decomposition& d) {
+    const ImportanceMap importance = build_importance(map);
+    const size_t n = d.cells.size();
+    std::vector<double> mass(n, 0.0);
+    std::vector<bool> holds_sun(n, false);
+    for (size_t t = 0; t < importance.texel_count(); ++t) {
+        mass[d.texel_cell[t]] += importance.importance[t];
+        if (importance.importance[t] > importance.total / double(n)) holds_sun[d.texel_cell[t]] = true;
+    }
+    double sum = 0.0, squares = 0.0;
+    int count = 0;
+    for (size_t k = 0; k < n; ++k)
+        if (!holds_sun[k]) {
+            sum += mass[k];
+            squares += mass[k] * mass[k];
+            ++count;
+        }
+    const double mean = sum / count;
+    return std::sqrt(std::max(0.0, squares / count - mean * mean)) / mean;
+}
+
+TEST(Ccvt, CellsCarryEqualImportanceOnEvenMaps) {
+    for (const auto& [name, lights] :
+         {std::pair{"courtyard", 16}, std::pair{"courtyard", 64}, std::pair{"studio", 16}, std::pair{"studio", 64}}) {
+        const EnvironmentMap& map = test::world(name);
+        EXPECT_LT(importance_variation(map, run(map, Method::ccvt, lights)), 0.10) << name << " N=" << lights;
+    }
+}
+
+TEST(Ccvt, CellsWithoutTheSunCarryEqualImportance) {
+    for (const auto& [name, lights] : {std::pair{"city", 16}, std::pair{"city", 64}, std::pair{"sunrise", 16}}) {
+        const EnvironmentMap& map = test::world(name);
+        const Decomposition d = run(map, Method::ccvt, lights);
+        EXPECT_LT(importance_variation(map, d), 0.10) << name << " N=" << lights;
+    }
+}
+
+// Spearman rank correlation.
+double rank_correlation(const std::vector<double>& a, const std::vector<double>& b) {
+    auto ranks = [](const std::vector<double>& v) {
+        std::vector<size_t> order(v.size());
+        for (size_t k = 0; k < v.size(); ++k) order[k] = k;
+        std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return v[x] < v[y]; });
+        std::vector<double> r(v.size());
+        for (size_t k = 0; k < order.size(); ++k) r[order[k]] = double(k);
+        return r;
+    };
+    const std::vector<double> ra = ranks(a), rb = ranks(b);
+    const double mean = (double(a.size()) - 1.0) / 2.0;
+    double num = 0.0, da = 0.0, db = 0.0;
+    for (size_t k = 0; k < a.size(); ++k) {
+        num += (ra[k] - mean) * (rb[k] - mean);
+        da += (ra[k] - mean) * (ra[k] - mean);
+        db += (rb[k] - mean) * (rb[k] - mean);
+    }
+    return num / std::sqrt(da * db);
+}
+
+TEST(Lloyd, PlacesSmallerCellsWhereImportanceIsHigher) {
+    for (const std::string name : {"sunrise", "courtyard", "night"}) {
+        const EnvironmentMap& map = test::world(name);
+        const Decomposition d = run(map, Method::lloyd, 64);
+        const ImportanceMap importance = build_importance(map);
+        std::vector<double> mass(d.cells.size(), 0.0), density, area;
+        for (size_t t = 0; t < importance.texel_count(); ++t) mass[d.texel_cell[t]] += importance.importance[t];
+        for (size_t k = 0; k < d.cells.size(); ++k) {
+            density.push_back(mass[k] / d.cells[k].solid_angle);
+            area.push_back(d.cells[k].solid_angle);
+        }
+        EXPECT_LT(rank_correlation(density, area), -0.6) << name;
+        EXPECT_GT(d.iterations, 1);
+        EXPECT_LT(d.iterations, kLloydMaxIterations) << name << ": did not converge";
+    }
+}
+
+TEST(FloydSteinberg, GivesTheAskedNumberOfSamplesToWithinTwo) {
+    for (const std::string& name : test::kWorldNames)
+        for (int lights : {1, 2, 3, 16, 100, 256}) {
+            const ImportanceMap importance = build_importance(test::world(name));
+            const int samples = int(sites_floyd_steinberg(importance, lights).sites.size());
+            EXPECT_LE(std::abs(samples - lights), 2) << name << " N=" << lights;
+        }
+}
+
+TEST(MedianCut, GivesAPowerOfTwoCellsOfNearlyEqualImportance) {
+    const EnvironmentMap& map = test::world("courtyard");
+    for (const auto& [lights, cells] : {std::pair{1, 1}, std::pair{100, 64}, std::pair{128, 128}, std::pair{255, 128}})
+        EXPECT_EQ(int(run(map, Method::mediancut, lights).cells.size()), cells);
+}
+
+TEST(Random, DrawsTexelsInProportionToImportance) {
+    // One draw per seed: the sun texel of city holds 6.7% of the importance.
+    const ImportanceMap importance = build_importance(test::world("city"));
+    const size_t sun = size_t(std::max_element(importance.importance.begin(), importance.importance.end()) -
+                              importance.importance.begin());
+    const double share = importance.importance[sun] / importance.total;
+    int hits = 0;
+    const int draws = 1000;
+    for (int seed = 0; seed < draws; ++seed) {
+        std::mt19937_64 rng(std::uint64_t(seed) * 7919u + 1u);
+        hits += sample_distinct_texels(importance, 1, rng).front() == sun;
+    }
+    const double sigma = std::sqrt(share * (1.0 - share) / draws);
+    EXPECT_NEAR(double(hits) / draws, share, 4.0 * sigma);
+}
+
+TEST(Decompose, TinyAndBlackMapsGiveWellDefinedCells) {
+    EnvironmentMap tiny;
+    tiny.width = 2;
+    tiny.height = 1;
+    tiny.texels = {glm::vec3(1.0f, 2.0f, 3.0f), glm::vec3(0.5f)};
+    tiny.source = "tiny";
+    for (Method method : kMethods)
+        for (int lights : {1, 2}) {
+            const Decomposition d = run(tiny, method, lights);
+            expect_valid(tiny, d, test::direct_integral(tiny), method, lights,
+                         "tiny " + std::string(to_string(method)));
+        }
+    EXPECT_THROW(run(tiny, Method::lloyd, 3), InputError);
+
+    const EnvironmentMap black = load_environment("builtin:constant:0");
+    for (Method method : kMethods) {
+        const Decomposition d = run(black, method, 16);
+        EXPECT_TRUE(d.uniform_importance);
+        expect_valid(black, d, glm::dvec3(0.0), method, 16, "black " + std::string(to_string(method)));
+        for (const Cell& c : d.cells) EXPECT_GT(c.solid_angle, 0.0f) << to_string(method);
+    }
+}
+
+TEST(Decompose, RejectsLightCountsOutsideTheRange) {
+    const EnvironmentMap map = load_environment("builtin:constant");
+    EXPECT_THROW(run(map, Method::lloyd, 0), UsageError);
+    EXPECT_THROW(run(map, Method::lloyd, 257), UsageError);
+    EXPECT_THROW(parse_method("kmeans"), UsageError);
+    for (Method method : kMethods) EXPECT_EQ(parse_method(to_string(method)), method);
+}
+
+TEST(CellOverlay, DrawsBordersAndCentresOverTheMap) {
+    const EnvironmentMap& map = test::world("city");
+    const Decomposition d = run(map, Method::mediancut, 16);
+    const Image8 picture = draw_cells(map, d);
+    ASSERT_EQ(picture.width, map.width);
+    ASSERT_EQ(picture.height, map.height);
+    for (const Cell& c : d.cells) {
+        const glm::dvec2 uv = latlong::uv(glm::dvec3(c.direction));
+        const std::uint8_t* p =
+            picture.at(int(uv.x * map.width) % map.width, std::min(map.height - 1, int(uv.y * map.height)));
+        EXPECT_EQ(p[0], 255);
+        EXPECT_EQ(p[1], 40);
+    }
+    // Borders wherever two neighbouring texels belong to different cells.
+    int borders = 0;
+    for (int j = 0; j < map.height; ++j)
+        for (int i = 0; i + 1 < map.width; ++i)
+            if (d.texel_cell[size_t(j) * size_t(map.width) + size_t(i)] !=
+                d.texel_cell[size_t(j) * size_t(map.width) + size_t(i) + 1]) {
+                const std::uint8_t* p = picture.at(i, j);
+                borders += (p[0] == 255 && p[1] == 255 && p[2] == 255) || (p[0] == 255 && p[1] == 40) || p[0] == 0;
+            }
+    EXPECT_GT(borders, 0);
+}
+
+}  // namespace
+}  // namespace envshadow

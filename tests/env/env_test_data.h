@@ -1,0 +1,59 @@
+#pragma once
+// Shared by the env tests: the eight HDR photographs of blender-data (DESIGN.md §7), loaded once per
+// test program, and a scratch folder.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <glm/vec3.hpp>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "env/environment.h"
+
+namespace envshadow::test {
+
+inline const std::filesystem::path kWorldFolder = "/usr/share/blender/datafiles/studiolights/world";
+inline const std::vector<std::string> kWorldNames = {"city",  "courtyard", "forest",  "interior",
+                                                     "night", "studio",    "sunrise", "sunset"};
+
+inline std::string world_path(const std::string& name) {
+    return (kWorldFolder / (name + ".exr")).string();
+}
+
+// Loaded once per process; the maps are read-only afterwards.
+inline const EnvironmentMap& world(const std::string& name) {
+    static std::map<std::string, EnvironmentMap> cache;
+    auto it = cache.find(name);
+    if (it == cache.end())
+        it = cache.emplace(name, load_environment(name.starts_with("builtin:") ? name : world_path(name))).first;
+    return it->second;
+}
+
+inline std::filesystem::path scratch_folder() {
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("envshadow_env_" + std::to_string(::getpid()) + "_" +
+                                                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+}  // namespace envshadow::test
+
+namespace envshadow::test {
+
+// The integral of L dw written out here, independently of the code under test.
+inline glm::dvec3 direct_integral(const EnvironmentMap& map) {
+    glm::dvec3 sum(0.0);
+    for (int j = 0; j < map.height; ++j) {
+        const double dw =
+            (2.0 * 3.14159265358979323846 / map.width) * (std::cos(3.14159265358979323846 * j / map.height) -
+                                                          std::cos(3.14159265358979323846 * (j + 1) / map.height));
+        for (int i = 0; i < map.width; ++i) sum += dw * glm::dvec3(map.at(i, j));
+    }
+    return sum;
+}
+
+}  // namespace envshadow::test
