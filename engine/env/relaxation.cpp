@@ -9,7 +9,9 @@
 #include <memory>
 #include <numbers>
 #include <queue>
+#include <unordered_map>
 
+#include "env/latlong.h"
 #include "env/sites.h"
 
 namespace envshadow {
@@ -55,10 +57,30 @@ double reseed_empty_cells(std::vector<glm::dvec3>& sites, std::vector<double>* b
 }
 
 // Floyd-Steinberg samples of `weight`, the seed shifting the halftoning's starting error.
+// Floyd-Steinberg samples of `weight`, the seed shifting the halftoning's starting error; one short
+// (the halftoning may give M - 1) is made up at the heaviest texel no sample stands on.
 std::vector<glm::dvec3> initial_sites(const ImportanceMap& importance, std::span<const float> weight, int count,
                                       std::uint64_t seed) {
     std::mt19937_64 rng(seed);
-    return floyd_steinberg_samples(importance, weight, count, 2.0 * uniform01(rng) - 1.0);
+    std::vector<glm::dvec3> sites = floyd_steinberg_samples(importance, weight, count, 2.0 * uniform01(rng) - 1.0);
+    if (int(sites.size()) < count) {
+        std::vector<bool> taken(importance.texel_count(), false);
+        for (const glm::dvec3& s : sites) {
+            const glm::dvec2 uv = latlong::uv(s);
+            const int i = std::min(importance.width - 1, int(uv.x * importance.width));
+            const int j = std::min(importance.height - 1, int(uv.y * importance.height));
+            taken[size_t(j) * size_t(importance.width) + size_t(i)] = true;
+        }
+        std::vector<std::size_t> order(importance.texel_count());
+        for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t a, std::size_t b) { return weight[a] > weight[b]; });
+        for (std::size_t t : order) {
+            if (int(sites.size()) >= count) break;
+            if (!taken[t]) sites.push_back(texel_centres(importance, std::span(&t, 1)).front());
+        }
+    }
+    return sites;
 }
 
 // Sum over cells of sum I (1 - w . s): the quantisation energy Lloyd's iteration decreases.
@@ -112,30 +134,44 @@ struct HeavyTexel {
     std::size_t texel;
 };
 
-// Texels that hold more than an equal share of what the cells without such texels share (water
-// filling): the k heaviest texels for the largest k < count with I_k > (total - I_1 - .. - I_{k-1}) / (count - k + 1).
+// The texels of suns: groups of touching texels (8-neighbours, across the seam too), each above a
+// quarter of an equal share T / N, together above a share. A sun cannot be split into equal shares
+// (its texels are too heavy, or it would take many tiny cells): it is one light.
 std::vector<HeavyTexel> heavy_texels(const ImportanceMap& importance, int count) {
-    using Entry = std::pair<float, std::size_t>;  // the `count` heaviest texels, in a min-heap
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
-    for (std::size_t t = 0; t < importance.texel_count(); ++t) {
-        const float value = importance.importance[t];
-        if (int(heap.size()) < count)
-            heap.push({value, t});
-        else if (value > heap.top().first) {
-            heap.pop();
-            heap.push({value, t});
+    const double share = importance.total / count;
+    const size_t width = size_t(importance.width), height = size_t(importance.height);
+    std::unordered_map<size_t, size_t> candidate;  // texel -> index
+    std::vector<size_t> texels;
+    for (size_t t = 0; t < importance.texel_count(); ++t)
+        if (importance.importance[t] > 0.25 * share) {
+            candidate.emplace(t, texels.size());
+            texels.push_back(t);
         }
+    std::vector<size_t> parent(texels.size());
+    for (size_t a = 0; a < parent.size(); ++a) parent[a] = a;
+    auto root = [&](size_t a) {
+        while (parent[a] != a) a = parent[a] = parent[parent[a]];
+        return a;
+    };
+    for (size_t a = 0; a < texels.size(); ++a) {
+        const size_t i = texels[a] % width, j = texels[a] / width;
+        for (long dj = -1; dj <= 1; ++dj)
+            for (long di = -1; di <= 1; ++di) {
+                const long jj = long(j) + dj;
+                if (jj < 0 || jj >= long(height)) continue;
+                const size_t n = size_t(jj) * width + (i + width + size_t(di + 1) - 1) % width;
+                const auto it = candidate.find(n);
+                if (it != candidate.end()) parent[root(a)] = root(it->second);
+            }
     }
-    std::vector<Entry> top;
-    for (; !heap.empty(); heap.pop()) top.push_back(heap.top());
-    std::reverse(top.begin(), top.end());  // heaviest first
+    std::vector<double> total(texels.size(), 0.0);
+    for (size_t a = 0; a < texels.size(); ++a) total[root(a)] += importance.importance[texels[a]];
     std::vector<HeavyTexel> heavy;
-    double rest = importance.total;
-    for (const Entry& e : top) {
-        if (int(heavy.size()) + 1 >= count || !(e.first > rest / (count - int(heavy.size())))) break;
-        heavy.push_back({e.first, e.second});
-        rest -= e.first;
-    }
+    int suns = 0;
+    for (size_t a = 0; a < texels.size(); ++a) suns += root(a) == a && total[a] > share;
+    if (suns >= count) return heavy;  // nothing left to share
+    for (size_t a = 0; a < texels.size(); ++a)
+        if (total[root(a)] > share) heavy.push_back({importance.importance[texels[a]], texels[a]});
     return heavy;
 }
 
@@ -398,6 +434,7 @@ public:
     };
 
     bool exhausted() const { return evaluations_left_ <= 0; }
+    int evaluations_left() const { return evaluations_left_; }
     const std::vector<std::uint16_t>& texel_cell() const { return texel_cell_; }
 
     State evaluate(const std::vector<glm::dvec3>& sites, const std::vector<double>& bias) {
@@ -430,21 +467,30 @@ public:
 
     // Steps from `state` (at `bias`) until the capacity error is under kCcvtCapacityTolerance or
     // `steps` are taken. A Newton step (the border Laplacian as the Hessian of the convex dual whose
-    // gradient is mass - target) is taken at length alpha = 1, 1/2, 1/4 or 1/8 if no cell falls under
-    // half the smallest mass now and |target - mass| shrinks by (1 - alpha / 4) (the damped Newton method
-    // of Kitagawa, Merigot and Thibert 2019). Where the linear model fails (a bright edge in reach),
-    // every overfull cell instead lowers its bias just enough to pass its excess on to its runner-ups,
-    // which cannot oscillate. Leaves `state` at the final `bias`.
+    // gradient is mass - target; cells without borders wait) is taken at length alpha = 1, 1/2, ..,
+    // kCcvtSmallestStep if no cell falls under half the smallest mass now and |target - mass| shrinks by
+    // (1 - alpha / 4) (the damped Newton method of Kitagawa, Merigot and Thibert 2019). Where the linear
+    // model fails (a bright edge in reach), every overfull cell instead lowers its bias just enough to
+    // pass its excess on to its runner-ups. Leaves `state` and `bias` at the best balance seen.
     void improve(const std::vector<glm::dvec3>& sites, std::vector<double>& bias, State& state, int steps) {
         double floor = std::numeric_limits<double>::infinity();
         for (double m : state.statistics.mass)
             if (m > 0.0) floor = std::min(floor, 0.5 * m);
+        double best_variation = state.variation;
+        std::vector<double> best_bias = bias;
+        State best_state = state;
         for (int s = 0; s < steps && state.variation >= kCcvtCapacityTolerance && !exhausted(); ++s) {
-            const std::vector<double> step = solve_laplacian(state.statistics.borders, state.excess);
+            std::vector<double> step = solve_laplacian(state.statistics.borders, state.excess);
+            // A cell without borders (empty at this resolution) has no slope to follow: it waits.
+            std::vector<bool> bordered(step.size(), false);
+            state.statistics.borders.for_each(
+                [&](int a, int b, double) { bordered[size_t(a)] = bordered[size_t(b)] = true; });
+            for (size_t k = 0; k < step.size(); ++k)
+                if (!bordered[k]) step[k] = 0.0;
             const std::vector<double> start = bias;
             const double error = norm(state.excess);
             bool accepted = false;
-            for (double alpha = 1.0; alpha >= 1.0 / 8.0 && !accepted && !exhausted(); alpha *= 0.5) {
+            for (double alpha = 1.0; alpha >= kCcvtSmallestStep && !accepted && !exhausted(); alpha *= 0.5) {
                 std::vector<double> trial(bias.size());
                 for (size_t k = 0; k < bias.size(); ++k) trial[k] = start[k] + alpha * step[k];
                 centre(trial);
@@ -465,6 +511,15 @@ public:
                 centre(bias);
                 state = evaluate(sites, bias);
             }
+            if (state.variation < best_variation) {
+                best_variation = state.variation;
+                best_bias = bias;
+                best_state = state;
+            }
+        }
+        if (best_variation < state.variation) {  // shedding may have made it worse: the best seen stays
+            bias = std::move(best_bias);
+            state = std::move(best_state);
         }
     }
 
@@ -492,15 +547,45 @@ struct Resolution {
     std::unique_ptr<ImportanceMap> importance;  // the search keeps its address
     std::unique_ptr<NearestSiteSearch> search;
     Partition partition;
-    std::vector<HeavyTexel> heavy;
+    std::vector<HeavyTexel> heavy;    // all heavy texels, at this resolution
+    std::vector<HeavyTexel> anchors;  // the heaviest of each cluster, at this resolution
 };
 
 // `factor` is used only where it divides the map and leaves at least 16 rows.
-Resolution at_resolution(const ImportanceMap& fine, const std::vector<HeavyTexel>& heavy, int factor, int blur) {
+Resolution at_resolution(const ImportanceMap& fine, const std::vector<HeavyTexel>& heavy,
+                         const std::vector<HeavyTexel>& anchors, int factor, int blur) {
     if (fine.width % factor != 0 || fine.height % factor != 0 || fine.height / factor < 16) factor = 1;
     Resolution r;
     r.importance = std::make_unique<ImportanceMap>(factor > 1 ? downsample_importance(fine, factor) : fine);
-    if (blur > 0) *r.importance = blurred(*r.importance, blur);
+    for (const HeavyTexel& h : heavy) {
+        const size_t i = h.texel % size_t(fine.width), j = h.texel / size_t(fine.width);
+        r.heavy.push_back({h.importance, (j / size_t(factor)) * size_t(r.importance->width) + i / size_t(factor)});
+    }
+    for (const HeavyTexel& h : anchors) {
+        const size_t i = h.texel % size_t(fine.width), j = h.texel / size_t(fine.width);
+        r.anchors.push_back({h.importance, (j / size_t(factor)) * size_t(r.importance->width) + i / size_t(factor)});
+    }
+    if (blur > 0) {
+        // The heavy texels stay where they are: their cells are free, and spreading them would leave part
+        // of a sun to the cells that share.
+        std::vector<float> kept(r.importance->texel_count(), 0.0f);
+        for (const HeavyTexel& h : r.heavy) {
+            kept[h.texel] += float(h.importance);
+            r.importance->importance[h.texel] = std::max(0.0f, r.importance->importance[h.texel] - float(h.importance));
+        }
+        const double spread_total = [&] {
+            double t = 0.0;
+            for (float v : r.importance->importance) t += v;
+            return t;
+        }();
+        r.importance->total = spread_total;
+        *r.importance = blurred(*r.importance, blur);
+        r.importance->total = 0.0;
+        for (size_t t = 0; t < kept.size(); ++t) {
+            r.importance->importance[t] += kept[t];
+            r.importance->total += r.importance->importance[t];
+        }
+    }
     r.search = std::make_unique<NearestSiteSearch>(*r.importance);
     const NearestSiteSearch* search = r.search.get();
     r.partition.moments = [search](std::span<const glm::dvec3> sites, std::span<const double> bias) {
@@ -508,31 +593,106 @@ Resolution at_resolution(const ImportanceMap& fine, const std::vector<HeavyTexel
     };
     r.partition.assign = [search](std::span<const glm::dvec3> sites, std::span<const double> bias,
                                   std::span<std::uint16_t> texel_cell) { search->assign(sites, bias, texel_cell); };
-    for (const HeavyTexel& h : heavy) {
-        const size_t i = h.texel % size_t(fine.width), j = h.texel / size_t(fine.width);
-        r.heavy.push_back({h.importance, (j / size_t(factor)) * size_t(r.importance->width) + i / size_t(factor)});
-    }
     return r;
+}
+
+// Clusters of touching heavy texels (a sun and its brightest glow): the cluster of each heavy texel,
+// numbered 0, 1, ...
+std::vector<int> heavy_clusters(const ImportanceMap& importance, const std::vector<HeavyTexel>& heavy, int& clusters) {
+    const size_t width = size_t(importance.width);
+    std::vector<size_t> parent(heavy.size());
+    for (size_t a = 0; a < heavy.size(); ++a) parent[a] = a;
+    auto root = [&](size_t a) {
+        while (parent[a] != a) a = parent[a] = parent[parent[a]];
+        return a;
+    };
+    for (size_t a = 0; a < heavy.size(); ++a)
+        for (size_t b = a + 1; b < heavy.size(); ++b) {
+            const long ia = long(heavy[a].texel % width), ja = long(heavy[a].texel / width);
+            const long ib = long(heavy[b].texel % width), jb = long(heavy[b].texel / width);
+            const long di = std::labs(ia - ib);
+            if (std::labs(ja - jb) <= 1 && std::min(di, long(width) - di) <= 1) parent[root(a)] = root(b);
+        }
+    std::vector<int> cluster(heavy.size(), -1), number(heavy.size(), -1);
+    clusters = 0;
+    for (size_t a = 0; a < heavy.size(); ++a) {
+        const size_t r = root(a);
+        if (number[r] < 0) number[r] = clusters++;
+        cluster[a] = number[r];
+    }
+    return cluster;
+}
+
+// The heaviest texel of each cluster: the cell holding it is left free (it keeps what it has); any other
+// cell holding heavy texels is over its share and passes them on, so that a sun ends up in one cell.
+std::vector<HeavyTexel> cluster_anchors(const ImportanceMap& importance, const std::vector<HeavyTexel>& heavy) {
+    int clusters = 0;
+    const std::vector<int> cluster = heavy_clusters(importance, heavy, clusters);
+    std::vector<HeavyTexel> anchors(size_t(clusters), HeavyTexel{-1.0, 0});
+    for (size_t a = 0; a < heavy.size(); ++a)
+        if (heavy[a].importance > anchors[size_t(cluster[a])].importance) anchors[size_t(cluster[a])] = heavy[a];
+    return anchors;
+}
+
+// CCVT's start: one site on each cluster of heavy texels, at its weighted centre, and the other sites on
+// equal_importance_regions of the rest of the map.
+std::vector<glm::dvec3> initial_ccvt_sites(const ImportanceMap& importance, const std::vector<HeavyTexel>& heavy,
+                                           int count) {
+    if (heavy.empty()) return equal_importance_regions(importance, count);
+    int clusters = 0;
+    const std::vector<int> cluster = heavy_clusters(importance, heavy, clusters);
+    std::vector<CellMoments> suns(static_cast<size_t>(clusters));
+    ImportanceMap rest = importance;
+    for (size_t a = 0; a < heavy.size(); ++a) {
+        const size_t t = heavy[a].texel;
+        const int i = int(t % size_t(importance.width)), j = int(t / size_t(importance.width));
+        suns[size_t(cluster[a])].add(heavy[a].importance, importance.row_solid_angle[size_t(j)],
+                                     importance.directions(i, j));
+        rest.total -= rest.importance[t];
+        rest.importance[t] = 0.0f;
+    }
+    std::vector<glm::dvec3> sites = equal_importance_regions(rest, count - clusters);
+    for (const CellMoments& m : suns) sites.push_back(centroid_direction(m, glm::dvec3(0.0, 1.0, 0.0)));
+    return sites;
 }
 
 }  // namespace
 
 SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*seed*/, const Partition& partition) {
     SiteSet result;
-    result.sites = equal_importance_regions(importance, count);
-    result.bias.assign(size_t(count), 0.0);
     const std::vector<HeavyTexel> heavy = heavy_texels(importance, count);
+    const std::vector<HeavyTexel> anchors = cluster_anchors(importance, heavy);
+    result.sites = initial_ccvt_sites(importance, heavy, count);
+    result.bias.assign(size_t(count), 0.0);
 
     // Capacity first at coarse resolutions on blurred importance (a smooth problem, which Newton's method
     // solves well, and cheap to evaluate), then on the map at the working resolution.
     for (const auto& [factor, blur] : kCcvtCoarseLevels) {
-        Resolution level = at_resolution(importance, heavy, factor, blur);
-        CapacitySolver capacity(*level.importance, count, level.heavy, level.partition, kCcvtEvaluationsPerLevel);
+        Resolution level = at_resolution(importance, heavy, anchors, factor, blur);
+        const int budget = kCcvtEvaluationsPerLevel;
+        CapacitySolver capacity(*level.importance, count, level.anchors, level.partition, budget);
         CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
-        capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
+        // Sites closer than a texel of this resolution leave cells empty here: move them first.
+        for (int round = 0; round < 4 && reseed_empty_cells(result.sites, &result.bias, state.statistics.moments) > 0.0;
+             ++round)
+            state = capacity.evaluate(result.sites, result.bias);
+        capacity.improve(result.sites, result.bias, state, budget);
     }
-    Resolution working = at_resolution(importance, heavy, kCcvtWorkingFactor, 0);
-    CapacitySolver capacity(*working.importance, count, working.heavy, working.partition, kCcvtMaxEvaluations);
+    // The sites move at a coarser resolution only where its texels are small against a share: a cell
+    // must be able to shed or take less than a texel's worth.
+    Resolution working = at_resolution(importance, heavy, anchors, kCcvtWorkingFactor, 0);
+    if (working.importance->width != importance.width) {
+        std::vector<bool> holds_heavy(working.importance->texel_count(), false);
+        for (const HeavyTexel& h : working.heavy) holds_heavy[h.texel] = true;
+        double heaviest = 0.0;
+        for (std::size_t t = 0; t < holds_heavy.size(); ++t)
+            if (!holds_heavy[t]) heaviest = std::max(heaviest, double(working.importance->importance[t]));
+        double rest = importance.total;
+        for (const HeavyTexel& h : heavy) rest -= h.importance;
+        const double share = rest / std::max<std::size_t>(1, size_t(count) - heavy.size());
+        if (heaviest > kCcvtCoarseTexelShare * share) working = at_resolution(importance, heavy, anchors, 1, 0);
+    }
+    CapacitySolver capacity(*working.importance, count, working.anchors, working.partition, kCcvtMaxEvaluations);
     CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
     capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
 
@@ -568,6 +728,8 @@ SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*s
             best_variation = state.variation;
         }
         if (relative < kCcvtRelativeMovementTolerance && state.variation < kCcvtCapacityTolerance) break;
+        // Moves that upset the balance (sharp edges in the map) are given up.
+        if (state.variation > 2.0 * best_variation + kCcvtCapacityTolerance) break;
         result.sites = std::move(moved);
         result.bias = std::move(moved_bias);
         reseed_empty_cells(result.sites, &result.bias, cells);
@@ -580,12 +742,11 @@ SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*s
         result.iterations = iterations;
     }
 
-    // A last balance at full resolution (the cells are assigned there).
-    if (working.importance->width != importance.width) {
-        CapacitySolver full(importance, count, heavy, partition, kCcvtPolishEvaluations);
-        CapacitySolver::State polish = full.evaluate(result.sites, result.bias);
-        full.improve(result.sites, result.bias, polish, kCcvtPolishEvaluations);
-    }
+    // A last balance at full resolution (the cells are assigned there), with what budget is left.
+    CapacitySolver full(importance, count, anchors, partition,
+                        std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
+    CapacitySolver::State polish = full.evaluate(result.sites, result.bias);
+    full.improve(result.sites, result.bias, polish, std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
     return result;
 }
 

@@ -47,12 +47,15 @@ SiteSet sites_random(const ImportanceMap& importance, int count, std::uint64_t s
 // Floyd-Steinberg halftoning (seed 000 §1.3, Listing 1.1) of per-texel weights into `count` samples:
 // serpentine scan, threshold S / (2M), a sample removes S / M, error weights 3/8 (next), 3/8 (below),
 // 1/4 (below next; around the seam, a neighbour on the sphere). The error is diffused between blocks of
-// B x B texels (B a power of two, at least kBlocksPerSample blocks per sample), not single texels: with
-// M << texels a texel holds a tiny fraction of the threshold, and the error would spread over whole
-// rows without firing until the last one (the warm-up seed 000 warns about for few samples). Each
-// sample stands at its block's weighted mean direction. Mass is conserved up to the error left at the
-// last block, so there are M samples barring rounding. `start_error` (in thresholds, [-1, 1]) shifts
-// the pattern.
+// B x B texels (B a power of two, as large as keeps at least kBlocksPerSample blocks per sample), not
+// single texels: with M << texels a texel holds a tiny fraction of the threshold, and the error would
+// spread over whole rows without firing until the last one (the warm-up seed 000 warns about for few
+// samples). For the same reason a dark block passes more along its row, as seed 000 advises: the share
+// going to the next block is max(3/8, min(15/16, 1 - g)), g the block's weight over 2 thresholds, the
+// rest 3:2 below and below-next. Each sample stands at its block's weighted mean direction. Mass is
+// conserved up to the error left at the last block, so there are M samples barring rounding, M - 1 at
+// worst: where blocks saturate (M near their number) the missing ones go to the heaviest blocks not
+// chosen. `start_error` (in thresholds, [-1, 1]) shifts the pattern.
 inline constexpr int kBlocksPerSample = 64;
 std::vector<glm::dvec3> floyd_steinberg_samples(const ImportanceMap& grid, std::span<const float> weight, int count,
                                                 double start_error);
@@ -79,7 +82,8 @@ SiteSet sites_median_cut(const ImportanceMap& importance, int count);
 SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition);
 
 // ccvt: capacity-constrained Voronoi tessellation as a power diagram (Balzer et al. 2009; de Goes et
-// al. 2012). Starts from the centroids of equal_importance_regions; the biases solve the capacity
+// al. 2012). Starts with a site on each sun (touching texels heavier than a share) and the others at the
+// centroids of equal_importance_regions of the rest; the biases solve the capacity
 // problem (equal importance per cell) by damped Newton steps, first on blurred importance; then the
 // sites move towards their cells' centroids, the biases following. A texel heavier than an equal share
 // (a sun) cannot be split: the cell holding it keeps what it has and the others share the rest. The
@@ -96,12 +100,14 @@ inline constexpr int kLloydMaxIterations = 500;
 // kCcvtRelativeMovementTolerance of the cell's radius, or after kCcvtMaxIterations moves or
 // kCcvtMaxEvaluations evaluations, keeping the best balanced state seen.
 inline constexpr std::pair<int, int> kCcvtCoarseLevels[] = {{4, 4}, {2, 2}};
-inline constexpr int kCcvtWorkingFactor = 2;
+inline constexpr int kCcvtWorkingFactor = 2;           // unless a coarse texel holds more than
+inline constexpr double kCcvtCoarseTexelShare = 0.05;  // this fraction of a share
 inline constexpr int kCcvtEvaluationsPerLevel = 30;
 inline constexpr int kCcvtNewtonStepsPerIteration = 2;
-inline constexpr int kCcvtPolishEvaluations = 12;
+inline constexpr int kCcvtPolishEvaluations = 20;
 inline constexpr double kCcvtCapacityTolerance = 0.02;
-inline constexpr double kCcvtMoveFraction = 0.1;  // a site moves at most this fraction of its cell's radius
+inline constexpr double kCcvtSmallestStep = 1.0 / 32.0;  // Newton step lengths tried: 1, 1/2, .., this
+inline constexpr double kCcvtMoveFraction = 0.1;         // a site moves at most this fraction of its cell's radius
 inline constexpr double kCcvtRelativeMovementTolerance = 0.1;
 inline constexpr int kCcvtMaxIterations = 40;
 inline constexpr int kCcvtMaxEvaluations = 300;
