@@ -34,7 +34,7 @@ inline constexpr int kMaxLights = 256;
 struct DecomposeOptions {
     Method method = Method::lloyd;
     int lights = 128;        // 1..256 (mediancut rounds down to a power of two; fs gives N or N - 1)
-    std::uint64_t seed = 1;  // random, lloyd and ccvt draw their initial sites with it
+    std::uint64_t seed = 1;  // random and lloyd draw their initial sites with it (ccvt's start needs none)
     SiteSearch search = SiteSearch::tiles;
 };
 

@@ -114,7 +114,7 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
             sites = sites_lloyd(importance, options.lights, options.seed, partition);
             break;
         case Method::ccvt:
-            sites = sites_ccvt(importance, options.lights, options.seed, partition);
+            sites = sites_ccvt(importance, options.lights, partition);
             break;
         case Method::mediancut:
             sites = sites_median_cut(importance, options.lights);

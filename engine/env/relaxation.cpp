@@ -129,52 +129,6 @@ SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t se
 
 namespace {
 
-struct HeavyTexel {
-    double importance;
-    std::size_t texel;
-};
-
-// The texels of suns: groups of touching texels (8-neighbours, across the seam too), each above a
-// quarter of an equal share T / N, together above a share. A sun cannot be split into equal shares
-// (its texels are too heavy, or it would take many tiny cells): it is one light.
-std::vector<HeavyTexel> heavy_texels(const ImportanceMap& importance, int count) {
-    const double share = importance.total / count;
-    const size_t width = size_t(importance.width), height = size_t(importance.height);
-    std::unordered_map<size_t, size_t> candidate;  // texel -> index
-    std::vector<size_t> texels;
-    for (size_t t = 0; t < importance.texel_count(); ++t)
-        if (importance.importance[t] > 0.25 * share) {
-            candidate.emplace(t, texels.size());
-            texels.push_back(t);
-        }
-    std::vector<size_t> parent(texels.size());
-    for (size_t a = 0; a < parent.size(); ++a) parent[a] = a;
-    auto root = [&](size_t a) {
-        while (parent[a] != a) a = parent[a] = parent[parent[a]];
-        return a;
-    };
-    for (size_t a = 0; a < texels.size(); ++a) {
-        const size_t i = texels[a] % width, j = texels[a] / width;
-        for (long dj = -1; dj <= 1; ++dj)
-            for (long di = -1; di <= 1; ++di) {
-                const long jj = long(j) + dj;
-                if (jj < 0 || jj >= long(height)) continue;
-                const size_t n = size_t(jj) * width + (i + width + size_t(di + 1) - 1) % width;
-                const auto it = candidate.find(n);
-                if (it != candidate.end()) parent[root(a)] = root(it->second);
-            }
-    }
-    std::vector<double> total(texels.size(), 0.0);
-    for (size_t a = 0; a < texels.size(); ++a) total[root(a)] += importance.importance[texels[a]];
-    std::vector<HeavyTexel> heavy;
-    int suns = 0;
-    for (size_t a = 0; a < texels.size(); ++a) suns += root(a) == a && total[a] > share;
-    if (suns >= count) return heavy;  // nothing left to share
-    for (size_t a = 0; a < texels.size(); ++a)
-        if (total[root(a)] > share) heavy.push_back({importance.importance[texels[a]], texels[a]});
-    return heavy;
-}
-
 // Cells' adjacency, weighted by how much importance crosses each border per unit of bias: the integral
 // of the importance density along the border over |s_a - s_b|, measured on the texel pairs (p, q) that
 // straddle it as 1/2 sum (I_p + I_q) / 2 / |(p - q) . (s_a - s_b)| (horizontal and vertical pairs each
@@ -412,56 +366,39 @@ ImportanceMap blurred(const ImportanceMap& importance, int radius) {
     return out;
 }
 
-// Biases that give every cell its target importance, for fixed sites. A cell holding a texel heavier
-// than an equal share (a sun) cannot be split and is left free: it keeps what it has, and the other
-// cells aim at equal shares of the rest.
+// Biases that give every cell an equal share of the importance, for fixed sites (the capacity
+// constraint of Balzer et al. 2009).
 class CapacitySolver {
 public:
-    // `heavy`: the texels (of this map) too heavy to share a cell's budget.
-    CapacitySolver(const ImportanceMap& importance, int count, std::vector<HeavyTexel> heavy,
-                   const Partition& partition, int evaluations)
+    CapacitySolver(const ImportanceMap& importance, int count, const Partition& partition, int evaluations)
         : importance_(&importance),
           count_(count),
           partition_(partition),
-          heavy_(std::move(heavy)),
           texel_cell_(importance.texel_count()),
           evaluations_left_(evaluations) {}
 
     struct State {
         CellStatistics statistics;
-        std::vector<double> excess;  // target - mass per cell (0 for free cells)
-        double variation = 0.0;      // coefficient of variation of the sharing cells' masses
+        std::vector<double> excess;  // share - mass per cell
+        double variation = 0.0;      // coefficient of variation of the cells' masses
     };
 
     bool exhausted() const { return evaluations_left_ <= 0; }
     int evaluations_left() const { return evaluations_left_; }
-    const std::vector<std::uint16_t>& texel_cell() const { return texel_cell_; }
 
     State evaluate(const std::vector<glm::dvec3>& sites, const std::vector<double>& bias) {
         --evaluations_left_;
         partition_.assign(sites, bias, texel_cell_);
         State state{cell_statistics(*importance_, texel_cell_, sites, bias), {}, 0.0};
-        std::vector<bool> free(static_cast<size_t>(count_), false);
-        for (const HeavyTexel& h : heavy_) free[texel_cell_[h.texel]] = true;
-        int sharing = 0;
-        double shared = importance_->total;
-        for (int k = 0; k < count_; ++k) {
-            if (free[size_t(k)])
-                shared -= state.statistics.mass[size_t(k)];
-            else
-                ++sharing;
-        }
-        const double share = sharing > 0 ? shared / sharing : 0.0;
+        const double share = importance_->total / count_;
         state.excess.assign(size_t(count_), 0.0);
         double squares = 0.0;
-        for (int k = 0; k < count_; ++k)
-            if (!free[size_t(k)]) {
-                state.excess[size_t(k)] = share - state.statistics.mass[size_t(k)];
-                squares += state.excess[size_t(k)] * state.excess[size_t(k)];
-            }
-        state.variation = sharing == 0  ? 0.0
-                          : share > 0.0 ? std::sqrt(squares / sharing) / share
-                                        : std::numeric_limits<double>::infinity();
+        for (int k = 0; k < count_; ++k) {
+            state.excess[size_t(k)] = share - state.statistics.mass[size_t(k)];
+            squares += state.excess[size_t(k)] * state.excess[size_t(k)];
+        }
+        state.variation =
+            share > 0.0 ? std::sqrt(squares / count_) / share : std::numeric_limits<double>::infinity();
         return state;
     }
 
@@ -533,7 +470,6 @@ private:
     const ImportanceMap* importance_;
     int count_;
     const Partition& partition_;
-    std::vector<HeavyTexel> heavy_;
     std::vector<std::uint16_t> texel_cell_;
     int evaluations_left_;
 };
@@ -547,45 +483,14 @@ struct Resolution {
     std::unique_ptr<ImportanceMap> importance;  // the search keeps its address
     std::unique_ptr<NearestSiteSearch> search;
     Partition partition;
-    std::vector<HeavyTexel> heavy;    // all heavy texels, at this resolution
-    std::vector<HeavyTexel> anchors;  // the heaviest of each cluster, at this resolution
 };
 
 // `factor` is used only where it divides the map and leaves at least 16 rows.
-Resolution at_resolution(const ImportanceMap& fine, const std::vector<HeavyTexel>& heavy,
-                         const std::vector<HeavyTexel>& anchors, int factor, int blur) {
+Resolution at_resolution(const ImportanceMap& fine, int factor, int blur) {
     if (fine.width % factor != 0 || fine.height % factor != 0 || fine.height / factor < 16) factor = 1;
     Resolution r;
     r.importance = std::make_unique<ImportanceMap>(factor > 1 ? downsample_importance(fine, factor) : fine);
-    for (const HeavyTexel& h : heavy) {
-        const size_t i = h.texel % size_t(fine.width), j = h.texel / size_t(fine.width);
-        r.heavy.push_back({h.importance, (j / size_t(factor)) * size_t(r.importance->width) + i / size_t(factor)});
-    }
-    for (const HeavyTexel& h : anchors) {
-        const size_t i = h.texel % size_t(fine.width), j = h.texel / size_t(fine.width);
-        r.anchors.push_back({h.importance, (j / size_t(factor)) * size_t(r.importance->width) + i / size_t(factor)});
-    }
-    if (blur > 0) {
-        // The heavy texels stay where they are: their cells are free, and spreading them would leave part
-        // of a sun to the cells that share.
-        std::vector<float> kept(r.importance->texel_count(), 0.0f);
-        for (const HeavyTexel& h : r.heavy) {
-            kept[h.texel] += float(h.importance);
-            r.importance->importance[h.texel] = std::max(0.0f, r.importance->importance[h.texel] - float(h.importance));
-        }
-        const double spread_total = [&] {
-            double t = 0.0;
-            for (float v : r.importance->importance) t += v;
-            return t;
-        }();
-        r.importance->total = spread_total;
-        *r.importance = blurred(*r.importance, blur);
-        r.importance->total = 0.0;
-        for (size_t t = 0; t < kept.size(); ++t) {
-            r.importance->importance[t] += kept[t];
-            r.importance->total += r.importance->importance[t];
-        }
-    }
+    if (blur > 0) *r.importance = blurred(*r.importance, blur);
     r.search = std::make_unique<NearestSiteSearch>(*r.importance);
     const NearestSiteSearch* search = r.search.get();
     r.partition.moments = [search](std::span<const glm::dvec3> sites, std::span<const double> bias) {
@@ -596,81 +501,38 @@ Resolution at_resolution(const ImportanceMap& fine, const std::vector<HeavyTexel
     return r;
 }
 
-// Clusters of touching heavy texels (a sun and its brightest glow): the cluster of each heavy texel,
-// numbered 0, 1, ...
-std::vector<int> heavy_clusters(const ImportanceMap& importance, const std::vector<HeavyTexel>& heavy, int& clusters) {
-    const size_t width = size_t(importance.width);
-    std::vector<size_t> parent(heavy.size());
-    for (size_t a = 0; a < heavy.size(); ++a) parent[a] = a;
-    auto root = [&](size_t a) {
-        while (parent[a] != a) a = parent[a] = parent[parent[a]];
-        return a;
-    };
-    for (size_t a = 0; a < heavy.size(); ++a)
-        for (size_t b = a + 1; b < heavy.size(); ++b) {
-            const long ia = long(heavy[a].texel % width), ja = long(heavy[a].texel / width);
-            const long ib = long(heavy[b].texel % width), jb = long(heavy[b].texel / width);
-            const long di = std::labs(ia - ib);
-            if (std::labs(ja - jb) <= 1 && std::min(di, long(width) - di) <= 1) parent[root(a)] = root(b);
-        }
-    std::vector<int> cluster(heavy.size(), -1), number(heavy.size(), -1);
-    clusters = 0;
-    for (size_t a = 0; a < heavy.size(); ++a) {
-        const size_t r = root(a);
-        if (number[r] < 0) number[r] = clusters++;
-        cluster[a] = number[r];
-    }
-    return cluster;
-}
-
-// The heaviest texel of each cluster: the cell holding it is left free (it keeps what it has); any other
-// cell holding heavy texels is over its share and passes them on, so that a sun ends up in one cell.
-std::vector<HeavyTexel> cluster_anchors(const ImportanceMap& importance, const std::vector<HeavyTexel>& heavy) {
-    int clusters = 0;
-    const std::vector<int> cluster = heavy_clusters(importance, heavy, clusters);
-    std::vector<HeavyTexel> anchors(size_t(clusters), HeavyTexel{-1.0, 0});
-    for (size_t a = 0; a < heavy.size(); ++a)
-        if (heavy[a].importance > anchors[size_t(cluster[a])].importance) anchors[size_t(cluster[a])] = heavy[a];
-    return anchors;
-}
-
-// CCVT's start: one site on each cluster of heavy texels, at its weighted centre, and the other sites on
-// equal_importance_regions of the rest of the map.
-std::vector<glm::dvec3> initial_ccvt_sites(const ImportanceMap& importance, const std::vector<HeavyTexel>& heavy,
-                                           int count) {
-    if (heavy.empty()) return equal_importance_regions(importance, count);
-    int clusters = 0;
-    const std::vector<int> cluster = heavy_clusters(importance, heavy, clusters);
-    std::vector<CellMoments> suns(static_cast<size_t>(clusters));
-    ImportanceMap rest = importance;
-    for (size_t a = 0; a < heavy.size(); ++a) {
-        const size_t t = heavy[a].texel;
-        const int i = int(t % size_t(importance.width)), j = int(t / size_t(importance.width));
-        suns[size_t(cluster[a])].add(heavy[a].importance, importance.row_solid_angle[size_t(j)],
-                                     importance.directions(i, j));
-        rest.total -= rest.importance[t];
-        rest.importance[t] = 0.0f;
-    }
-    std::vector<glm::dvec3> sites = equal_importance_regions(rest, count - clusters);
-    for (const CellMoments& m : suns) sites.push_back(centroid_direction(m, glm::dvec3(0.0, 1.0, 0.0)));
-    return sites;
-}
-
 }  // namespace
 
-SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*seed*/, const Partition& partition) {
+// The importance CCVT shares out. A texel heavier than an equal share T / N (a sun) cannot be split
+// between cells, so it is left out of the sharing: every cell, including the one that happens to hold
+// it, takes an equal share of the rest, and a sun's cell carries the sun and one share besides. Only
+// where such texels are few (a sun's); a map whose texels each weigh about a share (as many lights as
+// texels) is shared as it is.
+ImportanceMap shareable_importance(const ImportanceMap& importance, int count) {
+    const double share = importance.total / count;
+    std::vector<std::size_t> heavy;
+    for (std::size_t t = 0; t < importance.texel_count(); ++t)
+        if (importance.importance[t] > share) heavy.push_back(t);
+    if (heavy.empty() || 4 * heavy.size() > std::size_t(count)) return importance;
+    ImportanceMap shareable = importance;
+    for (std::size_t t : heavy) shareable.importance[t] = 0.0f;
+    shareable.total = 0.0;
+    for (float v : shareable.importance) shareable.total += v;
+    return shareable.total > 0.0 ? shareable : importance;
+}
+
+SiteSet sites_ccvt(const ImportanceMap& full_importance, int count, const Partition& partition) {
+    const ImportanceMap importance = shareable_importance(full_importance, count);
     SiteSet result;
-    const std::vector<HeavyTexel> heavy = heavy_texels(importance, count);
-    const std::vector<HeavyTexel> anchors = cluster_anchors(importance, heavy);
-    result.sites = initial_ccvt_sites(importance, heavy, count);
+    result.sites = equal_importance_regions(importance, count);
     result.bias.assign(size_t(count), 0.0);
 
     // Capacity first at coarse resolutions on blurred importance (a smooth problem, which Newton's method
     // solves well, and cheap to evaluate), then on the map at the working resolution.
     for (const auto& [factor, blur] : kCcvtCoarseLevels) {
-        Resolution level = at_resolution(importance, heavy, anchors, factor, blur);
+        Resolution level = at_resolution(importance, factor, blur);
         const int budget = kCcvtEvaluationsPerLevel;
-        CapacitySolver capacity(*level.importance, count, level.anchors, level.partition, budget);
+        CapacitySolver capacity(*level.importance, count, level.partition, budget);
         CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
         // Sites closer than a texel of this resolution leave cells empty here: move them first.
         for (int round = 0; round < 4 && reseed_empty_cells(result.sites, &result.bias, state.statistics.moments) > 0.0;
@@ -680,19 +542,13 @@ SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*s
     }
     // The sites move at a coarser resolution only where its texels are small against a share: a cell
     // must be able to shed or take less than a texel's worth.
-    Resolution working = at_resolution(importance, heavy, anchors, kCcvtWorkingFactor, 0);
+    Resolution working = at_resolution(importance, kCcvtWorkingFactor, 0);
     if (working.importance->width != importance.width) {
-        std::vector<bool> holds_heavy(working.importance->texel_count(), false);
-        for (const HeavyTexel& h : working.heavy) holds_heavy[h.texel] = true;
         double heaviest = 0.0;
-        for (std::size_t t = 0; t < holds_heavy.size(); ++t)
-            if (!holds_heavy[t]) heaviest = std::max(heaviest, double(working.importance->importance[t]));
-        double rest = importance.total;
-        for (const HeavyTexel& h : heavy) rest -= h.importance;
-        const double share = rest / std::max<std::size_t>(1, size_t(count) - heavy.size());
-        if (heaviest > kCcvtCoarseTexelShare * share) working = at_resolution(importance, heavy, anchors, 1, 0);
+        for (float v : working.importance->importance) heaviest = std::max(heaviest, double(v));
+        if (heaviest > kCcvtCoarseTexelShare * importance.total / count) working = at_resolution(importance, 1, 0);
     }
-    CapacitySolver capacity(*working.importance, count, working.anchors, working.partition, kCcvtMaxEvaluations);
+    CapacitySolver capacity(*working.importance, count, working.partition, kCcvtMaxEvaluations);
     CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
     capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
 
@@ -743,7 +599,7 @@ SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*s
     }
 
     // A last balance at full resolution (the cells are assigned there), with what budget is left.
-    CapacitySolver full(importance, count, anchors, partition,
+    CapacitySolver full(importance, count, partition,
                         std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
     CapacitySolver::State polish = full.evaluate(result.sites, result.bias);
     full.improve(result.sites, result.bias, polish, std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));

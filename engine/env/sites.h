@@ -82,13 +82,12 @@ SiteSet sites_median_cut(const ImportanceMap& importance, int count);
 SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition);
 
 // ccvt: capacity-constrained Voronoi tessellation as a power diagram (Balzer et al. 2009; de Goes et
-// al. 2012). Starts with a site on each sun (touching texels heavier than a share) and the others at the
-// centroids of equal_importance_regions of the rest; the biases solve the capacity
-// problem (equal importance per cell) by damped Newton steps, first on blurred importance; then the
-// sites move towards their cells' centroids, the biases following. A texel heavier than an equal share
-// (a sun) cannot be split: the cell holding it keeps what it has and the others share the rest. The
-// seed is not used (the start is deterministic).
-SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition);
+// al. 2012). Starts at the centroids of equal_importance_regions (so it takes no seed); the biases solve
+// the capacity problem (equal importance per cell) by damped Newton steps, first on blurred importance;
+// then the sites move towards their cells' centroids, the biases following. A texel heavier than an
+// equal share T / N (a sun) cannot be split: it is left out of the sharing, so the cell that holds it
+// carries it and one share of the rest besides, and every other cell one share.
+SiteSet sites_ccvt(const ImportanceMap& importance, int count, const Partition& partition);
 
 inline constexpr double kLloydEnergyTolerance = 1e-4;
 inline constexpr int kLloydMaxIterations = 500;
