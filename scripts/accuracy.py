@@ -36,7 +36,8 @@ SCENES = {
 }
 MAPS = {"city": f"{WORLD}/city.exr", "courtyard": f"{WORLD}/courtyard.exr", "studio": f"{WORLD}/studio.exr",
         "sky": "builtin:sky"}
-METHODS = ["lloyd", "ccvt", "mediancut", "random", "fs"]
+METHODS = ["lloyd", "ccvt", "mediancut", "random", "fs", "fs-gpu"]
+DECOMPOSE_METHODS = [m for m in METHODS if m != "fs-gpu"]  # fs-gpu samples every frame: no `decompose` step
 NS = [16, 32, 64, 128, 256]
 TILES = [128, 256, 512]
 DEFAULTS = {"tile": 256, "specular": "blended", "cap": "weighted", "diffuse": "center", "seed": 1}
@@ -431,6 +432,9 @@ def write_accuracy(ctx, path):
     w("  is the bottleneck (one to several minutes each here).")
     w("- **Defaults** unless a row says otherwise: N = 128 cells, method `lloyd`, shadow tiles 256², 16-bit depth,")
     w("  2×2 PCF, blended specular with the radiance-weighted cap (`--cap weighted`), diffuse at the cell centre.")
+    w("- **Methods**: the five load-time decompositions of DESIGN.md §3, and `fs-gpu`: the same Floyd–Steinberg halftoning")
+    w("  run every frame on the GPU (geometry shader, docs/FS_GPU.md) over a 256×128 importance map, so it is what the")
+    w("  dynamic-environment mode costs in accuracy against `fs` on the full 1024×512 map.")
     w("")
     w("Coverage of this run: the N = 128 table on " + ", ".join(f"{s}/{m}" for s, m in ctx["table_pairs"]) + ";")
     w("the full method × N grid on " + ", ".join(f"{s}/{m}" for s, m in ctx["grid_pairs"]) + ";")
@@ -773,7 +777,7 @@ def decomposition_stats(args, cache, maps=("city", "studio"), n=128):
     os.makedirs(f"{cache}/decomp", exist_ok=True)
     out = {}
     for map_ in maps:
-        for m in METHODS:
+        for m in DECOMPOSE_METHODS:
             path = f"{cache}/decomp/{map_}__{m}__{n}.json"
             if args.report_only and not os.path.exists(path):
                 continue
