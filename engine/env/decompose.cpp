@@ -131,8 +131,12 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
     result.method = options.method;
     result.width = map.width;
     result.height = map.height;
-    result.texel_cell.resize(importance.texel_count());
-    partition.assign(sites.sites, sites.bias, result.texel_cell);
+    if (sites.texel_cell.size() == importance.texel_count()) {
+        result.texel_cell = std::move(sites.texel_cell);  // CCVT's balanced power cells
+    } else {
+        result.texel_cell.resize(importance.texel_count());
+        partition.assign(sites.sites, sites.bias, result.texel_cell);
+    }
     result.cells = integrate_cells(map, importance, result.texel_cell, sites.sites);
     result.integral = integrate_radiance(map);
     result.iterations = sites.iterations;

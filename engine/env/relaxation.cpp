@@ -603,6 +603,12 @@ SiteSet sites_ccvt(const ImportanceMap& full_importance, int count, const Partit
                         std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
     CapacitySolver::State polish = full.evaluate(result.sites, result.bias);
     full.improve(result.sites, result.bias, polish, std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
+
+    // The power diagram balances the cells only up to the texels along their borders: whole texels
+    // are passed across them to even out what is left.
+    result.texel_cell.resize(importance.texel_count());
+    partition.assign(result.sites, result.bias, result.texel_cell);
+    balance_texels(importance, result.texel_cell, count);
     return result;
 }
 

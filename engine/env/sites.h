@@ -19,6 +19,9 @@ struct SiteSet {
     std::vector<double> bias;       // empty, or per site (nearest_site.h): CCVT's power weights / 2
     int iterations = 0;             // relaxation iterations run (Lloyd, CCVT)
     double final_movement = 0.0;    // largest site movement of the last iteration, radians
+    // Empty, or the texel -> cell assignment the method settled on (CCVT: the power diagram of the sites
+    // and biases, then balance_texels); decompose() assigns texels to the nearest site where it is empty.
+    std::vector<std::uint16_t> texel_cell;
 };
 
 // The nearest-site partition as the relaxations use it (the tile search or the brute force): the
@@ -87,7 +90,35 @@ SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t se
 // then the sites move towards their cells' centroids, the biases following. A texel heavier than an
 // equal share T / N (a sun) cannot be split: it is left out of the sharing, so the cell that holds it
 // carries it and one share of the rest besides, and every other cell one share.
+// The assignment is the power diagram's, then balance_texels on the shared importance: its cells are
+// the power cells up to whole texels passed across their borders, so they are no longer exactly the
+// nearest-site cells of the returned sites and biases (SiteSet::texel_cell holds them).
 SiteSet sites_ccvt(const ImportanceMap& importance, int count, const Partition& partition);
+
+// The importance CCVT shares out: `importance` with the texels heavier than an equal share (total /
+// count) set to zero, where there are such texels and at most count / 4 of them (a sun's); otherwise
+// `importance` itself. A sun's cell carries the sun and one share of the rest.
+ImportanceMap shareable_importance(const ImportanceMap& importance, int count);
+
+// CCVT's last step, whole-texel balancing (the swaps of Balzer et al. 2009, restricted to cell
+// borders): passes over the border texels (a 4-neighbour, across the u = 0/1 seam too, in another
+// cell; nothing beyond the poles) in scan order. A texel of importance w > 0 moves from its cell a to
+// the lightest neighbouring cell b when I_a - I_b > w: that changes sum_k (I_k - share)^2 by
+// 2 w^2 - 2 w (I_a - I_b) < 0, so every move lowers it and neighbouring cells end within a texel of each
+// other. Cells closer than kCcvtBalanceTolerance of a share (total / cell_count) trade nothing: the
+// borders of cells already in balance stay the power diagram's, not frayed by moves of dark texels that
+// gain next to nothing. Texels of no importance (those shareable_importance leaves out) never move; a cell never gives
+// up its last texel, nor a texel whose removal would cut it in two locally (not a simple point of its
+// 8-neighbourhood). Stops after a pass that moves nothing or after `max_passes`; each pass visits only
+// the border texels. Sequential and deterministic. Returns the passes run and texels moved.
+struct TexelBalance {
+    int passes = 0;
+    std::size_t moves = 0;
+};
+inline constexpr int kCcvtBalancePasses = 64;
+inline constexpr double kCcvtBalanceTolerance = 0.02;
+TexelBalance balance_texels(const ImportanceMap& importance, std::span<std::uint16_t> texel_cell, int cell_count,
+                            int max_passes = kCcvtBalancePasses);
 
 inline constexpr double kLloydEnergyTolerance = 1e-4;
 inline constexpr int kLloydMaxIterations = 500;
