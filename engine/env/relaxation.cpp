@@ -503,16 +503,24 @@ Resolution at_resolution(const ImportanceMap& fine, int factor, int blur) {
 
 }  // namespace
 
-// The importance CCVT shares out. A texel heavier than an equal share T / N (a sun) cannot be split
-// between cells, so it is left out of the sharing: every cell, including the one that happens to hold
-// it, takes an equal share of the rest, and a sun's cell carries the sun and one share besides. Only
-// where such texels are few (a sun's); a map whose texels each weigh about a share (as many lights as
-// texels) is shared as it is.
+// The importance CCVT shares out. A texel heavier than an equal share (a sun) cannot be split between
+// cells, so it is left out of the sharing: every cell, including the one that happens to hold it,
+// takes an equal share of the rest, and a sun's cell carries the sun and one share besides. The share
+// is of what is shared, R / N with R the importance outside the heavy texels, so "heavy" is the fixed
+// point of texel > R / N (sunrise: four texels of 13% make the share of the rest half of T / N, and
+// texels between the two are unsplittable too). Only where such texels are few (a sun's); a map whose
+// texels each weigh about a share (as many lights as texels) is shared as it is.
 ImportanceMap shareable_importance(const ImportanceMap& importance, int count) {
-    const double share = importance.total / count;
     std::vector<std::size_t> heavy;
-    for (std::size_t t = 0; t < importance.texel_count(); ++t)
-        if (importance.importance[t] > share) heavy.push_back(t);
+    for (double rest = importance.total;;) {  // the threshold only falls, so this ends
+        const double share = rest / count;
+        heavy.clear();
+        double heavy_sum = 0.0;
+        for (std::size_t t = 0; t < importance.texel_count(); ++t)
+            if (importance.importance[t] > share) heavy.push_back(t), heavy_sum += importance.importance[t];
+        if (importance.total - heavy_sum >= rest || 4 * heavy.size() > std::size_t(count)) break;
+        rest = importance.total - heavy_sum;
+    }
     if (heavy.empty() || 4 * heavy.size() > std::size_t(count)) return importance;
     ImportanceMap shareable = importance;
     for (std::size_t t : heavy) shareable.importance[t] = 0.0f;

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "common/ccvt_unsplittable.h"
 #include "core/error.h"
 #include "env/cell_overlay.h"
 #include "env/cells.h"
@@ -174,9 +175,10 @@ double importance_variation(const EnvironmentMap& map, const Decomposition& d) {
     const size_t n = d.cells.size();
     std::vector<double> mass(n, 0.0);
     std::vector<bool> holds_sun(n, false);
+    const double threshold = test::unsplittable_threshold(std::span<const float>(importance.importance), int(n));
     for (size_t t = 0; t < importance.texel_count(); ++t) {
         mass[d.texel_cell[t]] += importance.importance[t];
-        if (importance.importance[t] > importance.total / double(n)) holds_sun[d.texel_cell[t]] = true;
+        if (importance.importance[t] > threshold) holds_sun[d.texel_cell[t]] = true;
     }
     double sum = 0.0, squares = 0.0;
     int count = 0;

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "common/ccvt_unsplittable.h"
 #include "contract_helpers.h"
 
 namespace envshadow::contract {
@@ -50,8 +51,8 @@ INSTANTIATE_TEST_SUITE_P(NoSun, EnvContractCcvtEqualImportance, ::testing::Value
 
 class EnvContractCcvtSunCell : public ::testing::TestWithParam<const char*> {};
 
-// City and sunrise hold texels worth more than 1/N of the total (sunrise: four of about 13% each). Such
-// a texel cannot be split, so the cells holding one may carry more (sites.h, sites_ccvt); every other
+// City and sunrise hold texels worth more than an equal share (sunrise: four of about 13% each, and at
+// N = 64 smaller ones above the share of what is left). Such a texel cannot be split, so the cells holding one may carry more (sites.h, sites_ccvt); every other
 // cell carries an equal share of the rest. "More" is the unsplittable texels: a sun cell carries them and
 // at most two ordinary shares besides (DESIGN.md §3: every cell ≈ 1/N where it can be; the texels
 // around the disc, partly covered by it, are what a tight power cell cannot avoid).
@@ -66,11 +67,12 @@ TEST_P(EnvContractCcvtSunCell, SunCellsHoldLittleBesidesTheSunAndTheOthersShareT
         const std::string context = describe(spec, Method::ccvt, lights);
         const Decomposition d = decompose(map, {.method = Method::ccvt, .lights = lights});
         ASSERT_EQ(int(d.cells.size()), lights) << context;
+        const double threshold = test::unsplittable_threshold(std::span<const double>(importance), lights);
         std::vector<bool> sun(d.cells.size(), false);
         std::vector<double> heavy_in_cell(d.cells.size(), 0.0);
         int heavy_texels = 0;
         for (std::size_t t = 0; t < importance.size(); ++t)
-            if (importance[t] > total / lights) {
+            if (importance[t] > threshold) {
                 sun[d.texel_cell[t]] = true;
                 heavy_in_cell[d.texel_cell[t]] += importance[t];
                 ++heavy_texels;
@@ -92,7 +94,7 @@ TEST_P(EnvContractCcvtSunCell, SunCellsHoldLittleBesidesTheSunAndTheOthersShareT
         for (std::size_t k = 0; k < sums.importance.size(); ++k)
             if (sun[k]) {
                 EXPECT_LE(sums.importance[k], heavy_in_cell[k] + 2.0 * mean(rest))
-                    << context << ": sun cell " << k << " carries " << sums.importance[k] / total << " of the importance, its texels above 1/N "
+                    << context << ": sun cell " << k << " carries " << sums.importance[k] / total << " of the importance, its unsplittable texels "
                     << heavy_in_cell[k] / total << ", an ordinary cell " << mean(rest) / total;
             }
     }
