@@ -1,5 +1,6 @@
 #include "render/gpu_mesh.h"
 
+#include <cstdint>
 #include <limits>
 
 #include <glm/common.hpp>
@@ -28,6 +29,16 @@ GpuMesh::GpuMesh(const Mesh& mesh) {
     }
     glVertexArrayElementBuffer(vao, indices_.id());
 
+    caster_lod_ = build_caster_lod(mesh.positions, mesh.indices);
+    caster_indices_ = make(caster_lod_.indices);
+    caster_vertex_array_ = gl::VertexArray::create();
+    const GLuint caster_vao = caster_vertex_array_.id();
+    glVertexArrayVertexBuffer(caster_vao, 0, positions_.id(), 0, sizeof(glm::vec3));
+    glEnableVertexArrayAttrib(caster_vao, 0);
+    glVertexArrayAttribFormat(caster_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(caster_vao, 0, 0);
+    glVertexArrayElementBuffer(caster_vao, caster_indices_.id());
+
     if (mesh.positions.empty()) return;
     bounds_min_ = glm::vec3(std::numeric_limits<float>::infinity());
     bounds_max_ = -bounds_min_;
@@ -43,6 +54,23 @@ void GpuMesh::draw() const {
 
 void GpuMesh::draw_instanced(int count) const {
     glDrawElementsInstanced(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr, count);
+}
+
+}  // namespace envshadow::render
+
+namespace envshadow::render {
+
+void GpuMesh::draw_caster(int level, int instances) const {
+    const CasterLevel& l = caster_lod_.levels[std::size_t(level)];
+    glDrawElementsInstanced(GL_TRIANGLES, GLsizei(l.index_count), GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(std::uintptr_t(l.first_index) * sizeof(std::uint32_t)),
+                            instances);
+}
+
+void GpuMesh::draw_caster(int level) const {
+    const CasterLevel& l = caster_lod_.levels[std::size_t(level)];
+    glDrawElements(GL_TRIANGLES, GLsizei(l.index_count), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(std::uintptr_t(l.first_index) * sizeof(std::uint32_t)));
 }
 
 }  // namespace envshadow::render

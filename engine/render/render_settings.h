@@ -32,7 +32,24 @@ struct RenderSettings {
     bool background = true;
     AtlasMode atlas = AtlasMode::clip_distances;
     bool skip_lights = true;  // drop lights hidden by the ground or negligible (render/lights.h)
+    // Optimisations of issue 10 (docs/PERFORMANCE.md); baseline() turns them all off.
+    // Shadow casters drawn at the coarsest level of detail whose error is at most this fraction of
+    // the smallest atlas texel (render/caster_lod.h); 0: the full meshes.
+    float caster_lod = 0.5f;
+    // Depth-only pass of the objects first, then the N-light shading once per visible pixel
+    // (depth test EQUAL) instead of once per rasterised fragment.
+    bool depth_prepass = true;
 };
+
+// The first working renderer's settings (issue 10's baseline): `settings` with every optimisation
+// of issue 10 off.
+RenderSettings baseline(RenderSettings settings);
+
+// `settings` changed by a variant of `bench --variants`: comma-separated items, each a preset
+// ("baseline": baseline(); "optimised" or "default": nothing changed) or key=value, with keys
+// caster-lod (texels; "off" = 0), prepass (on/off), depth-bits, tile, atlas, pcf. Applied left
+// to right; validated. UsageError naming `option` for anything else.
+RenderSettings apply_variant(RenderSettings settings, std::string_view variant, std::string_view option);
 
 std::string_view to_string(AtlasMode mode);
 std::string_view to_string(PcfKernel kernel);
@@ -47,7 +64,7 @@ SpecularMode parse_specular_mode(std::string_view name, std::string_view option)
 CapKind parse_cap_kind(std::string_view name, std::string_view option);
 DiffuseMode parse_diffuse_mode(std::string_view name, std::string_view option);
 
-// UsageError if a value is out of range (tile size, depth bits, negative biases).
+// UsageError if a value is out of range (tile size, depth bits, negative biases, caster LOD).
 void validate(const RenderSettings& settings);
 
 }  // namespace envshadow::render

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -107,6 +108,9 @@ void Renderer::build_programs() {
     if (settings_.pcf == PcfKernel::wide) shade_defines.push_back("PCF_WIDE");
     shade_program_ =
         library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
+    if (!prepass_program_)  // shade.vert's gl_Position is invariant: the shading pass's depths equal these
+        prepass_program_ =
+            library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
     if (!background_program_)
         background_program_ =
             library_.build({{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
@@ -227,6 +231,7 @@ void Renderer::update_instances(double time) {
 void Renderer::fit_lights() {
     const glm::vec2 tile_uv(1.0f / float(layout_.columns), 1.0f / float(layout_.rows));
     const bool weighted = settings_.cap == CapKind::weighted;
+    min_texel_world_ = std::numeric_limits<float>::infinity();
     for (std::size_t k = 0; k < records_.size(); ++k) {
         const WorldLight& light = lights_.kept[k];
         const OrthographicFit fit =
@@ -239,7 +244,9 @@ void Renderer::fit_lights() {
         record.tile = glm::vec4(float(column) * tile_uv.x, float(row) * tile_uv.y, tile_uv.x, tile_uv.y);
         record.bias = glm::vec4(settings_.depth_bias * fit.texel_world / fit.depth_range,
                                 settings_.normal_offset * fit.texel_world, 0.0f, 0.0f);
+        min_texel_world_ = std::min(min_texel_world_, fit.texel_world);
     }
+    if (records_.empty()) min_texel_world_ = 0.0f;
     light_buffer_.upload(records_.data(), records_.size() * sizeof(LightRecord));
 }
 
@@ -260,13 +267,20 @@ void Renderer::draw_atlas() {
     const int tiles = int(records_.size());
     const int size = layout_.tile_size;
 
-    auto for_each_caster = [&](auto&& draw) {
+    // Each caster at the coarsest level of detail within settings_.caster_lod of the smallest texel
+    // of this frame's tiles (level 0, the full mesh, with caster_lod = 0).
+    atlas_triangles_ = 0;
+    auto for_each_caster = [&](int tiles_per_draw, auto&& draw) {
         for (const Instance& instance : instances_) {
             if (!instance.object.casts_shadows) continue;
+            const CasterLod& lod = instance.mesh->caster_lod();
+            const int level = choose_caster_level(
+                lod, caster_error_budget(instance.world_from_object, min_texel_world_, settings_.caster_lod));
+            atlas_triangles_ += std::size_t(lod.levels[std::size_t(level)].index_count / 3) * std::size_t(tiles_per_draw);
             glProgramUniformMatrix4fv(atlas_program_.id(), loc::world_from_object, 1, GL_FALSE,
                                       &instance.world_from_object[0][0]);
-            instance.mesh->bind();
-            draw(*instance.mesh);
+            instance.mesh->bind_caster();
+            draw(*instance.mesh, level);
         }
     };
     switch (settings_.atlas) {
@@ -274,7 +288,7 @@ void Renderer::draw_atlas() {
             for (GLenum plane = 0; plane < 4; ++plane) glEnable(GL_CLIP_DISTANCE0 + plane);
             glViewport(0, 0, layout_.width(), layout_.height());
             glProgramUniform1i(atlas_program_.id(), loc::first_tile, 0);
-            for_each_caster([&](const GpuMesh& mesh) { mesh.draw_instanced(tiles); });  // one draw per mesh
+            for_each_caster(tiles, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, tiles); });  // one draw per mesh
             for (GLenum plane = 0; plane < 4; ++plane) glDisable(GL_CLIP_DISTANCE0 + plane);
             break;
         case AtlasMode::viewport_array:
@@ -289,21 +303,41 @@ void Renderer::draw_atlas() {
                 }
                 glViewportArrayv(0, batch, rects.data());
                 glProgramUniform1i(atlas_program_.id(), loc::first_tile, first);
-                for_each_caster([&](const GpuMesh& mesh) { mesh.draw_instanced(batch); });
+                for_each_caster(batch, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, batch); });
             }
             break;
         case AtlasMode::per_tile:
             for (int k = 0; k < tiles; ++k) {
                 glViewport((k % layout_.columns) * size, (k / layout_.columns) * size, size, size);
                 glProgramUniform1i(atlas_program_.id(), loc::first_tile, k);
-                for_each_caster([&](const GpuMesh& mesh) { mesh.draw(); });
+                for_each_caster(1, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level); });
             }
             break;
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
 }
 
+void Renderer::draw_depth_prepass(const CameraView& view) {
+    gl::ScopedPass pass(&timer_, "depth pre-pass");
+    const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
+    const GLuint program = prepass_program_.id();
+    prepass_program_.use();
+    glProgramUniformMatrix4fv(program, loc::clip_from_world, 1, GL_FALSE, &clip_from_world[0][0]);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    for (const Instance& instance : instances_) {
+        glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE, &instance.world_from_object[0][0]);
+        instance.mesh->bind();
+        instance.mesh->draw();
+    }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
 void Renderer::draw_objects(const CameraView& view) {
+    if (settings_.depth_prepass) draw_depth_prepass(view);
     gl::ScopedPass pass(&timer_, "shading");
     const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
     const GLuint program = shade_program_.id();
@@ -315,7 +349,10 @@ void Renderer::draw_objects(const CameraView& view) {
     atlas_depth_.bind(kAtlasUnit);
     shadow_sampler_.bind(kAtlasUnit);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
+    // After the pre-pass only the visible fragment of each pixel passes (bit-identical depths:
+    // shade.vert's gl_Position is invariant), so the light loop runs once per pixel.
+    glDepthFunc(settings_.depth_prepass ? GL_EQUAL : GL_LESS);
+    glDepthMask(settings_.depth_prepass ? GL_FALSE : GL_TRUE);
     glDisable(GL_CULL_FACE);  // two-sided (shade.frag turns the normal to the viewer)
     for (const Instance& instance : instances_) {
         const Material& material = instance.object.material;
@@ -331,6 +368,8 @@ void Renderer::draw_objects(const CameraView& view) {
         instance.mesh->draw();
     }
     glBindSampler(kAtlasUnit, 0);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
 }
 
 void Renderer::draw_background(const CameraView& view) {
@@ -392,6 +431,7 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     stats.lights_negligible = lights_.negligible;
     stats.atlas_bytes = atlas_bytes();
     stats.atlas = layout_;
+    stats.atlas_triangles = atlas_triangles_;
     return stats;
 }
 

@@ -54,6 +54,7 @@ struct FrameStats {
     int lights_negligible = 0;
     std::size_t atlas_bytes = 0;
     AtlasLayout atlas;
+    std::size_t atlas_triangles = 0;  // caster triangles drawn into the atlas, all tiles together
 };
 
 class Renderer {
@@ -111,11 +112,12 @@ private:
     void fit_lights();
     void draw_atlas();
     void draw_objects(const CameraView& view);
+    void draw_depth_prepass(const CameraView& view);
     void draw_background(const CameraView& view);
 
     RenderSettings settings_;
     gl::ShaderLibrary library_;
-    gl::Program atlas_program_, shade_program_, background_program_;
+    gl::Program atlas_program_, shade_program_, prepass_program_, background_program_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
     gl::Sampler shadow_sampler_;
     gl::GpuTimer timer_;
@@ -133,6 +135,8 @@ private:
     std::vector<LightFrame> light_frames_;
     std::vector<LightRecord> records_;      // rewritten every frame
     std::vector<glm::vec3> caster_points_;  // rewritten every frame
+    float min_texel_world_ = 0.0f;          // smallest atlas texel of this frame's fits (world units)
+    std::size_t atlas_triangles_ = 0;
     gl::Buffer light_buffer_;
 
     AtlasLayout layout_;
