@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <unordered_map>
 
 #include <glm/geometric.hpp>
 #include <meshoptimizer.h>
@@ -16,8 +17,8 @@ constexpr float kErrorSafety = 3.0f;
 CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices) {
     CasterLod lod;
     lod.indices.assign(indices.begin(), indices.end());
-    lod.levels.push_back({0u, std::uint32_t(indices.size()), 0.0f});
-    if (indices.size() < 3 * 64 || positions.empty()) return lod;  // too small to be worth it
+    lod.levels.push_back({0u, std::uint32_t(indices.size()), 0.0f, false});
+    if (indices.empty() || positions.empty()) return lod;
 
     const float* xyz = &positions[0].x;
     // Weld vertices that share a position (seams of normals or texture coordinates): a depth map only
@@ -25,6 +26,8 @@ CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const
     std::vector<std::uint32_t> welded(indices.size());
     meshopt_generateShadowIndexBuffer(welded.data(), indices.data(), indices.size(), xyz, positions.size(),
                                       sizeof(glm::vec3), sizeof(glm::vec3));
+    lod.levels[0].closed = is_closed(welded);
+    if (indices.size() < 3 * 64) return lod;  // too small to be worth simplifying
     const float scale = meshopt_simplifyScale(xyz, positions.size(), sizeof(glm::vec3));
 
     std::vector<std::uint32_t> out(indices.size());
@@ -43,12 +46,30 @@ CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const
         // tests/render/caster_lod_test.cpp), so the level is stored with three times it. Never a level
         // finer than the one before.
         const float error = std::max(kErrorSafety * result_error * scale, previous_error);
-        lod.levels.push_back({std::uint32_t(lod.indices.size()), std::uint32_t(count), error});
+        lod.levels.push_back({std::uint32_t(lod.indices.size()), std::uint32_t(count), error,
+                              is_closed(std::span<const std::uint32_t>(out.data(), count))});
         lod.indices.insert(lod.indices.end(), out.begin(), out.begin() + std::ptrdiff_t(count));
         previous_count = std::uint32_t(count);
         previous_error = error;
     }
     return lod;
+}
+
+bool is_closed(std::span<const std::uint32_t> indices) {
+    if (indices.empty() || indices.size() % 3 != 0) return false;
+    std::unordered_map<std::uint64_t, int> directed;  // (a, b) -> occurrences
+    directed.reserve(indices.size());
+    auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
+    for (std::size_t t = 0; t < indices.size(); t += 3)
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t a = indices[t + std::size_t(e)], b = indices[t + std::size_t((e + 1) % 3)];
+            if (a == b || ++directed[key(a, b)] > 1) return false;
+        }
+    for (const auto& [edge, count] : directed) {
+        const auto reverse = directed.find(key(std::uint32_t(edge & 0xffffffffu), std::uint32_t(edge >> 32)));
+        if (reverse == directed.end() || reverse->second != 1) return false;
+    }
+    return true;
 }
 
 int choose_caster_level(const CasterLod& lod, float max_error) {

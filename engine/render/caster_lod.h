@@ -20,6 +20,7 @@ struct CasterLevel {
     std::uint32_t first_index = 0;  // into CasterLod::indices
     std::uint32_t index_count = 0;
     float error = 0.0f;  // bound on the distance (object space) of the simplified surface from the original
+    bool closed = false;  // welded by position, every edge is shared by exactly two oppositely wound triangles
 };
 
 struct CasterLod {
@@ -32,6 +33,10 @@ struct CasterLod {
 // Relative error targets (fractions of the mesh's extent) the chain is built for: 1/8192 growing by sqrt(2)
 // up to 1/32. Levels that remove under 10% of the previous level's triangles are not kept.
 CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices);
+
+// Whether the triangles form closed surfaces, consistently wound: every directed edge (a, b) occurs
+// once and its reverse (b, a) once. Degenerate triangles make it false.
+bool is_closed(std::span<const std::uint32_t> indices);
 
 // The coarsest level whose error is at most `max_error` (object space); level 0 when max_error <= 0.
 int choose_caster_level(const CasterLod& lod, float max_error);

@@ -132,6 +132,14 @@ RenderSettings apply_variant(RenderSettings settings, std::string_view variant, 
             settings.caster_lod = value == "off" ? 0.0f : float(parse_number(value, option));
         } else if (key == "prepass") {
             settings.depth_prepass = parse_on_off(value, option);
+        } else if (key == "ubo") {
+            settings.lights_uniform_block = parse_on_off(value, option);
+        } else if (key == "cull") {
+            settings.cull_back_faces = parse_on_off(value, option);
+        } else if (key == "specialise") {
+            settings.specialise_shaders = parse_on_off(value, option);
+        } else if (key == "tiles") {
+            settings.shadow_tile_lists = parse_on_off(value, option);
         } else if (key == "depth-bits") {
             settings.depth_bits = int(parse_number(value, option));
         } else if (key == "tile") {
@@ -142,7 +150,7 @@ RenderSettings apply_variant(RenderSettings settings, std::string_view variant, 
             settings.pcf = parse_pcf_kernel(value, option);
         } else {
             throw UsageError(std::string(option) + ": unknown key '" + std::string(key) +
-                             "' (caster-lod, prepass, depth-bits, tile, atlas, pcf)");
+                             "' (caster-lod, prepass, ubo, cull, specialise, tiles, depth-bits, tile, atlas, pcf)");
         }
     }
     validate(settings);
@@ -152,6 +160,10 @@ RenderSettings apply_variant(RenderSettings settings, std::string_view variant, 
 RenderSettings baseline(RenderSettings settings) {
     settings.caster_lod = 0.0f;
     settings.depth_prepass = false;
+    settings.lights_uniform_block = false;
+    settings.cull_back_faces = false;
+    settings.specialise_shaders = false;
+    settings.shadow_tile_lists = false;
     return settings;
 }
 

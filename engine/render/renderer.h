@@ -19,6 +19,7 @@
 
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "core/image.h"
@@ -113,11 +114,14 @@ private:
     void draw_atlas();
     void draw_objects(const CameraView& view);
     void draw_depth_prepass(const CameraView& view);
+    bool tile_lists_active() const;
+    void build_tile_lists(const CameraView& view);
     void draw_background(const CameraView& view);
 
     RenderSettings settings_;
     gl::ShaderLibrary library_;
-    gl::Program atlas_program_, shade_program_, prepass_program_, background_program_;
+    gl::Program atlas_program_, shade_program_, shade_diffuse_program_, prepass_program_, background_program_;
+    gl::Program tiles_program_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
     gl::Sampler shadow_sampler_;
     gl::GpuTimer timer_;
@@ -144,10 +148,14 @@ private:
     gl::Texture atlas_depth_;
     gl::Framebuffer atlas_;
     int max_viewports_ = 1;
+    bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds kMaxTiles light records
+    bool use_uniform_block_ = false;
 
     gl::Texture environment_;
     gl::Texture color_, depth_;
     gl::Framebuffer target_;
+    glm::ivec2 screen_tiles_{0, 0};  // 16x16-pixel tiles of the target
+    gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
 };
 
 }  // namespace envshadow::render
