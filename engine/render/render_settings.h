@@ -33,13 +33,14 @@ struct RenderSettings {
     AtlasMode atlas = AtlasMode::clip_distances;
     bool skip_lights = true;  // drop lights hidden by the ground or negligible (render/lights.h)
     // Optimisations of issue 10 (docs/PERFORMANCE.md); baseline() turns them all off.
-    // Shadow casters drawn at the coarsest level of detail whose error is at most this many of the
-    // frame's smallest atlas texels (render/caster_lod.h); 0: the full meshes. A surface moved by d
-    // along its normal is compared at least (max(sin, 0.2) + cos) * texel >= texel in front of it by
-    // the normal offset and depth bias (1 texel each), so up to a texel it cannot shadow itself; but
-    // thin parts (the viruses' spikes at 128^2 tiles) change their shadows' outline visibly at 1
-    // (regression PSNR 36.6 dB), so half a texel (docs/PERFORMANCE.md).
-    float caster_lod = 0.5f;
+    // Shadow casters drawn at the coarsest level of detail whose measured error is at most this many
+    // of the frame's smallest atlas texels (render/caster_lod.h); 0: the full meshes. A surface moved
+    // by d along its normal is still compared (max(sin, 0.2) + cos) * texel >= texel in front of
+    // itself by the normal offset and depth bias (1 texel each), so it cannot shadow itself up to a
+    // texel; but thin parts a few texels across (the viruses' spikes at 128^2 tiles) change their
+    // shadows' speckle visibly already at 0.4 texel (golden fails: 0.22% of pixels differ, 0.2%
+    // allowed), so 0.3; flyover's figures take 1 texel invisibly (docs/PERFORMANCE.md).
+    float caster_lod = 0.3f;
     // Depth-only pass of the objects first, then the N-light shading once per visible pixel
     // (depth test EQUAL) instead of once per rasterised fragment.
     bool depth_prepass = true;
