@@ -1,10 +1,11 @@
 #version 450 core
 // Which lights can shadow each 16x16 tile of the image (issue 10: "cull per tile"). After the
 // depth pre-pass, one work group per screen tile bounds the visible receivers of its pixels in the
-// world (pushed out by the largest normal offset), and lists the lights whose shadow tile can see any
-// of them: a receiver that projects outside its light's tile ([-1, 1]^2 in the light's clip space)
-// reads cleared depth there (casters keep a margin from the tile's border), so its visibility is
-// exactly 1 and shade.frag (SHADOW_TILE_LISTS) skips the lookup. The list keeps the light order.
+// world (pushed out by the largest normal offset), and lists the lights for which any of them falls
+// inside the rectangle of one of the casters in that light's tile (the caster's box projected into
+// the light's clip space, widened by 2 texels: the PCF footprint's reach). Everywhere else the tile
+// holds cleared depth, so the visibility there is exactly 1 and shade.frag (SHADOW_TILE_LISTS) skips
+// the lookup. The list keeps the light order.
 #include "cells.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
@@ -14,7 +15,11 @@ layout(location = 0) uniform mat4 u_world_from_clip;
 layout(location = 4) uniform int u_light_count;
 layout(location = 5) uniform float u_pad;  // world units: the largest normal offset and rounding
 
+layout(location = 6) uniform int u_caster_count;  // rectangles per light
+
 layout(std430, binding = 1) writeonly buffer TileLists { uint tile_lists[]; };  // per tile: count, lights
+// Per light, u_caster_count rectangles in its clip space: xy lower left, zw upper right.
+layout(std430, binding = 3) readonly buffer CasterRects { vec4 caster_rects[]; };
 
 shared uint s_lo[3], s_hi[3];
 shared uint s_any;
@@ -73,8 +78,12 @@ void main() {
             clip_lo = min(clip_lo, c);
             clip_hi = max(clip_hi, c);
         }
-        bool outside = any(greaterThan(clip_lo, vec2(1.0))) || any(lessThan(clip_hi, vec2(-1.0)));
-        s_needed[i] = outside ? 0u : 1u;
+        uint needed = 0u;
+        for (int c = 0; c < u_caster_count; ++c) {
+            vec4 rect = caster_rects[int(i) * u_caster_count + c];
+            if (all(lessThanEqual(clip_lo, rect.zw)) && all(greaterThanEqual(clip_hi, rect.xy))) needed = 1u;
+        }
+        s_needed[i] = needed;
     }
     barrier();
     if (local == 0u) {

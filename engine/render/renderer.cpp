@@ -28,6 +28,8 @@ constexpr GLuint kLightsBinding = 0;
 constexpr GLuint kDepthUnit = 2;          // glsl/shadow_tiles.comp
 constexpr GLuint kTileListsBinding = 1;   // shadow_tiles.comp writes, shade.frag (SHADOW_TILE_LISTS) reads
 constexpr int kScreenTile = 16;           // pixels; shadow_tiles.comp's work group, shade.frag's tile
+constexpr GLuint kCasterRectsBinding = 3;  // shadow_tiles.comp
+constexpr int kMaxCasterRects = 16;        // per light; more casters share one rectangle (the tile)
 
 // Explicit uniform locations of glsl/shadow_atlas.vert, shade.vert/.frag, background.frag.
 namespace loc {
@@ -269,6 +271,25 @@ void Renderer::fit_lights() {
                                 settings_.normal_offset * fit.texel_world, 0.0f, 0.0f);
         min_texel_world_ = std::min(min_texel_world_, fit.texel_world);
     }
+    // Each caster's box in each light's clip space, widened by 2 texels (shadow_tiles.comp).
+    const std::size_t casters = caster_points_.size() / 8;
+    caster_rect_count_ = casters <= std::size_t(kMaxCasterRects) ? int(std::max<std::size_t>(casters, 1)) : 1;
+    caster_rects_.assign(records_.size() * std::size_t(caster_rect_count_), glm::vec4(-1.0f, -1.0f, 1.0f, 1.0f));
+    if (casters >= 1 && casters <= std::size_t(kMaxCasterRects)) {
+        const float pad = 2.0f * 2.0f / float(layout_.tile_size);  // 2 texels in clip units
+        for (std::size_t k = 0; k < records_.size(); ++k)
+            for (std::size_t c = 0; c < casters; ++c) {
+                glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+                for (std::size_t j = 0; j < 8; ++j) {
+                    const glm::vec2 xy(records_[k].clip_from_world * glm::vec4(caster_points_[8 * c + j], 1.0f));
+                    lo = glm::min(lo, xy);
+                    hi = glm::max(hi, xy);
+                }
+                caster_rects_[k * casters + c] = glm::vec4(lo - pad, hi + pad);
+            }
+    }
+    if (caster_rects_.empty()) caster_rects_.push_back(glm::vec4(0.0f));
+    caster_rect_buffer_.upload_resizing(caster_rects_.data(), caster_rects_.size() * sizeof(glm::vec4));
     if (records_.empty()) min_texel_world_ = 0.0f;
     light_buffer_.upload(records_.data(), records_.size() * sizeof(LightRecord));
 }
@@ -385,6 +406,8 @@ void Renderer::build_tile_lists(const CameraView& view) {
     glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, &world_from_clip[0][0]);
     glProgramUniform1i(program, 4, int(records_.size()));
     glProgramUniform1f(program, 5, pad);
+    glProgramUniform1i(program, 6, caster_rect_count_);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCasterRectsBinding, caster_rect_buffer_.id());
     depth_.bind(kDepthUnit);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileListsBinding, tile_lists_.id());
     glDispatchCompute(GLuint(screen_tiles_.x), GLuint(screen_tiles_.y), 1);
