@@ -64,16 +64,6 @@ std::vector<render::AtlasMode> atlas_modes(const RenderOptions& o, const render:
     return {render::parse_atlas_mode(o.atlas, "--atlas")};
 }
 
-// builtin:sky follows --time: its sun advances one hour per second of animation from the spec's time
-// (noon by default), so the environment animates with the scene (with fs-gpu, nothing is computed at
-// load time for it). Other environments do not change with time.
-std::string environment_at(const std::string& spec, double seconds) {
-    if (seconds == 0.0 || (spec != "builtin:sky" && spec.rfind("builtin:sky:", 0) != 0)) return spec;
-    const std::size_t at = spec.find("time=");
-    const double hours = (at == std::string::npos ? 12.0 : std::strtod(spec.c_str() + at + 5, nullptr)) + seconds;
-    return spec + (spec == "builtin:sky" ? ":" : ",") + "time=" + std::to_string(hours);  // the last key wins
-}
-
 int run_render(const RenderOptions& o) {
     if (o.out.empty() && o.exr.empty()) throw UsageError("render: give --out OUT.png and/or --exr OUT.exr");
     if (!std::isfinite(o.time)) throw UsageError("--time must be a finite number of seconds");
@@ -87,7 +77,7 @@ int run_render(const RenderOptions& o) {
 
     Scene scene = load_scene(o.scene);
     if (!o.env.empty()) scene.environment.source = o.env;
-    const EnvironmentMap map = load_environment(environment_at(scene.environment.source, o.time));
+    const EnvironmentMap map = load_environment(environment_at_time(scene.environment.source, o.time));
     const Decomposition decomposition =
         fs_gpu ? Decomposition{} : decompose(map, DecomposeOptions{method, o.lights, o.seed});
 

@@ -14,9 +14,14 @@ Command add_view_command(CLI::App& parent) {
     app->add_option("--scene", options->scene, "Scene JSON or .gltf/.glb (default: assets/scenes/default.json)");
     app->add_option("--env", options->environment, "Environment map (.exr, .hdr or builtin:…), overrides the scene's");
     app->add_option("--lights", options->lights, "Number of cells N")->check(CLI::Range(1, 256));
-    app->add_option("--method", options->method, "Decomposition method")
-        ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs"}));
+    app->add_option("--method", options->method,
+                    "Decomposition: lloyd, ccvt, mediancut, random, fs; or fs-gpu (lights sampled on the GPU every frame; "
+                    "G toggles)")
+        ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs", "fs-gpu"}));
     app->add_option("--seed", options->seed, "Seed of the decomposition");
+    app->add_option("--speed", options->speed, "Animation seconds per second (0 pauses; builtin:sky's sun: one hour per second)")
+        ->check(CLI::Range(0.0f, 100.0f));
+    app->add_option("--time", options->time, "Animation time at the start, in seconds")->check(CLI::Range(-1e6, 1e6));
     app->add_option("--width", options->width, "Window width")->check(CLI::Range(320, 8192));
     app->add_option("--height", options->height, "Window height")->check(CLI::Range(240, 8192));
     app->add_option("--frames", options->frames, "Quit after this many frames (automated runs)")->check(CLI::Range(1, 1000000));

@@ -34,6 +34,12 @@ public:
         }
     }
 
+    // Blocks until the job is done (automated runs that must show its result); as poll otherwise.
+    std::optional<T> wait(std::string& error) {
+        if (future_.valid()) future_.wait();
+        return poll(error);
+    }
+
 private:
     std::future<T> future_;
     std::string what_;

@@ -7,12 +7,14 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <deque>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,7 +37,9 @@
 #include "env/latlong.h"
 #include "gl/context.h"
 #include "gl/readback.h"
+#include "glsl/embedded.h"
 #include "render/display.h"
+#include "render/fs_sampler.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "viewer/jobs.h"
@@ -49,14 +53,26 @@ namespace fs = std::filesystem;
 constexpr std::array<Method, 5> kMethods = {Method::lloyd, Method::ccvt, Method::mediancut, Method::random, Method::fs};
 constexpr int kHistory = 240;  // frames kept for the timing plots
 
+// Where the lights come from: the cells of the load-time decomposition, or Floyd-Steinberg samples
+// drawn on the GPU every frame (docs/FS_GPU.md), which follow a rotated, swapped or animated map at once.
+enum class LightSource { cells, gpu_fs };
+
 struct LoadedEnvironment {
     std::shared_ptr<const EnvironmentMap> map;
     Decomposition decomposition;
     Image8 cells_picture;  // the map tone-mapped with cell borders (env/cell_overlay.h)
+    Image8 map_picture;    // the map tone-mapped alone (under the GPU sampler's lights)
 };
 
 struct LoadedModel {
     Scene scene;
+};
+
+struct AnimatedSky {
+    std::string source;  // the spec it animates
+    EnvironmentMap map;
+    Image8 picture;      // picture_of(map)
+    double time = 0.0;   // the animation time (seconds) it was made for
 };
 
 // Files dropped onto the window, collected by GLFW's callback and handled by the frame loop.
@@ -65,10 +81,18 @@ struct DropQueue {
     std::vector<std::string> paths;
 };
 
+// The map tone-mapped to middle grey, for the panels.
+Image8 picture_of(const EnvironmentMap& map) {
+    Image linear(map.width, map.height);
+    for (size_t t = 0; t < map.texels.size(); ++t) linear.pixels[t] = glm::vec4(map.texels[t], 1.0f);
+    return tonemap_to_srgb8(linear, auto_exposure_stops(map));
+}
+
 LoadedEnvironment load_and_decompose(std::shared_ptr<const EnvironmentMap> map, DecomposeOptions options) {
     LoadedEnvironment result;
     result.decomposition = decompose(*map, options);
     result.cells_picture = draw_cells(*map, result.decomposition);
+    result.map_picture = picture_of(*map);
     result.map = std::move(map);
     return result;
 }
@@ -104,8 +128,13 @@ public:
         renderer_ = std::make_unique<render::Renderer>(settings_);
 
         lights_ = options.lights;
-        method_ = parse_method(options.method);
+        if (options.method == "fs-gpu")
+            light_source_ = LightSource::gpu_fs;
+        else
+            method_ = parse_method(options.method);
         seed_ = options.seed;
+        speed_ = options.speed;
+        time_ = options.time;
         set_scene(load_scene(options.scene));
         const std::string source = options.environment.empty() ? scene_.environment.source : options.environment;
         start_environment(source);
@@ -125,6 +154,7 @@ public:
             const double dt = std::chrono::duration<double>(now - last).count();
             last = now;
             if (playing_) time_ += dt * speed_;
+            last_frame_ = options_.frames > 0 && frame + 1 >= options_.frames;
 
             handle_drops();
             finish_jobs();
@@ -134,11 +164,11 @@ public:
             glfwGetFramebufferSize(window_, &width, &height);
             if (width > 0 && height > 0) draw_frame(width, height, dt);
 
-            const bool last_frame = options_.frames > 0 && frame + 1 >= options_.frames;
-            if (last_frame && !options_.screenshot.empty()) save_window(options_.screenshot, width, height);
+            if (last_frame_ && !options_.screenshot.empty()) save_window(options_.screenshot, width, height);
             context_->swap_buffers();
-            if (last_frame) break;
+            if (last_frame_) break;
         }
+        if (light_source_ == LightSource::gpu_fs) log_fs_lights();
         return 0;
     }
 
@@ -175,15 +205,18 @@ private:
     }
 
     void finish_jobs() {
-        if (auto loaded = environment_job_.poll(error_)) {
+        // The last frame of an automated run shows the map it was given, however slow the machine.
+        if (auto loaded = last_frame_ ? environment_job_.wait(error_) : environment_job_.poll(error_)) {
             const bool new_map = !environment_ || environment_->map != loaded->map;
             environment_ = std::make_unique<LoadedEnvironment>(std::move(*loaded));
-            if (new_map) renderer_->set_environment(*environment_->map);
-            renderer_->set_lights(environment_->decomposition.cells);
+            if (new_map) renderer_->set_environment(*environment_->map), animated_sky_time_.reset();
+            if (light_source_ == LightSource::cells) renderer_->set_lights(environment_->decomposition.cells);
             cells_texture_ = render::Display::upload(environment_->cells_picture);
+            map_texture_ = render::Display::upload(environment_->map_picture);
             selected_cell_ = std::min(selected_cell_, int(environment_->decomposition.cells.size()) - 1);
             error_.clear();
         }
+        if (auto sky = sky_job_.poll(error_)) show_sky(*sky);
         if (auto model = model_job_.poll(error_)) {
             Scene scene = std::move(model->scene);
             scene.environment = scene_.environment;  // a dropped model keeps the current environment
@@ -232,6 +265,8 @@ private:
                                                                                       : render::SpecularMode::blended;
             apply_settings();
         }
+        if (ImGui::IsKeyPressed(GLFW_KEY_G))
+            set_light_source(light_source_ == LightSource::cells ? LightSource::gpu_fs : LightSource::cells);
         if (ImGui::IsKeyPressed(GLFW_KEY_H) || ImGui::IsKeyPressed(GLFW_KEY_F1)) show_help_ = !show_help_;
         if (ImGui::IsKeyPressed(GLFW_KEY_F12) || ImGui::IsKeyPressed(GLFW_KEY_P)) screenshot_requested_ = true;
         if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(window_, GLFW_TRUE);
@@ -251,6 +286,7 @@ private:
     void draw_frame(int width, int height, double dt) {
         Scene framed = scene_;
         framed.camera = orbit_.camera();
+        if (light_source_ == LightSource::gpu_fs) sample_lights_on_the_gpu();
         const render::FrameStats stats = renderer_->render(time_, render::camera_view(framed, width, height, time_));
         record(stats, dt);
         if (screenshot_requested_) save_screenshot();
@@ -278,6 +314,85 @@ private:
         };
         push(frame_ms_, float(dt * 1000.0));
         for (const gl::PassTime& pass : stats.passes) push(pass_ms_[pass.pass], float(pass.milliseconds));
+        if (light_source_ == LightSource::gpu_fs) push(pass_ms_["fs-gpu sampling (wall)"], float(fs_sampling_ms_));
+    }
+
+    // --- lights sampled on the GPU ---------------------------------------------------------------
+
+    // What automated runs check: the last frame's lights and the sky they were sampled from.
+    void log_fs_lights() const {
+        const auto brightest = std::max_element(fs_lights_.begin(), fs_lights_.end(), [](const Cell& a, const Cell& b) {
+            return a.radiance.r + a.radiance.g + a.radiance.b < b.radiance.r + b.radiance.g + b.radiance.b;
+        });
+        if (brightest == fs_lights_.end()) return log::info("fs-gpu: no lights sampled");
+        char text[200];
+        std::snprintf(text, sizeof text, "fs-gpu: %zu lights in the last frame, the brightest toward (%.4f, %.4f, %.4f) in map space",
+                      fs_lights_.size(), double(brightest->direction.x), double(brightest->direction.y),
+                      double(brightest->direction.z));
+        std::string line = text;
+        if (animated_sky_time_) line += "; the sky at animation time " + std::to_string(*animated_sky_time_) + " s";
+        log::info(line);
+    }
+
+    void set_light_source(LightSource source) {
+        light_source_ = source;
+        if (source == LightSource::cells && environment_) {
+            renderer_->set_lights(environment_->decomposition.cells);
+            if (animated_sky_time_) {
+                renderer_->set_environment(*environment_->map);
+                map_texture_ = render::Display::upload(environment_->map_picture);
+                animated_sky_time_.reset();
+            }
+        }
+    }
+
+    // Lights from the environment texture as it is this frame. The read-back waits for the sampler
+    // (a fraction of a millisecond on a GPU), which keeps the renderer's light list on the CPU.
+    void sample_lights_on_the_gpu() {
+        if (!environment_) return;  // the first map is still loading
+        follow_the_clock();
+        if (last_frame_) {  // an automated run shows the sky it asked for, however slow the machine
+            if (auto sky = sky_job_.wait(error_)) show_sky(*sky);
+        }
+        try {
+            if (!fs_sampler_) {
+                gl::ShaderLibrary shaders;
+                for (const glsl::File& f : glsl::files()) shaders.add(f.name, f.source);
+                fs_sampler_.emplace(shaders);
+            }
+            const auto start = std::chrono::steady_clock::now();
+            fs_sampler_->sample(renderer_->environment_texture(), render::FsSampleRequest{lights_});
+            fs_lights_ = fs_sampler_->read_lights();
+            renderer_->set_lights(fs_lights_);
+            fs_sampling_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        } catch (const std::exception& e) {  // e.g. a GL without storage blocks in geometry shaders
+            error_ = e.what();
+            set_light_source(LightSource::cells);
+        }
+    }
+
+    void show_sky(const AnimatedSky& sky) {
+        // Unless the cells came back or a new map came in meanwhile.
+        if (light_source_ != LightSource::gpu_fs || !environment_ || sky.source != environment_->map->source) return;
+        renderer_->set_environment(sky.map);
+        map_texture_ = render::Display::upload(sky.picture);
+        animated_sky_time_ = sky.time;
+    }
+
+    // builtin:sky's sun follows the animation time (one hour per second, engine/env environment_at_time).
+    // The map is made off the render thread; each finished one is shown and the next started, so
+    // the sky moves as fast as the CPU makes maps without slowing the frame.
+    void follow_the_clock() {
+        if (!sun_follows_time_ || sky_job_.running()) return;
+        const std::string& source = environment_->map->source;
+        const std::string spec = environment_at_time(source, time_);
+        if (spec == source && !animated_sky_time_) return;  // not a sky, or a sky at its own time
+        if (animated_sky_time_ == time_) return;
+        sky_job_.start("sky at " + std::to_string(time_) + " s", [source, spec, time = time_] {
+            AnimatedSky sky{source, load_environment(spec), {}, time};
+            sky.picture = picture_of(sky.map);
+            return sky;
+        });
     }
 
     // --- panels ---------------------------------------------------------------------------------
@@ -295,20 +410,37 @@ private:
         if (model_job_.running()) ImGui::TextUnformatted(model_job_.what().c_str());
 
         if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
+            int source = int(light_source_);
+            if (ImGui::RadioButton("cells (load time)", &source, int(LightSource::cells))) set_light_source(LightSource::cells);
+            ImGui::SameLine();
+            if (ImGui::RadioButton("GPU FS (every frame)", &source, int(LightSource::gpu_fs)))
+                set_light_source(LightSource::gpu_fs);
             // Decompose when the slider is let go, not on every step of the drag.
             ImGui::SliderInt("cells N", &lights_, 1, kMaxLights, "%d", ImGuiSliderFlags_AlwaysClamp);
             bool redo = ImGui::IsItemDeactivatedAfterEdit();
-            int method_index = int(std::find(kMethods.begin(), kMethods.end(), method_) - kMethods.begin());
-            const char* names[] = {"lloyd", "ccvt", "mediancut", "random", "fs"};
-            if (ImGui::Combo("method", &method_index, names, int(kMethods.size()))) {
-                method_ = kMethods[size_t(method_index)];
-                redo = true;
+            if (light_source_ == LightSource::cells) {
+                int method_index = int(std::find(kMethods.begin(), kMethods.end(), method_) - kMethods.begin());
+                const char* names[] = {"lloyd", "ccvt", "mediancut", "random", "fs"};
+                if (ImGui::Combo("method", &method_index, names, int(kMethods.size()))) {
+                    method_ = kMethods[size_t(method_index)];
+                    redo = true;
+                }
+                if (redo) start_decomposition();
             }
-            if (redo) start_decomposition();
-            if (environment_) {
+            if (light_source_ == LightSource::gpu_fs) {
+                ImGui::Checkbox("sun follows time (builtin:sky)", &sun_follows_time_);
+                if (fs_sampler_) {
+                    const render::FsCounts counts = fs_sampler_->read_counts();
+                    ImGui::Text("GPU FS: %u lights from %u samples of a %dx%d importance map, %.2f ms", counts.light_count,
+                                counts.samples, fs_sampler_->importance_size().x, fs_sampler_->importance_size().y,
+                                fs_sampling_ms_);
+                }
+            } else if (environment_) {
                 const Decomposition& d = environment_->decomposition;
                 ImGui::Text("%zu cells, decomposed in %.1f ms (%d iterations)", d.cells.size(), d.seconds * 1000.0,
                             d.iterations);
+            }
+            if (environment_) {
                 ImGui::Text("%d lights drawn, %d below ground, %d negligible", stats.lights, stats.lights_below_ground,
                             stats.lights_negligible);
             }
@@ -397,6 +529,7 @@ private:
         ImGui::Text("%.1f FPS (%.2f ms per frame)", frame > 0.0f ? 1000.0 / double(frame) : 0.0, double(frame));
         plot("frame", frame_ms_);
         for (const gl::PassTime& pass : stats.passes) plot(pass.pass.c_str(), pass_ms_[pass.pass]);
+        if (light_source_ == LightSource::gpu_fs) plot("fs-gpu sampling (wall)", pass_ms_["fs-gpu sampling (wall)"]);
         ImGui::End();
     }
 
@@ -423,6 +556,10 @@ private:
         const ImVec2 display = ImGui::GetIO().DisplaySize;
         ImGui::SetNextWindowPos(ImVec2(display.x - 388, display.y - 292), ImGuiCond_FirstUseEver);
         ImGui::SetNextWindowSize(ImVec2(380, 284), ImGuiCond_FirstUseEver);
+        if (light_source_ == LightSource::gpu_fs) {
+            draw_fs_lights_panel();
+            return;
+        }
         if (ImGui::Begin("Environment cells") && environment_ && cells_texture_) {
             const Decomposition& d = environment_->decomposition;
             const float w = ImGui::GetContentRegionAvail().x, h = w * 0.5f;
@@ -449,6 +586,25 @@ private:
         ImGui::End();
     }
 
+    // The GPU sampler's lights of this frame as dots over the map on screen, brighter lights larger.
+    void draw_fs_lights_panel() {
+        if (ImGui::Begin("Environment cells") && environment_ && map_texture_) {
+            const float w = ImGui::GetContentRegionAvail().x, h = w * 0.5f;
+            const ImVec2 origin = ImGui::GetCursorScreenPos();
+            ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(map_texture_.id())), ImVec2(w, h));
+            float brightest = 0.0f;
+            for (const Cell& c : fs_lights_) brightest = std::max(brightest, c.radiance.r + c.radiance.g + c.radiance.b);
+            for (const Cell& c : fs_lights_) {
+                const glm::dvec2 uv = latlong::uv(glm::dvec3(c.direction));
+                const float share = (c.radiance.r + c.radiance.g + c.radiance.b) / std::max(brightest, 1e-30f);
+                ImGui::GetWindowDrawList()->AddCircleFilled(ImVec2(origin.x + float(uv.x) * w, origin.y + float(uv.y) * h),
+                                                            2.0f + 4.0f * std::sqrt(share), IM_COL32(255, 60, 40, 255));
+            }
+            ImGui::Text("%zu lights sampled on the GPU this frame (dots)", fs_lights_.size());
+        }
+        ImGui::End();
+    }
+
     void draw_help() {
         ImGui::SetNextWindowPos(ImVec2(400, 300), ImGuiCond_FirstUseEver);
         ImGui::Begin("Help", &show_help_, ImGuiWindowFlags_AlwaysAutoResize);
@@ -460,6 +616,7 @@ private:
             "R                reset the camera\n"
             "B                background on / off\n"
             "S                blended / single-sample specular\n"
+            "G                lights: load-time cells / GPU Floyd-Steinberg\n"
             "F12 or P         screenshot to screenshots/ (PNG, EXR, JSON)\n"
             "H or F1          this help\n"
             "Esc              quit\n"
@@ -476,7 +633,7 @@ private:
         try {
             fs::create_directories("screenshots");
             const std::string stem = "screenshots/view_" + scene_.file.stem().string() + "_" +
-                                     std::string(to_string(method_)) + "_N" + std::to_string(lights_) + "_" + timestamp();
+                                     method_name() + "_N" + std::to_string(lights_) + "_" + timestamp();
             const Image linear = renderer_->read_back();
             write_exr(stem + ".exr", linear);
             write_png(stem + ".png", tonemap_to_srgb8(linear, exposure_));
@@ -484,7 +641,7 @@ private:
             nlohmann::json settings = {
                 {"scene", scene_.file.string()},
                 {"environment", environment_ ? environment_->map->source : ""},
-                {"method", to_string(method_)},
+                {"method", method_name()},
                 {"lights", lights_},
                 {"seed", seed_},
                 {"time", time_},
@@ -511,6 +668,10 @@ private:
         }
     }
 
+    std::string method_name() const {
+        return light_source_ == LightSource::gpu_fs ? "fs-gpu" : std::string(to_string(method_));
+    }
+
     // The window as a person sees it, UI included (for automated runs).
     void save_window(const std::string& path, int width, int height) {
         write_png(path, gl::read_default_framebuffer(width, height));
@@ -528,9 +689,16 @@ private:
     Scene scene_;
     OrbitCamera orbit_;
     std::unique_ptr<LoadedEnvironment> environment_;
-    gl::Texture cells_texture_;
+    gl::Texture cells_texture_, map_texture_;
     BackgroundJob<LoadedEnvironment> environment_job_;
     BackgroundJob<LoadedModel> model_job_;
+    BackgroundJob<AnimatedSky> sky_job_;
+    std::optional<double> animated_sky_time_;  // the animation time of the sky on screen, when animated
+    bool sun_follows_time_ = true;
+    LightSource light_source_ = LightSource::cells;
+    std::optional<render::FsSampler> fs_sampler_;
+    std::vector<Cell> fs_lights_;  // this frame's, in map space
+    double fs_sampling_ms_ = 0.0;
 
     int lights_ = 128;
     Method method_ = Method::lloyd;
@@ -538,12 +706,13 @@ private:
     float exposure_ = 0.0f;
     float rotation_ = 0.0f;
     double time_ = 0.0;
-    float speed_ = 1.0f;
+    float speed_ = 1.0f;  // animation seconds per second
     bool playing_ = true;
     int selected_object_ = 0;
     int selected_cell_ = 0;
     bool show_help_ = false;
     bool screenshot_requested_ = false;
+    bool last_frame_ = false;  // of an automated run (--frames)
     std::string last_screenshot_;
     std::string error_;
 

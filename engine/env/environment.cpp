@@ -6,6 +6,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -224,6 +225,13 @@ void render_sky(const SkyParameters& sky, EnvironmentMap& map) {
             }
             map.at(i, j) = glm::vec3(value);
         }
+}
+
+std::string environment_at_time(const std::string& spec, double seconds) {
+    if (seconds == 0.0 || (spec != "builtin:sky" && !spec.starts_with("builtin:sky:"))) return spec;
+    const std::size_t at = spec.rfind("time=");  // the last time= counts, as in the parser
+    const double hours = (at == std::string::npos ? 12.0 : std::strtod(spec.c_str() + at + 5, nullptr)) + seconds;
+    return spec + (spec == "builtin:sky" ? ":" : ",") + "time=" + std::to_string(hours);  // the last key wins
 }
 
 EnvironmentMap load_environment(const std::string& spec, const EnvironmentLoadOptions& options,

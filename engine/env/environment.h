@@ -42,6 +42,11 @@ inline constexpr int kConstantEnvironmentWidth = 256;  // builtin:constant is 25
 EnvironmentMap load_environment(const std::string& spec, const EnvironmentLoadOptions& options = {},
                                 EnvironmentLoadReport* report = nullptr);
 
+// The spec of `spec` after `seconds` of animation: builtin:sky's sun advances one hour per second from
+// the spec's time (noon by default), so the environment animates with the scene; every other
+// environment is returned unchanged.
+std::string environment_at_time(const std::string& spec, double seconds);
+
 // builtin:sky. Azimuth is the lat-long longitude phi = 2 pi u (0 = +X, 90 = +Z). The sun moves on a
 // great circle: it rises at 6 h on the horizon at azimuth - 90, culminates at 12 h at (elevation,
 // azimuth) and sets at 18 h at azimuth + 90; below the horizon the ground hides it. With the defaults

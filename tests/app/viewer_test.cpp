@@ -1,33 +1,53 @@
 // The viewer under Xvfb: starts it on a scene, runs a few frames, captures the window (UI
-// included) and checks the picture holds a rendered scene, not an empty or uniform window.
+// included) and checks the picture holds a rendered scene, not an empty or uniform window; and with
+// the lights sampled on the GPU every frame, that they follow builtin:sky's moving sun.
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <regex>
 #include <set>
+#include <sstream>
 #include <string>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include "core/image.h"
+#include "env/environment.h"
 
 namespace envshadow {
 namespace {
 
 namespace fs = std::filesystem;
 
-TEST(Viewer, RunsUnderXvfbAndShowsTheSceneAndTheUi) {
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run missing: scripts/install-deps.sh installs it";
-    const fs::path out = fs::path(ENVSHADOW_BINARY_DIR) / "viewer" / "viewer_xvfb.png";
+// Runs `envshadow view ARGUMENTS --screenshot OUT` under Xvfb; returns its log.
+std::string run_viewer(const std::string& arguments, const fs::path& out) {
+    EXPECT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run missing: scripts/install-deps.sh installs it";
     fs::create_directories(out.parent_path());
     fs::remove(out);
-    const std::string command = "xvfb-run -a -s '-screen 0 1280x720x24' " + std::string(ENVSHADOW_EXE) +
-                                " view --scene " + std::string(ENVSHADOW_SOURCE_DIR) +
-                                "/assets/scenes/spheres.json --lights 32 --width 1024 --height 576 --frames 12 "
-                                "--screenshot " + out.string() + " > " + out.string() + ".log 2>&1";
+    const std::string log = out.string() + ".log";
+    const std::string command = "xvfb-run -a -s '-screen 0 1280x720x24' " + std::string(ENVSHADOW_EXE) + " view " +
+                                arguments + " --screenshot " + out.string() + " > " + log + " 2>&1";
     // xvfb-run -a can lose the race for a display number to another X server starting at the same
     // moment ("Xvfb failed to start"); that is the harness, not the viewer, so it is tried again.
     int status = -1;
     for (int attempt = 0; attempt < 3 && status != 0; ++attempt) status = std::system(command.c_str());
-    ASSERT_EQ(status, 0) << command << "\nsee " << out << ".log";
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_EQ(status, 0) << command << "\n" << text.str();
+    return text.str();
+}
+
+TEST(Viewer, RunsUnderXvfbAndShowsTheSceneAndTheUi) {
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run missing: scripts/install-deps.sh installs it";
+    const fs::path out = fs::path(ENVSHADOW_BINARY_DIR) / "viewer" / "viewer_xvfb.png";
+    run_viewer("--scene " + std::string(ENVSHADOW_SOURCE_DIR) +
+                   "/assets/scenes/spheres.json --lights 32 --width 1024 --height 576 --frames 12",
+               out);
     ASSERT_TRUE(fs::exists(out));
     const Image8 image = read_png(out);
     EXPECT_EQ(image.width, 1024);
@@ -43,6 +63,35 @@ TEST(Viewer, RunsUnderXvfbAndShowsTheSceneAndTheUi) {
     // A shaded scene behind text and widgets has thousands of colours; a blank window has one.
     EXPECT_GT(colours.size(), 2000u);
     EXPECT_LT(double(dark) / (image.width * image.height), 0.9);
+}
+
+// --method fs-gpu: the lights come from the GPU sampler every frame, and builtin:sky's sun moves with
+// the animation clock (from 15:00 here, 0.2 hours of sun per second so that it stays up over the run).
+// The brightest light must point at the sun of the sky on screen, whose time the viewer reports.
+TEST(Viewer, GpuSampledLightsFollowTheAnimatedSky) {
+    const fs::path out = fs::path(ENVSHADOW_BINARY_DIR) / "viewer" / "viewer_fs_gpu.png";
+    const std::string log = run_viewer("--scene " + std::string(ENVSHADOW_SOURCE_DIR) +
+                                           "/assets/scenes/spheres.json --env builtin:sky --method fs-gpu --lights 32 "
+                                           "--time 3 --speed 0.2 --width 640 --height 360 --frames 10",
+                                       out);
+    ASSERT_TRUE(fs::exists(out));
+    const std::regex line(R"(fs-gpu: (\d+) lights in the last frame, the brightest toward \(([-0-9.]+), ([-0-9.]+), )"
+                          R"(([-0-9.]+)\) in map space; the sky at animation time ([0-9.]+) s)");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(log, m, line)) << log;
+    const int lights = std::stoi(m[1]);
+    EXPECT_GE(lights, 1);
+    EXPECT_LE(lights, 32);
+    const double seconds = std::stod(m[5]);
+    EXPECT_GE(seconds, 3.0) << "the sky was not moved to the animation time";
+    EXPECT_LT(seconds, 5.0);
+    SkyParameters sky;
+    sky.time_hours = 12.0 + seconds;
+    const glm::dvec3 sun = sun_direction(sky);
+    const glm::dvec3 brightest = glm::normalize(glm::dvec3(std::stod(m[2]), std::stod(m[3]), std::stod(m[4])));
+    // Within two texels of the 256 x 128 importance map (1.4 degrees each).
+    EXPECT_LT(std::acos(std::min(1.0, glm::dot(brightest, sun))) * 180.0 / std::numbers::pi, 3.0)
+        << "sun at (" << sun.x << ", " << sun.y << ", " << sun.z << ")";
 }
 
 }  // namespace

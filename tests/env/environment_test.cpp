@@ -333,5 +333,29 @@ TEST(Environment, BuiltinSkyTimeMovesTheSunAlongItsArc) {
     EXPECT_NEAR(upper_luminance(night), upper_luminance(night_no_sun), 1e-9);
 }
 
+TEST(Environment, AnimationClockMovesOnlyBuiltinSkysSun) {
+    EXPECT_EQ(environment_at_time("builtin:sky", 0.0), "builtin:sky");
+    EXPECT_EQ(environment_at_time("builtin:constant", 5.0), "builtin:constant");
+    EXPECT_EQ(environment_at_time("/maps/city.exr", 5.0), "/maps/city.exr");
+    // One hour per second, from noon or from the spec's own time; the other keys stay.
+    const auto sun_at = [](const std::string& spec) {
+        const EnvironmentMap map = load_environment(spec);
+        size_t brightest = 0;
+        for (size_t t = 0; t < map.texels.size(); ++t)
+            if (map.texels[t].r > map.texels[brightest].r) brightest = t;
+        return latlong::texel_direction(int(brightest % size_t(map.width)), int(brightest / size_t(map.width)),
+                                        map.width, map.height);
+    };
+    SkyParameters sky;
+    sky.time_hours = 13.5;
+    EXPECT_LT(std::acos(glm::dot(sun_at(environment_at_time("builtin:sky:width=256", 1.5)), sun_direction(sky))),
+              2.0 * std::numbers::pi / 128);
+    sky.time_hours = 10.0;
+    sky.azimuth_degrees = 200.0;
+    EXPECT_LT(std::acos(glm::dot(sun_at(environment_at_time("builtin:sky:time=8,azimuth=200,width=256", 2.0)),
+                                 sun_direction(sky))),
+              2.0 * std::numbers::pi / 128);
+}
+
 }  // namespace
 }  // namespace envshadow
