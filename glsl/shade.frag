@@ -7,6 +7,7 @@
 //   SPECULAR_SINGLE  the single sample k_s cos^n psi_c instead of the blended average
 //   PCF_WIDE         3x3 hardware-filtered taps (a 4x4 texel footprint) instead of one (2x2)
 //   SHADOW_TILE_LISTS shadow lookups only for the lights listed for the pixel's 16x16 tile
+//   FLAT_RECEIVER    (with DIFFUSE_ONLY and SHADOW_TILE_LISTS) the unshadowed sum from u_unshadowed
 //   DIFFUSE_ONLY     for materials with k_s = 0: the specular code left out (a uniform branch on
 //                    u_k_s still costs its whole body on SIMD CPU rasterisers such as llvmpipe)
 #include "cells.glsl"
@@ -23,6 +24,7 @@ layout(location = 16) uniform float u_k_s;         // rho_s (n + 2) / (2 pi)
 layout(location = 17) uniform float u_shininess;
 
 layout(location = 18) uniform uint u_tiles_x;  // 16x16 screen tiles per row (SHADOW_TILE_LISTS)
+layout(location = 19) uniform vec3 u_unshadowed;  // FLAT_RECEIVER: sum of L~_i a_i, the same for every pixel
 
 layout(binding = 0) uniform sampler2DShadow u_atlas;
 
@@ -97,7 +99,11 @@ void main() {
     // Every light unshadowed, then the shadow taken off for the lights listed for this 16x16 tile
     // (glsl/shadow_tiles.comp): the others see V = 1 here. The lists are the same for all pixels of a
     // tile, so on SIMD rasterisers the second loop's trip count is uniform.
+#if defined(FLAT_RECEIVER)
+    radiance = u_unshadowed;  // a plane with a diffuse material: its normal, hence every a_i, is constant
+#else
     for (int i = 0; i < u_light_count; ++i) radiance += lights[i].radiance.rgb * reflectivity(i, n, mirror);
+#endif
     uint base = (uint(gl_FragCoord.y) / 16u * u_tiles_x + uint(gl_FragCoord.x) / 16u) * uint(MAX_LIGHTS + 1);
     uint count = tile_lists[base];
     for (uint k = 0u; k < count; ++k) {

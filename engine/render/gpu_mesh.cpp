@@ -1,9 +1,12 @@
 #include "render/gpu_mesh.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 namespace envshadow::render {
 
@@ -40,6 +43,17 @@ GpuMesh::GpuMesh(const Mesh& mesh) {
     glVertexArrayElementBuffer(caster_vao, caster_indices_.id());
 
     if (mesh.positions.empty()) return;
+    // Flat: one unit normal everywhere, and every position on the plane through the first with it.
+    if (!mesh.normals.empty() && mesh.normals.size() == mesh.positions.size()) {
+        const glm::vec3 n = mesh.normals.front();
+        float extent = 0.0f;
+        for (const glm::vec3& p : mesh.positions) extent = std::max(extent, glm::length(p - mesh.positions.front()));
+        flat_ = std::abs(glm::length(n) - 1.0f) < 1e-5f;
+        for (std::size_t i = 0; flat_ && i < mesh.positions.size(); ++i)
+            flat_ = glm::length(mesh.normals[i] - n) <= 1e-6f &&
+                    std::abs(glm::dot(mesh.positions[i] - mesh.positions.front(), n)) <= 1e-6f * std::max(extent, 1.0f);
+        if (flat_) flat_normal_ = n;
+    }
     bounds_min_ = glm::vec3(std::numeric_limits<float>::infinity());
     bounds_max_ = -bounds_min_;
     for (const glm::vec3& p : mesh.positions) {

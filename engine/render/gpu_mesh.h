@@ -19,6 +19,11 @@ public:
     const glm::vec3& bounds_min() const { return bounds_min_; }
     const glm::vec3& bounds_max() const { return bounds_max_; }
     GLsizei index_count() const { return index_count_; }
+    // True, with the normal, when every vertex has the same normal and lies on one plane (a ground).
+    bool flat_normal(glm::vec3& normal) const {
+        normal = flat_normal_;
+        return flat_;
+    }
 
     // Caster levels (level 0: the full mesh). Bind the caster vertex array (positions only) first.
     const CasterLod& caster_lod() const { return caster_lod_; }
@@ -32,6 +37,8 @@ private:
     GLsizei index_count_ = 0;
     CasterLod caster_lod_;
     glm::vec3 bounds_min_{0.0f}, bounds_max_{0.0f};  // from the positions (Mesh::bounds may be unset)
+    bool flat_ = false;
+    glm::vec3 flat_normal_{0.0f};
 };
 
 }  // namespace envshadow::render

@@ -140,6 +140,8 @@ RenderSettings apply_variant(RenderSettings settings, std::string_view variant, 
             settings.specialise_shaders = parse_on_off(value, option);
         } else if (key == "tiles") {
             settings.shadow_tile_lists = parse_on_off(value, option);
+        } else if (key == "flat") {
+            settings.flat_receivers = parse_on_off(value, option);
         } else if (key == "depth-bits") {
             settings.depth_bits = int(parse_number(value, option));
         } else if (key == "tile") {
@@ -150,7 +152,7 @@ RenderSettings apply_variant(RenderSettings settings, std::string_view variant, 
             settings.pcf = parse_pcf_kernel(value, option);
         } else {
             throw UsageError(std::string(option) + ": unknown key '" + std::string(key) +
-                             "' (caster-lod, prepass, ubo, cull, specialise, tiles, depth-bits, tile, atlas, pcf)");
+                             "' (caster-lod, prepass, ubo, cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf)");
         }
     }
     validate(settings);
@@ -164,6 +166,7 @@ RenderSettings baseline(RenderSettings settings) {
     settings.cull_back_faces = false;
     settings.specialise_shaders = false;
     settings.shadow_tile_lists = false;
+    settings.flat_receivers = false;
     return settings;
 }
 

@@ -56,6 +56,9 @@ struct RenderSettings {
     // With the depth pre-pass: per 16x16 screen tile, the lights whose shadow tile can see any visible
     // receiver there (glsl/shadow_tiles.comp); the others' visibility is exactly 1 and not looked up.
     bool shadow_tile_lists = true;
+    // With the tile lists: planes with a diffuse material (the ground) take the unshadowed sum of the
+    // lights, the same for all their pixels, from the CPU instead of summing it per pixel.
+    bool flat_receivers = true;
 };
 
 // The first working renderer's settings (issue 10's baseline): `settings` with every optimisation
@@ -64,7 +67,7 @@ RenderSettings baseline(RenderSettings settings);
 
 // `settings` changed by a variant of `bench --variants`: comma-separated items, each a preset
 // ("baseline": baseline(); "optimised" or "default": nothing changed) or key=value, with keys
-// caster-lod (texels; "off" = 0), prepass, ubo, cull, specialise, tiles (on/off), depth-bits, tile, atlas, pcf. Applied left
+// caster-lod (texels; "off" = 0), prepass, ubo, cull, specialise, tiles, flat (on/off), depth-bits, tile, atlas, pcf. Applied left
 // to right; validated. UsageError naming `option` for anything else.
 RenderSettings apply_variant(RenderSettings settings, std::string_view variant, std::string_view option);
 

@@ -45,6 +45,7 @@ constexpr GLint k_d = 15;
 constexpr GLint k_s = 16;
 constexpr GLint shininess = 17;
 constexpr GLint tiles_x = 18;
+constexpr GLint unshadowed = 19;
 constexpr GLint direction_from_clip = 0;
 constexpr GLint map_from_world = 4;
 }  // namespace loc
@@ -125,6 +126,9 @@ void Renderer::build_programs() {
         library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
     shade_defines.push_back("DIFFUSE_ONLY");
     shade_diffuse_program_ =
+        library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
+    shade_defines.push_back("FLAT_RECEIVER");
+    shade_flat_program_ =
         library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
     if (!prepass_program_)  // shade.vert's gl_Position is invariant: the shading pass's depths equal these
         prepass_program_ =
@@ -420,7 +424,7 @@ void Renderer::draw_objects(const CameraView& view) {
     if (tile_lists_active()) build_tile_lists(view);
     gl::ScopedPass pass(&timer_, "shading");
     const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
-    for (const gl::Program* shade : {&shade_program_, &shade_diffuse_program_}) {
+    for (const gl::Program* shade : {&shade_program_, &shade_diffuse_program_, &shade_flat_program_}) {
         const GLuint program = shade->id();
         glProgramUniformMatrix4fv(program, loc::clip_from_world, 1, GL_FALSE, &clip_from_world[0][0]);
         glProgramUniform3f(program, loc::eye, view.eye.x, view.eye.y, view.eye.z);
@@ -442,9 +446,30 @@ void Renderer::draw_objects(const CameraView& view) {
                             brdf::diffuse_coefficient(material.rho_d.b));
         const float k_s = brdf::specular_coefficient(material.rho_s, material.shininess);
         // Materials without a specular part get the shader compiled without it (shade.frag DIFFUSE_ONLY).
-        const gl::Program& shade = settings_.specialise_shaders && !(k_s > 0.0f) ? shade_diffuse_program_ : shade_program_;
+        const bool diffuse_only = settings_.specialise_shaders && !(k_s > 0.0f);
+        // A plane with a diffuse material (the ground): the normal the shader would use, turned to the
+        // eye as shade.frag turns it, gives every a_i once for all its pixels.
+        glm::vec3 flat_normal(0.0f);
+        bool flat = false;
+        if (diffuse_only && settings_.flat_receivers && tile_lists_active() && settings_.diffuse == DiffuseMode::center &&
+            instance.mesh->flat_normal(flat_normal)) {
+            const glm::vec3 n = glm::normalize(instance.world_normal_from_object * flat_normal);
+            const glm::vec3 point(instance.world_from_object * glm::vec4(instance.mesh->bounds_min(), 1.0f));
+            const float side = glm::dot(n, view.eye - point);
+            if (std::isfinite(side) && std::abs(side) > 1e-4f) {
+                flat = true;
+                flat_normal = side < 0.0f ? -n : n;
+            }
+        }
+        const gl::Program& shade = flat ? shade_flat_program_ : diffuse_only ? shade_diffuse_program_ : shade_program_;
         const GLuint program = shade.id();
         shade.use();
+        if (flat) {
+            glm::dvec3 sum(0.0);
+            for (const LightRecord& record : records_)
+                sum += glm::dvec3(record.radiance) * (glm::dvec3(k_d) * double(std::max(glm::dot(flat_normal, glm::vec3(record.direction)), 0.0f)));
+            glProgramUniform3f(program, loc::unshadowed, float(sum.x), float(sum.y), float(sum.z));
+        }
         glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE, &instance.world_from_object[0][0]);
         glProgramUniformMatrix3fv(program, loc::world_normal_from_object, 1, GL_FALSE,
                                   &instance.world_normal_from_object[0][0]);

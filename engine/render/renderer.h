@@ -120,7 +120,8 @@ private:
 
     RenderSettings settings_;
     gl::ShaderLibrary library_;
-    gl::Program atlas_program_, shade_program_, shade_diffuse_program_, prepass_program_, background_program_;
+    gl::Program atlas_program_, shade_program_, shade_diffuse_program_, shade_flat_program_, prepass_program_,
+        background_program_;
     gl::Program tiles_program_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
     gl::Sampler shadow_sampler_;

@@ -76,6 +76,12 @@ TEST(RenderSettings, VariantsApplyLeftToRight) {
     EXPECT_EQ(v.pcf, PcfKernel::wide);
     EXPECT_EQ(apply_variant(base, "caster-lod=off", "--variants").caster_lod, 0.0f);
     EXPECT_FALSE(apply_variant(base, "prepass=off", "--variants").depth_prepass);
+    const RenderSettings off = apply_variant(base, "ubo=off,cull=off,specialise=off,tiles=off,flat=off", "--variants");
+    EXPECT_FALSE(off.lights_uniform_block || off.cull_back_faces || off.specialise_shaders || off.shadow_tile_lists ||
+                 off.flat_receivers);
+    const RenderSettings none = baseline(base);
+    EXPECT_FALSE(none.lights_uniform_block || none.cull_back_faces || none.specialise_shaders ||
+                 none.shadow_tile_lists || none.flat_receivers);
     EXPECT_EQ(apply_variant(base, "", "--variants").tile_size, base.tile_size);
     for (const char* bad : {"fast", "prepass=maybe", "caster-lod=x", "caster-lod=-1", "caster-lod=nan", "tile=64",
                             "depth-bits=24", "colour=red"})
