@@ -34,7 +34,7 @@ inline constexpr int kMaxLights = 256;
 struct DecomposeOptions {
     Method method = Method::lloyd;
     int lights = 128;        // 1..256 (mediancut rounds down to a power of two; fs gives N or N - 1)
-    std::uint64_t seed = 1;  // random, lloyd and ccvt draw their initial sites with it
+    std::uint64_t seed = 1;  // random and lloyd draw their initial sites with it (ccvt's start needs none)
     SiteSearch search = SiteSearch::tiles;
 };
 
@@ -47,7 +47,8 @@ struct Decomposition {
     double seconds = 0.0;
     int iterations = 0;               // Lloyd / CCVT iterations run
     double final_movement = 0.0;      // largest site movement of the last iteration (radians)
-    std::vector<glm::dvec3> sites;    // the sites texel_cell was assigned to (one per cell)
+    std::vector<glm::dvec3> sites;    // the sites texel_cell was assigned to (one per cell; CCVT's
+                                      // cells are their power cells up to the texels balance_texels moved)
     std::vector<double> site_bias;    // CCVT's power-diagram biases (nearest_site.h); empty otherwise
     bool uniform_importance = false;  // the map was black: importance fell back to solid angle
 };

@@ -114,7 +114,7 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
             sites = sites_lloyd(importance, options.lights, options.seed, partition);
             break;
         case Method::ccvt:
-            sites = sites_ccvt(importance, options.lights, options.seed, partition);
+            sites = sites_ccvt(importance, options.lights, partition);
             break;
         case Method::mediancut:
             sites = sites_median_cut(importance, options.lights);
@@ -131,8 +131,12 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
     result.method = options.method;
     result.width = map.width;
     result.height = map.height;
-    result.texel_cell.resize(importance.texel_count());
-    partition.assign(sites.sites, sites.bias, result.texel_cell);
+    if (sites.texel_cell.size() == importance.texel_count()) {
+        result.texel_cell = std::move(sites.texel_cell);  // CCVT's balanced power cells
+    } else {
+        result.texel_cell.resize(importance.texel_count());
+        partition.assign(sites.sites, sites.bias, result.texel_cell);
+    }
     result.cells = integrate_cells(map, importance, result.texel_cell, sites.sites);
     result.integral = integrate_radiance(map);
     result.iterations = sites.iterations;

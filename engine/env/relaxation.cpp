@@ -9,7 +9,9 @@
 #include <memory>
 #include <numbers>
 #include <queue>
+#include <unordered_map>
 
+#include "env/latlong.h"
 #include "env/sites.h"
 
 namespace envshadow {
@@ -55,10 +57,30 @@ double reseed_empty_cells(std::vector<glm::dvec3>& sites, std::vector<double>* b
 }
 
 // Floyd-Steinberg samples of `weight`, the seed shifting the halftoning's starting error.
+// Floyd-Steinberg samples of `weight`, the seed shifting the halftoning's starting error; one short
+// (the halftoning may give M - 1) is made up at the heaviest texel no sample stands on.
 std::vector<glm::dvec3> initial_sites(const ImportanceMap& importance, std::span<const float> weight, int count,
                                       std::uint64_t seed) {
     std::mt19937_64 rng(seed);
-    return floyd_steinberg_samples(importance, weight, count, 2.0 * uniform01(rng) - 1.0);
+    std::vector<glm::dvec3> sites = floyd_steinberg_samples(importance, weight, count, 2.0 * uniform01(rng) - 1.0);
+    if (int(sites.size()) < count) {
+        std::vector<bool> taken(importance.texel_count(), false);
+        for (const glm::dvec3& s : sites) {
+            const glm::dvec2 uv = latlong::uv(s);
+            const int i = std::min(importance.width - 1, int(uv.x * importance.width));
+            const int j = std::min(importance.height - 1, int(uv.y * importance.height));
+            taken[size_t(j) * size_t(importance.width) + size_t(i)] = true;
+        }
+        std::vector<std::size_t> order(importance.texel_count());
+        for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t a, std::size_t b) { return weight[a] > weight[b]; });
+        for (std::size_t t : order) {
+            if (int(sites.size()) >= count) break;
+            if (!taken[t]) sites.push_back(texel_centres(importance, std::span(&t, 1)).front());
+        }
+    }
+    return sites;
 }
 
 // Sum over cells of sum I (1 - w . s): the quantisation energy Lloyd's iteration decreases.
@@ -106,38 +128,6 @@ SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t se
 }
 
 namespace {
-
-struct HeavyTexel {
-    double importance;
-    std::size_t texel;
-};
-
-// Texels that hold more than an equal share of what the cells without such texels share (water
-// filling): the k heaviest texels for the largest k < count with I_k > (total - I_1 - .. - I_{k-1}) / (count - k + 1).
-std::vector<HeavyTexel> heavy_texels(const ImportanceMap& importance, int count) {
-    using Entry = std::pair<float, std::size_t>;  // the `count` heaviest texels, in a min-heap
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
-    for (std::size_t t = 0; t < importance.texel_count(); ++t) {
-        const float value = importance.importance[t];
-        if (int(heap.size()) < count)
-            heap.push({value, t});
-        else if (value > heap.top().first) {
-            heap.pop();
-            heap.push({value, t});
-        }
-    }
-    std::vector<Entry> top;
-    for (; !heap.empty(); heap.pop()) top.push_back(heap.top());
-    std::reverse(top.begin(), top.end());  // heaviest first
-    std::vector<HeavyTexel> heavy;
-    double rest = importance.total;
-    for (const Entry& e : top) {
-        if (int(heavy.size()) + 1 >= count || !(e.first > rest / (count - int(heavy.size())))) break;
-        heavy.push_back({e.first, e.second});
-        rest -= e.first;
-    }
-    return heavy;
-}
 
 // Cells' adjacency, weighted by how much importance crosses each border per unit of bias: the integral
 // of the importance density along the border over |s_a - s_b|, measured on the texel pairs (p, q) that
@@ -376,75 +366,68 @@ ImportanceMap blurred(const ImportanceMap& importance, int radius) {
     return out;
 }
 
-// Biases that give every cell its target importance, for fixed sites. A cell holding a texel heavier
-// than an equal share (a sun) cannot be split and is left free: it keeps what it has, and the other
-// cells aim at equal shares of the rest.
+// Biases that give every cell an equal share of the importance, for fixed sites (the capacity
+// constraint of Balzer et al. 2009).
 class CapacitySolver {
 public:
-    // `heavy`: the texels (of this map) too heavy to share a cell's budget.
-    CapacitySolver(const ImportanceMap& importance, int count, std::vector<HeavyTexel> heavy,
-                   const Partition& partition, int evaluations)
+    CapacitySolver(const ImportanceMap& importance, int count, const Partition& partition, int evaluations)
         : importance_(&importance),
           count_(count),
           partition_(partition),
-          heavy_(std::move(heavy)),
           texel_cell_(importance.texel_count()),
           evaluations_left_(evaluations) {}
 
     struct State {
         CellStatistics statistics;
-        std::vector<double> excess;  // target - mass per cell (0 for free cells)
-        double variation = 0.0;      // coefficient of variation of the sharing cells' masses
+        std::vector<double> excess;  // share - mass per cell
+        double variation = 0.0;      // coefficient of variation of the cells' masses
     };
 
     bool exhausted() const { return evaluations_left_ <= 0; }
-    const std::vector<std::uint16_t>& texel_cell() const { return texel_cell_; }
+    int evaluations_left() const { return evaluations_left_; }
 
     State evaluate(const std::vector<glm::dvec3>& sites, const std::vector<double>& bias) {
         --evaluations_left_;
         partition_.assign(sites, bias, texel_cell_);
         State state{cell_statistics(*importance_, texel_cell_, sites, bias), {}, 0.0};
-        std::vector<bool> free(static_cast<size_t>(count_), false);
-        for (const HeavyTexel& h : heavy_) free[texel_cell_[h.texel]] = true;
-        int sharing = 0;
-        double shared = importance_->total;
-        for (int k = 0; k < count_; ++k) {
-            if (free[size_t(k)])
-                shared -= state.statistics.mass[size_t(k)];
-            else
-                ++sharing;
-        }
-        const double share = sharing > 0 ? shared / sharing : 0.0;
+        const double share = importance_->total / count_;
         state.excess.assign(size_t(count_), 0.0);
         double squares = 0.0;
-        for (int k = 0; k < count_; ++k)
-            if (!free[size_t(k)]) {
-                state.excess[size_t(k)] = share - state.statistics.mass[size_t(k)];
-                squares += state.excess[size_t(k)] * state.excess[size_t(k)];
-            }
-        state.variation = sharing == 0  ? 0.0
-                          : share > 0.0 ? std::sqrt(squares / sharing) / share
-                                        : std::numeric_limits<double>::infinity();
+        for (int k = 0; k < count_; ++k) {
+            state.excess[size_t(k)] = share - state.statistics.mass[size_t(k)];
+            squares += state.excess[size_t(k)] * state.excess[size_t(k)];
+        }
+        state.variation =
+            share > 0.0 ? std::sqrt(squares / count_) / share : std::numeric_limits<double>::infinity();
         return state;
     }
 
     // Steps from `state` (at `bias`) until the capacity error is under kCcvtCapacityTolerance or
     // `steps` are taken. A Newton step (the border Laplacian as the Hessian of the convex dual whose
-    // gradient is mass - target) is taken at length alpha = 1, 1/2, 1/4 or 1/8 if no cell falls under
-    // half the smallest mass now and |target - mass| shrinks by (1 - alpha / 4) (the damped Newton method
-    // of Kitagawa, Merigot and Thibert 2019). Where the linear model fails (a bright edge in reach),
-    // every overfull cell instead lowers its bias just enough to pass its excess on to its runner-ups,
-    // which cannot oscillate. Leaves `state` at the final `bias`.
+    // gradient is mass - target; cells without borders wait) is taken at length alpha = 1, 1/2, ..,
+    // kCcvtSmallestStep if no cell falls under half the smallest mass now and |target - mass| shrinks by
+    // (1 - alpha / 4) (the damped Newton method of Kitagawa, Merigot and Thibert 2019). Where the linear
+    // model fails (a bright edge in reach), every overfull cell instead lowers its bias just enough to
+    // pass its excess on to its runner-ups. Leaves `state` and `bias` at the best balance seen.
     void improve(const std::vector<glm::dvec3>& sites, std::vector<double>& bias, State& state, int steps) {
         double floor = std::numeric_limits<double>::infinity();
         for (double m : state.statistics.mass)
             if (m > 0.0) floor = std::min(floor, 0.5 * m);
+        double best_variation = state.variation;
+        std::vector<double> best_bias = bias;
+        State best_state = state;
         for (int s = 0; s < steps && state.variation >= kCcvtCapacityTolerance && !exhausted(); ++s) {
-            const std::vector<double> step = solve_laplacian(state.statistics.borders, state.excess);
+            std::vector<double> step = solve_laplacian(state.statistics.borders, state.excess);
+            // A cell without borders (empty at this resolution) has no slope to follow: it waits.
+            std::vector<bool> bordered(step.size(), false);
+            state.statistics.borders.for_each(
+                [&](int a, int b, double) { bordered[size_t(a)] = bordered[size_t(b)] = true; });
+            for (size_t k = 0; k < step.size(); ++k)
+                if (!bordered[k]) step[k] = 0.0;
             const std::vector<double> start = bias;
             const double error = norm(state.excess);
             bool accepted = false;
-            for (double alpha = 1.0; alpha >= 1.0 / 8.0 && !accepted && !exhausted(); alpha *= 0.5) {
+            for (double alpha = 1.0; alpha >= kCcvtSmallestStep && !accepted && !exhausted(); alpha *= 0.5) {
                 std::vector<double> trial(bias.size());
                 for (size_t k = 0; k < bias.size(); ++k) trial[k] = start[k] + alpha * step[k];
                 centre(trial);
@@ -465,6 +448,15 @@ public:
                 centre(bias);
                 state = evaluate(sites, bias);
             }
+            if (state.variation < best_variation) {
+                best_variation = state.variation;
+                best_bias = bias;
+                best_state = state;
+            }
+        }
+        if (best_variation < state.variation) {  // shedding may have made it worse: the best seen stays
+            bias = std::move(best_bias);
+            state = std::move(best_state);
         }
     }
 
@@ -478,7 +470,6 @@ private:
     const ImportanceMap* importance_;
     int count_;
     const Partition& partition_;
-    std::vector<HeavyTexel> heavy_;
     std::vector<std::uint16_t> texel_cell_;
     int evaluations_left_;
 };
@@ -492,11 +483,10 @@ struct Resolution {
     std::unique_ptr<ImportanceMap> importance;  // the search keeps its address
     std::unique_ptr<NearestSiteSearch> search;
     Partition partition;
-    std::vector<HeavyTexel> heavy;
 };
 
 // `factor` is used only where it divides the map and leaves at least 16 rows.
-Resolution at_resolution(const ImportanceMap& fine, const std::vector<HeavyTexel>& heavy, int factor, int blur) {
+Resolution at_resolution(const ImportanceMap& fine, int factor, int blur) {
     if (fine.width % factor != 0 || fine.height % factor != 0 || fine.height / factor < 16) factor = 1;
     Resolution r;
     r.importance = std::make_unique<ImportanceMap>(factor > 1 ? downsample_importance(fine, factor) : fine);
@@ -508,31 +498,65 @@ Resolution at_resolution(const ImportanceMap& fine, const std::vector<HeavyTexel
     };
     r.partition.assign = [search](std::span<const glm::dvec3> sites, std::span<const double> bias,
                                   std::span<std::uint16_t> texel_cell) { search->assign(sites, bias, texel_cell); };
-    for (const HeavyTexel& h : heavy) {
-        const size_t i = h.texel % size_t(fine.width), j = h.texel / size_t(fine.width);
-        r.heavy.push_back({h.importance, (j / size_t(factor)) * size_t(r.importance->width) + i / size_t(factor)});
-    }
     return r;
 }
 
 }  // namespace
 
-SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*seed*/, const Partition& partition) {
+// The importance CCVT shares out. A texel heavier than an equal share (a sun) cannot be split between
+// cells, so it is left out of the sharing: every cell, including the one that happens to hold it,
+// takes an equal share of the rest, and a sun's cell carries the sun and one share besides. The share
+// is of what is shared, R / N with R the importance outside the heavy texels, so "heavy" is the fixed
+// point of texel > R / N (sunrise: four texels of 13% make the share of the rest half of T / N, and
+// texels between the two are unsplittable too). Only where such texels are few (a sun's); a map whose
+// texels each weigh about a share (as many lights as texels) is shared as it is.
+ImportanceMap shareable_importance(const ImportanceMap& importance, int count) {
+    std::vector<std::size_t> heavy;
+    for (double rest = importance.total;;) {  // the threshold only falls, so this ends
+        const double share = rest / count;
+        heavy.clear();
+        double heavy_sum = 0.0;
+        for (std::size_t t = 0; t < importance.texel_count(); ++t)
+            if (importance.importance[t] > share) heavy.push_back(t), heavy_sum += importance.importance[t];
+        if (importance.total - heavy_sum >= rest || 4 * heavy.size() > std::size_t(count)) break;
+        rest = importance.total - heavy_sum;
+    }
+    if (heavy.empty() || 4 * heavy.size() > std::size_t(count)) return importance;
+    ImportanceMap shareable = importance;
+    for (std::size_t t : heavy) shareable.importance[t] = 0.0f;
+    shareable.total = 0.0;
+    for (float v : shareable.importance) shareable.total += v;
+    return shareable.total > 0.0 ? shareable : importance;
+}
+
+SiteSet sites_ccvt(const ImportanceMap& full_importance, int count, const Partition& partition) {
+    const ImportanceMap importance = shareable_importance(full_importance, count);
     SiteSet result;
     result.sites = equal_importance_regions(importance, count);
     result.bias.assign(size_t(count), 0.0);
-    const std::vector<HeavyTexel> heavy = heavy_texels(importance, count);
 
     // Capacity first at coarse resolutions on blurred importance (a smooth problem, which Newton's method
     // solves well, and cheap to evaluate), then on the map at the working resolution.
     for (const auto& [factor, blur] : kCcvtCoarseLevels) {
-        Resolution level = at_resolution(importance, heavy, factor, blur);
-        CapacitySolver capacity(*level.importance, count, level.heavy, level.partition, kCcvtEvaluationsPerLevel);
+        Resolution level = at_resolution(importance, factor, blur);
+        const int budget = kCcvtEvaluationsPerLevel;
+        CapacitySolver capacity(*level.importance, count, level.partition, budget);
         CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
-        capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
+        // Sites closer than a texel of this resolution leave cells empty here: move them first.
+        for (int round = 0; round < 4 && reseed_empty_cells(result.sites, &result.bias, state.statistics.moments) > 0.0;
+             ++round)
+            state = capacity.evaluate(result.sites, result.bias);
+        capacity.improve(result.sites, result.bias, state, budget);
     }
-    Resolution working = at_resolution(importance, heavy, kCcvtWorkingFactor, 0);
-    CapacitySolver capacity(*working.importance, count, working.heavy, working.partition, kCcvtMaxEvaluations);
+    // The sites move at a coarser resolution only where its texels are small against a share: a cell
+    // must be able to shed or take less than a texel's worth.
+    Resolution working = at_resolution(importance, kCcvtWorkingFactor, 0);
+    if (working.importance->width != importance.width) {
+        double heaviest = 0.0;
+        for (float v : working.importance->importance) heaviest = std::max(heaviest, double(v));
+        if (heaviest > kCcvtCoarseTexelShare * importance.total / count) working = at_resolution(importance, 1, 0);
+    }
+    CapacitySolver capacity(*working.importance, count, working.partition, kCcvtMaxEvaluations);
     CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
     capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
 
@@ -568,6 +592,8 @@ SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*s
             best_variation = state.variation;
         }
         if (relative < kCcvtRelativeMovementTolerance && state.variation < kCcvtCapacityTolerance) break;
+        // Moves that upset the balance (sharp edges in the map) are given up.
+        if (state.variation > 2.0 * best_variation + kCcvtCapacityTolerance) break;
         result.sites = std::move(moved);
         result.bias = std::move(moved_bias);
         reseed_empty_cells(result.sites, &result.bias, cells);
@@ -580,12 +606,17 @@ SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t /*s
         result.iterations = iterations;
     }
 
-    // A last balance at full resolution (the cells are assigned there).
-    if (working.importance->width != importance.width) {
-        CapacitySolver full(importance, count, heavy, partition, kCcvtPolishEvaluations);
-        CapacitySolver::State polish = full.evaluate(result.sites, result.bias);
-        full.improve(result.sites, result.bias, polish, kCcvtPolishEvaluations);
-    }
+    // A last balance at full resolution (the cells are assigned there), with what budget is left.
+    CapacitySolver full(importance, count, partition,
+                        std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
+    CapacitySolver::State polish = full.evaluate(result.sites, result.bias);
+    full.improve(result.sites, result.bias, polish, std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
+
+    // The power diagram balances the cells only up to the texels along their borders: whole texels
+    // are passed across them to even out what is left.
+    result.texel_cell.resize(importance.texel_count());
+    partition.assign(result.sites, result.bias, result.texel_cell);
+    balance_texels(importance, result.texel_cell, count);
     return result;
 }
 

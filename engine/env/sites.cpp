@@ -127,10 +127,19 @@ std::vector<glm::dvec3> floyd_steinberg_samples(const ImportanceMap& grid, std::
         std::swap(row_error, next_row_error);
         std::fill(next_row_error.begin(), next_row_error.end(), 0.0);
     }
-    if (chosen.empty()) {  // cannot happen in exact arithmetic (the count is M); never return no sample
-        const auto heaviest = std::max_element(blocks.begin(), blocks.end());
-        const int b = int(heaviest - blocks.begin());
-        chosen.emplace_back(b % columns, b / columns);
+    // A block fires at most once: where the count comes close to the number of blocks (or one block is
+    // heavier than a sample), the error left at the end holds samples that could not fire. They go to the
+    // heaviest blocks not chosen, up to count - 1 (the count is M or M - 1).
+    if (int(chosen.size()) < std::max(1, count - 1)) {
+        std::vector<bool> taken(blocks.size(), false);
+        for (const auto& [bx, by] : chosen) taken[size_t(by) * size_t(columns) + size_t(bx)] = true;
+        std::vector<size_t> order(blocks.size());
+        for (size_t b = 0; b < order.size(); ++b) order[b] = b;
+        std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return blocks[x] > blocks[y]; });
+        for (size_t b : order) {
+            if (int(chosen.size()) >= std::max(1, count - 1)) break;
+            if (!taken[b]) chosen.emplace_back(int(b % size_t(columns)), int(b / size_t(columns)));
+        }
     }
     // A sample stands at its block's weighted mean direction.
     std::vector<glm::dvec3> samples;

@@ -19,6 +19,9 @@ struct SiteSet {
     std::vector<double> bias;       // empty, or per site (nearest_site.h): CCVT's power weights / 2
     int iterations = 0;             // relaxation iterations run (Lloyd, CCVT)
     double final_movement = 0.0;    // largest site movement of the last iteration, radians
+    // Empty, or the texel -> cell assignment the method settled on (CCVT: the power diagram of the sites
+    // and biases, then balance_texels); decompose() assigns texels to the nearest site where it is empty.
+    std::vector<std::uint16_t> texel_cell;
 };
 
 // The nearest-site partition as the relaxations use it (the tile search or the brute force): the
@@ -47,12 +50,15 @@ SiteSet sites_random(const ImportanceMap& importance, int count, std::uint64_t s
 // Floyd-Steinberg halftoning (seed 000 §1.3, Listing 1.1) of per-texel weights into `count` samples:
 // serpentine scan, threshold S / (2M), a sample removes S / M, error weights 3/8 (next), 3/8 (below),
 // 1/4 (below next; around the seam, a neighbour on the sphere). The error is diffused between blocks of
-// B x B texels (B a power of two, at least kBlocksPerSample blocks per sample), not single texels: with
-// M << texels a texel holds a tiny fraction of the threshold, and the error would spread over whole
-// rows without firing until the last one (the warm-up seed 000 warns about for few samples). Each
-// sample stands at its block's weighted mean direction. Mass is conserved up to the error left at the
-// last block, so there are M samples barring rounding. `start_error` (in thresholds, [-1, 1]) shifts
-// the pattern.
+// B x B texels (B a power of two, as large as keeps at least kBlocksPerSample blocks per sample), not
+// single texels: with M << texels a texel holds a tiny fraction of the threshold, and the error would
+// spread over whole rows without firing until the last one (the warm-up seed 000 warns about for few
+// samples). For the same reason a dark block passes more along its row, as seed 000 advises: the share
+// going to the next block is max(3/8, min(15/16, 1 - g)), g the block's weight over 2 thresholds, the
+// rest 3:2 below and below-next. Each sample stands at its block's weighted mean direction. Mass is
+// conserved up to the error left at the last block, so there are M samples barring rounding, M - 1 at
+// worst: where blocks saturate (M near their number) the missing ones go to the heaviest blocks not
+// chosen. `start_error` (in thresholds, [-1, 1]) shifts the pattern.
 inline constexpr int kBlocksPerSample = 64;
 std::vector<glm::dvec3> floyd_steinberg_samples(const ImportanceMap& grid, std::span<const float> weight, int count,
                                                 double start_error);
@@ -79,12 +85,40 @@ SiteSet sites_median_cut(const ImportanceMap& importance, int count);
 SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition);
 
 // ccvt: capacity-constrained Voronoi tessellation as a power diagram (Balzer et al. 2009; de Goes et
-// al. 2012). Starts from the centroids of equal_importance_regions; the biases solve the capacity
-// problem (equal importance per cell) by damped Newton steps, first on blurred importance; then the
-// sites move towards their cells' centroids, the biases following. A texel heavier than an equal share
-// (a sun) cannot be split: the cell holding it keeps what it has and the others share the rest. The
-// seed is not used (the start is deterministic).
-SiteSet sites_ccvt(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition);
+// al. 2012). Starts at the centroids of equal_importance_regions (so it takes no seed); the biases solve
+// the capacity problem (equal importance per cell) by damped Newton steps, first on blurred importance;
+// then the sites move towards their cells' centroids, the biases following. A texel heavier than an
+// equal share T / N (a sun) cannot be split: it is left out of the sharing, so the cell that holds it
+// carries it and one share of the rest besides, and every other cell one share.
+// The assignment is the power diagram's, then balance_texels on the shared importance: its cells are
+// the power cells up to whole texels passed across their borders, so they are no longer exactly the
+// nearest-site cells of the returned sites and biases (SiteSet::texel_cell holds them).
+SiteSet sites_ccvt(const ImportanceMap& importance, int count, const Partition& partition);
+
+// The importance CCVT shares out: `importance` with the texels heavier than an equal share (total /
+// count) set to zero, where there are such texels and at most count / 4 of them (a sun's); otherwise
+// `importance` itself. A sun's cell carries the sun and one share of the rest.
+ImportanceMap shareable_importance(const ImportanceMap& importance, int count);
+
+// CCVT's last step, whole-texel balancing (the swaps of Balzer et al. 2009, restricted to cell
+// borders): passes over the border texels (a 4-neighbour, across the u = 0/1 seam too, in another
+// cell; nothing beyond the poles) in scan order. A texel of importance w > 0 moves from its cell a to
+// the lightest neighbouring cell b when I_a - I_b > w: that changes sum_k (I_k - share)^2 by
+// 2 w^2 - 2 w (I_a - I_b) < 0, so every move lowers it and neighbouring cells end within a texel of each
+// other. Cells closer than kCcvtBalanceTolerance of a share (total / cell_count) trade nothing: the
+// borders of cells already in balance stay the power diagram's, not frayed by moves of dark texels that
+// gain next to nothing. Texels of no importance (those shareable_importance leaves out) never move; a cell never gives
+// up its last texel, nor a texel whose removal would cut it in two locally (not a simple point of its
+// 8-neighbourhood). Stops after a pass that moves nothing or after `max_passes`; each pass visits only
+// the border texels. Sequential and deterministic. Returns the passes run and texels moved.
+struct TexelBalance {
+    int passes = 0;
+    std::size_t moves = 0;
+};
+inline constexpr int kCcvtBalancePasses = 64;
+inline constexpr double kCcvtBalanceTolerance = 0.02;
+TexelBalance balance_texels(const ImportanceMap& importance, std::span<std::uint16_t> texel_cell, int cell_count,
+                            int max_passes = kCcvtBalancePasses);
 
 inline constexpr double kLloydEnergyTolerance = 1e-4;
 inline constexpr int kLloydMaxIterations = 500;
@@ -96,12 +130,14 @@ inline constexpr int kLloydMaxIterations = 500;
 // kCcvtRelativeMovementTolerance of the cell's radius, or after kCcvtMaxIterations moves or
 // kCcvtMaxEvaluations evaluations, keeping the best balanced state seen.
 inline constexpr std::pair<int, int> kCcvtCoarseLevels[] = {{4, 4}, {2, 2}};
-inline constexpr int kCcvtWorkingFactor = 2;
+inline constexpr int kCcvtWorkingFactor = 2;           // unless a coarse texel holds more than
+inline constexpr double kCcvtCoarseTexelShare = 0.05;  // this fraction of a share
 inline constexpr int kCcvtEvaluationsPerLevel = 30;
 inline constexpr int kCcvtNewtonStepsPerIteration = 2;
-inline constexpr int kCcvtPolishEvaluations = 12;
+inline constexpr int kCcvtPolishEvaluations = 20;
 inline constexpr double kCcvtCapacityTolerance = 0.02;
-inline constexpr double kCcvtMoveFraction = 0.1;  // a site moves at most this fraction of its cell's radius
+inline constexpr double kCcvtSmallestStep = 1.0 / 32.0;  // Newton step lengths tried: 1, 1/2, .., this
+inline constexpr double kCcvtMoveFraction = 0.1;         // a site moves at most this fraction of its cell's radius
 inline constexpr double kCcvtRelativeMovementTolerance = 0.1;
 inline constexpr int kCcvtMaxIterations = 40;
 inline constexpr int kCcvtMaxEvaluations = 300;

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "common/ccvt_unsplittable.h"
 #include "core/error.h"
 #include "env/cell_overlay.h"
 #include "env/cells.h"
@@ -122,6 +123,7 @@ TEST(Decompose, CellsAreIntegratedFromTheirTexels) {
     }
 }
 
+// CCVT's cells are its power cells with whole texels then passed across their borders (balance_texels).
 TEST(Decompose, CellsAreTheNearestSiteAssignment) {
     const EnvironmentMap& map = test::world("sunset");
     const ImportanceMap importance = build_importance(map);
@@ -129,6 +131,7 @@ TEST(Decompose, CellsAreTheNearestSiteAssignment) {
         const Decomposition d = run(map, method, 48);
         std::vector<std::uint16_t> brute(importance.texel_count());
         assign_nearest_brute_force(importance, d.sites, d.site_bias, brute);
+        if (method == Method::ccvt) balance_texels(shareable_importance(importance, 48), brute, 48);
         EXPECT_EQ(brute, d.texel_cell) << to_string(method);
     }
 }
@@ -172,9 +175,10 @@ double importance_variation(const EnvironmentMap& map, const Decomposition& d) {
     const size_t n = d.cells.size();
     std::vector<double> mass(n, 0.0);
     std::vector<bool> holds_sun(n, false);
+    const double threshold = test::unsplittable_threshold(std::span<const float>(importance.importance), int(n));
     for (size_t t = 0; t < importance.texel_count(); ++t) {
         mass[d.texel_cell[t]] += importance.importance[t];
-        if (importance.importance[t] > importance.total / double(n)) holds_sun[d.texel_cell[t]] = true;
+        if (importance.importance[t] > threshold) holds_sun[d.texel_cell[t]] = true;
     }
     double sum = 0.0, squares = 0.0;
     int count = 0;
@@ -202,6 +206,135 @@ TEST(Ccvt, CellsWithoutTheSunCarryEqualImportance) {
         const Decomposition d = run(map, Method::ccvt, lights);
         EXPECT_LT(importance_variation(map, d), 0.10) << name << " N=" << lights;
     }
+}
+
+// --- balance_texels on small synthetic maps, where the answer is known ---------------------------------
+
+// A W x H importance map of the given texel weights (balance_texels reads only the sizes, weights and total).
+ImportanceMap synthetic_importance(int width, int height, std::vector<float> weights) {
+    ImportanceMap m;
+    m.width = width;
+    m.height = height;
+    m.importance = std::move(weights);
+    m.row_solid_angle.assign(size_t(height), 4.0 * std::numbers::pi / (double(width) * height));
+    m.directions = TexelDirections(width, height);
+    for (float v : m.importance) m.total += v;
+    return m;
+}
+
+// Cells as columns: texel (i, j) in column_cell[i].
+std::vector<std::uint16_t> column_cells(int width, int height, const std::vector<int>& column_cell) {
+    std::vector<std::uint16_t> cells(size_t(width) * size_t(height));
+    for (int j = 0; j < height; ++j)
+        for (int i = 0; i < width; ++i) cells[size_t(j) * size_t(width) + size_t(i)] = std::uint16_t(column_cell[size_t(i)]);
+    return cells;
+}
+
+std::vector<double> cell_masses(const ImportanceMap& m, const std::vector<std::uint16_t>& cells, int count) {
+    std::vector<double> mass(size_t(count), 0.0);
+    for (size_t t = 0; t < cells.size(); ++t) mass[cells[t]] += m.importance[t];
+    return mass;
+}
+
+// Whether every cell's texels are one 4-connected region, columns wrapping around the seam.
+bool cells_connected(int width, int height, const std::vector<std::uint16_t>& cells, int count) {
+    std::vector<bool> seen(cells.size(), false), started(size_t(count), false);
+    for (size_t start = 0; start < cells.size(); ++start) {
+        if (seen[start]) continue;
+        if (started[cells[start]]) return false;  // a second region of a cell
+        started[cells[start]] = true;
+        std::vector<size_t> stack{start};
+        seen[start] = true;
+        while (!stack.empty()) {
+            const size_t t = stack.back();
+            stack.pop_back();
+            const int i = int(t % size_t(width)), j = int(t / size_t(width));
+            for (const auto& [i2, j2] : {std::pair{(i + 1) % width, j}, std::pair{(i + width - 1) % width, j},
+                                         std::pair{i, j + 1}, std::pair{i, j - 1}}) {
+                if (j2 < 0 || j2 >= height) continue;
+                const size_t q = size_t(j2) * size_t(width) + size_t(i2);
+                if (!seen[q] && cells[q] == cells[t]) {
+                    seen[q] = true;
+                    stack.push_back(q);
+                }
+            }
+        }
+    }
+    return true;
+}
+
+// Two cells of equal texels, 96 and 32 of them (the small one across the seam): whole texels move
+// until they hold 64 each, and both stay one region.
+TEST(BalanceTexels, TwoCellsEndWithinOneTexelOfEqual) {
+    const int w = 16, h = 8;
+    const ImportanceMap m = synthetic_importance(w, h, std::vector<float>(size_t(w * h), 1.0f));
+    std::vector<std::uint16_t> cells = column_cells(w, h, {1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1});
+    ASSERT_EQ(cell_masses(m, cells, 2), (std::vector<double>{96.0, 32.0}));
+    const TexelBalance b = balance_texels(m, cells, 2);
+    const std::vector<double> mass = cell_masses(m, cells, 2);
+    EXPECT_LE(std::abs(mass[0] - mass[1]), 1.0) << mass[0] << " vs " << mass[1];
+    EXPECT_EQ(b.moves, 32u);  // each move narrows the gap by two texels
+    EXPECT_LT(b.passes, kCcvtBalancePasses);
+    EXPECT_TRUE(cells_connected(w, h, cells, 2));
+}
+
+// Uneven texels in eight column strips of uneven widths: neighbouring cells end within the heaviest
+// texel of each other, every cell keeps texels and stays one region, and the same input gives the same
+// cells.
+TEST(BalanceTexels, UnevenTexelsEndWithinATexelOfTheirNeighbours) {
+    const int w = 64, h = 32, count = 8;
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<float> weight(0.5f, 1.5f);
+    std::vector<float> weights(size_t(w * h));
+    for (float& v : weights) v = weight(rng);
+    const ImportanceMap m = synthetic_importance(w, h, weights);
+    std::vector<int> column;
+    for (const auto& [cell, columns] : {std::pair{0, 16}, std::pair{1, 8}, std::pair{2, 4}, std::pair{3, 12},
+                                        std::pair{4, 6}, std::pair{5, 10}, std::pair{6, 2}, std::pair{7, 6}})
+        column.insert(column.end(), size_t(columns), cell);
+    std::vector<std::uint16_t> cells = column_cells(w, h, column), again = cells;
+    const double share = m.total / count;
+    auto deviation = [&](const std::vector<double>& mass) {
+        double sum = 0.0;
+        for (double x : mass) sum += (x - share) * (x - share);
+        return std::sqrt(sum / count) / share;
+    };
+    const double before = deviation(cell_masses(m, cells, count));
+    balance_texels(m, cells, count);
+    balance_texels(m, again, count);
+    EXPECT_EQ(cells, again);
+    const std::vector<double> mass = cell_masses(m, cells, count);
+    EXPECT_GT(before, 0.5);
+    EXPECT_LT(deviation(mass), 0.05) << "from " << before;  // neighbours within kCcvtBalanceTolerance each
+    for (int k = 0; k < count; ++k) {
+        EXPECT_GT(mass[size_t(k)], 0.0);
+        const int next = (k + 1) % count;  // strips: k borders k + 1 (and 7 borders 0 across the seam)
+        EXPECT_LE(std::abs(mass[size_t(k)] - mass[size_t(next)]), std::max(1.5, kCcvtBalanceTolerance * share))
+            << "cells " << k << " and " << next;
+    }
+    EXPECT_TRUE(cells_connected(w, h, cells, count));
+}
+
+// A sun (a texel heavier than a share) is left out of the sharing: its cell takes the same share of the
+// rest as the others instead of shedding everything around the sun, and the sun itself stays put.
+TEST(BalanceTexels, SunTexelsAreLeftOutOfTheSharing) {
+    const int w = 32, h = 16, count = 8;
+    std::vector<float> weights(size_t(w * h), 1.0f);
+    const size_t sun = size_t(5) * size_t(w) + 3;
+    weights[sun] = 200.0f;
+    const ImportanceMap full = synthetic_importance(w, h, weights);
+    const ImportanceMap shared = shareable_importance(full, count);
+    ASSERT_EQ(shared.importance[sun], 0.0f);
+    std::vector<int> column;
+    for (const auto& [cell, columns] : {std::pair{0, 8}, std::pair{1, 2}, std::pair{2, 6}, std::pair{3, 4},
+                                        std::pair{4, 4}, std::pair{5, 2}, std::pair{6, 2}, std::pair{7, 4}})
+        column.insert(column.end(), size_t(columns), cell);
+    std::vector<std::uint16_t> cells = column_cells(w, h, column);
+    balance_texels(shared, cells, count);
+    EXPECT_EQ(cells[sun], 0);
+    const std::vector<double> mass = cell_masses(shared, cells, count);  // without the sun
+    for (int k = 0; k < count; ++k) EXPECT_NEAR(mass[size_t(k)], shared.total / count, 1.5) << "cell " << k;
+    EXPECT_TRUE(cells_connected(w, h, cells, count));
 }
 
 // Spearman rank correlation.

@@ -3,7 +3,7 @@
 // (contract_helpers.h: expect_cells_contract). One test per map and method, the five N inside it.
 #include <cctype>
 #include <string>
-#include <tuple>
+#include <ostream>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -13,28 +13,42 @@
 namespace envshadow::contract {
 namespace {
 
-std::vector<std::string> conservation_maps() {
+struct MapAndMethod {
+    std::string spec;
+    Method method;
+};
+// Readable ctest names: "courtyard.exr lloyd" rather than the bytes of the tuple.
+void PrintTo(const MapAndMethod& c, std::ostream* out) {
+    *out << c.spec.substr(c.spec.rfind('/') + 1) << " " << to_string(c.method);
+}
+
+// The eight maps and the two builtins with every method; two more skies (the sun's disc straddling the
+// u = 0/1 seam, and covering the zenith's tiny texels) with every method but CCVT, which takes seconds
+// per sky (seam_test.cpp covers its seam on the blender maps).
+std::vector<MapAndMethod> conservation_cases() {
     std::vector<std::string> specs;
     for (const char* name : kBlenderMaps) specs.push_back(blender_map(name));
     specs.push_back("builtin:constant");
     specs.push_back("builtin:sky");
-    specs.push_back("builtin:sky:azimuth=0,elevation=20");  // the sun's disc straddles the u = 0/1 seam
-    specs.push_back("builtin:sky:elevation=89.5,size=3");   // the disc covers the zenith (tiny texels)
-    return specs;
+    std::vector<MapAndMethod> cases;
+    for (const std::string& spec : specs)
+        for (Method method : kAllMethods) cases.push_back({spec, method});
+    for (const char* spec : {"builtin:sky:azimuth=0,elevation=20", "builtin:sky:elevation=89.5,size=3"})
+        for (Method method : kAllMethods)
+            if (method != Method::ccvt) cases.push_back({spec, method});
+    return cases;
 }
 
-using MapAndMethod = std::tuple<std::string, Method>;
 class EnvContractConservation : public ::testing::TestWithParam<MapAndMethod> {};
 
 TEST_P(EnvContractConservation, EveryNConservesAndCellsMatchTheirTexels) {
     const auto& [spec, method] = GetParam();
     const EnvironmentMap& map = cached_map(spec);
-    const double heaviest = heaviest_texel_share(map);
     for (int lights : kIssueCounts) {
         const Decomposition d = decompose(map, {.method = method, .lights = lights, .seed = 7});
         const std::string context = describe(spec, method, lights);
         EXPECT_EQ(d.method, method) << context;
-        EXPECT_TRUE(count_as_promised(method, lights, d.cells.size(), heaviest))
+        EXPECT_TRUE(count_as_promised(method, lights, d.cells.size()))
             << context << ": " << d.cells.size() << " cells (lloyd, ccvt, random: N; mediancut: 2^floor(log2 N); fs: N or N - 1)";
         EXPECT_LE(std::abs(long(d.cells.size()) - lights), method == Method::mediancut ? lights : 2)
             << context << ": the issue allows N ± 2 for fs";
@@ -44,15 +58,15 @@ TEST_P(EnvContractConservation, EveryNConservesAndCellsMatchTheirTexels) {
 }
 
 std::string map_and_method_name(const ::testing::TestParamInfo<MapAndMethod>& info) {
-    std::string spec = std::get<0>(info.param);
+    std::string spec = info.param.spec;
     if (const auto slash = spec.rfind('/'); slash != std::string::npos) spec = spec.substr(slash + 1);
     std::string name;
     for (char c : spec) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-    return name + "_" + std::string(to_string(std::get<1>(info.param)));
+    return name + "_" + std::string(to_string(info.param.method));
 }
 
 INSTANTIATE_TEST_SUITE_P(MapsAndMethods, EnvContractConservation,
-                         ::testing::Combine(::testing::ValuesIn(conservation_maps()), ::testing::ValuesIn(kAllMethods)),
+                         ::testing::ValuesIn(conservation_cases()),
                          map_and_method_name);
 
 // White furnace: a uniform sphere of radiance R carries 4πR in every channel, whatever the cutting.

@@ -106,26 +106,16 @@ inline CellSums cell_sums(const EnvironmentMap& map, const std::vector<double>& 
     return s;
 }
 
-// The largest share of the total importance one texel holds.
-inline double heaviest_texel_share(const EnvironmentMap& map) {
-    const std::vector<double> importance = texel_importance(map);
-    double total = 0.0, heaviest = 0.0;
-    for (double v : importance) total += v, heaviest = std::max(heaviest, v);
-    return heaviest / total;
-}
-
-// How many cells a method promises for N lights on a map with many more texels than N (DESIGN.md §3,
-// cells.h): exactly N; fs N or N - 1 (the issue allows N ± 2); mediancut 2^k, k = floor(log2 N), and
-// fewer "only where a region is a single texel" (sites.h), which needs a texel worth more than one of
-// the 2^k equal shares; even then more than 2^(k-1).
-inline bool count_as_promised(Method method, int lights, std::size_t cells, double heaviest_share) {
+// How many cells a method promises for N lights (DESIGN.md §3, cells.h, sites.h): exactly N; fs N or
+// N - 1 (the issue allows N ± 2); mediancut 2^k, k = floor(log2 N) (equal_importance_regions always
+// gives as many sites as asked for).
+inline bool count_as_promised(Method method, int lights, std::size_t cells) {
     const long n = long(cells);
     switch (method) {
         case Method::mediancut: {
             long power = 1;
             while (power * 2 <= lights) power *= 2;
-            if (heaviest_share <= 1.0 / double(power)) return n == power;
-            return n <= power && (power == 1 || n > power / 2);
+            return n == power;
         }
         case Method::fs: return n == lights || n == lights - 1;
         default: return n == lights;
