@@ -198,7 +198,7 @@ Command add_render_command(CLI::App& parent) {
     app->add_option("--frames", o->frames, "Frames to render; GPU times are their medians")
         ->check(CLI::Range(1, 10000));
     app->add_flag("--baseline", o->baseline, "The first working renderer: every issue-10 optimisation off");
-    app->add_option("--caster-lod", o->caster_lod, "Shadow-caster LOD error in shadow texels (default 0.5), or off")
+    app->add_option("--caster-lod", o->caster_lod, "Shadow-caster LOD error in shadow texels (default 0.3), or off")
         ->type_name("F|off");
     app->add_option("--prepass", o->prepass, "Depth pre-pass before shading: on (default) or off")
         ->check(CLI::IsMember({"on", "off"}));
