@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.h"
 #include "commands.h"
 #include "core/error.h"
 #include "core/image.h"
@@ -33,15 +34,9 @@ struct RenderOptions {
     int lights = 128, width = 960, height = 540, tile = 256, depth_bits = 16, frames = 1;
     double time = 0.0;
     std::uint64_t seed = 1;
-    bool per_tile_atlas = false, no_background = false;
+    std::string caster_lod, prepass;
+    bool per_tile_atlas = false, no_background = false, baseline = false;
 };
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 render::RenderSettings settings_from(const RenderOptions& o) {
     render::RenderSettings s;
@@ -53,6 +48,9 @@ render::RenderSettings settings_from(const RenderOptions& o) {
     s.diffuse = render::parse_diffuse_mode(o.diffuse, "--diffuse");
     s.background = !o.no_background;
     if (o.per_tile_atlas) s.atlas = render::AtlasMode::per_tile;
+    if (o.baseline) s = render::baseline(s);
+    if (!o.caster_lod.empty()) s = render::apply_variant(s, "caster-lod=" + o.caster_lod, "--caster-lod");
+    if (!o.prepass.empty()) s = render::apply_variant(s, "prepass=" + o.prepass, "--prepass");
     render::validate(s);
     return s;
 }
@@ -128,7 +126,7 @@ int run_render(const RenderOptions& o) {
         std::printf("fs-gpu: %u lights of %u samples from a %dx%d importance map of %s, every frame, %.2f ms wall\n",
                     fs_sampler->read_counts().light_count, fs_sampler->read_counts().samples,
                     fs_sampler->importance_size().x, fs_sampler->importance_size().y, map.source.c_str(),
-                    median(times[modes.front()]["fs-gpu sampling wall"]));
+                    summarize(times[modes.front()]["fs-gpu sampling wall"]).median);
     else
         std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n",
                     std::string(to_string(decomposition.method)).c_str(), decomposition.cells.size(),
@@ -143,13 +141,13 @@ int run_render(const RenderOptions& o) {
                     o.frames > 1 ? (", median of " + std::to_string(o.frames) + " frames").c_str() : "");
         double total = 0.0;
         for (const gl::PassTime& pass : stats.passes) {
-            const double ms = median(times[mode][pass.pass]);
+            const double ms = summarize(times[mode][pass.pass]).median;
             total += ms;
             std::printf(" %s %.2f,", pass.pass.c_str(), ms);
         }
         // llvmpipe times its queries in the rasteriser threads, after the draw calls' vertex work:
         // the wall-clock time of the whole frame (submission to results) says what a frame costs.
-        std::printf(" total %.2f; frame wall-clock %.2f\n", total, median(times[mode]["frame wall"]));
+        std::printf(" total %.2f; frame wall-clock %.2f\n", total, summarize(times[mode]["frame wall"]).median);
     }
 
     if (!o.exr.empty()) {
@@ -199,6 +197,11 @@ Command add_render_command(CLI::App& parent) {
         ->check(CLI::IsMember({"clip-distances", "viewport-array", "per-tile", "all"}));
     app->add_option("--frames", o->frames, "Frames to render; GPU times are their medians")
         ->check(CLI::Range(1, 10000));
+    app->add_flag("--baseline", o->baseline, "The first working renderer: every issue-10 optimisation off");
+    app->add_option("--caster-lod", o->caster_lod, "Shadow-caster LOD error in shadow texels (default 0.3), or off")
+        ->type_name("F|off");
+    app->add_option("--prepass", o->prepass, "Depth pre-pass before shading: on (default) or off")
+        ->check(CLI::IsMember({"on", "off"}));
     app->add_flag("--no-background", o->no_background, "Leave the background transparent black");
     return {app, [o] { return run_render(*o); }};
 }

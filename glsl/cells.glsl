@@ -34,4 +34,10 @@ struct Light {
 #ifndef LIGHTS_BINDING
 #define LIGHTS_BINDING 0
 #endif
+#if defined(LIGHTS_UNIFORM_BLOCK)
+// A uniform block (std140 lays this struct out as std430 does): llvmpipe loads it once per loop
+// iteration for all lanes; the storage block below it gathers per lane (docs/PERFORMANCE.md).
+layout(std140, binding = LIGHTS_BINDING) uniform LightBlock { Light lights[MAX_LIGHTS]; };
+#else
 layout(std430, binding = LIGHTS_BINDING) readonly buffer LightBlock { Light lights[]; };
+#endif

@@ -6,6 +6,10 @@
 //   DIFFUSE_CAP      clamped cosine averaged over the cell's cap instead of the centre sample
 //   SPECULAR_SINGLE  the single sample k_s cos^n psi_c instead of the blended average
 //   PCF_WIDE         3x3 hardware-filtered taps (a 4x4 texel footprint) instead of one (2x2)
+//   SHADOW_TILE_LISTS shadow lookups only for the lights listed for the pixel's 16x16 tile
+//   FLAT_RECEIVER    (with DIFFUSE_ONLY and SHADOW_TILE_LISTS) the unshadowed sum from u_unshadowed
+//   DIFFUSE_ONLY     for materials with k_s = 0: the specular code left out (a uniform branch on
+//                    u_k_s still costs its whole body on SIMD CPU rasterisers such as llvmpipe)
 #include "cells.glsl"
 #include "brdf.glsl"
 
@@ -19,7 +23,14 @@ layout(location = 15) uniform vec3 u_k_d;          // rho_d / pi
 layout(location = 16) uniform float u_k_s;         // rho_s (n + 2) / (2 pi)
 layout(location = 17) uniform float u_shininess;
 
+layout(location = 18) uniform uint u_tiles_x;  // 16x16 screen tiles per row (SHADOW_TILE_LISTS)
+layout(location = 19) uniform vec3 u_unshadowed;  // FLAT_RECEIVER: sum of L~_i a_i, the same for every pixel
+
 layout(binding = 0) uniform sampler2DShadow u_atlas;
+
+#if defined(SHADOW_TILE_LISTS)
+layout(std430, binding = 1) readonly buffer TileLists { uint tile_lists[]; };  // glsl/shadow_tiles.comp
+#endif
 
 layout(location = 0) out vec4 o_color;
 
@@ -53,6 +64,29 @@ float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
 #endif
 }
 
+// a(dw_i, w) of light i: k_d times the cosine term plus k_s times the specular average.
+vec3 reflectivity(int i, vec3 n, vec3 mirror) {
+    vec3 w = lights[i].direction.xyz;
+    float cos_r = lights[i].direction.w;
+    float cos_theta = dot(n, w);
+#if defined(DIFFUSE_CAP)
+    float diffuse = average_clamped_cosine(cos_theta, cos_r);
+#else
+    float diffuse = max(cos_theta, 0.0);  // the paper's centre sample, a_d = k_d cos theta_c
+#endif
+    float specular = 0.0;  // the BRDF is zero under the tangent plane (DESIGN.md §2)
+#if !defined(DIFFUSE_ONLY)
+    if (u_k_s > 0.0 && cos_theta > 0.0) {
+#if defined(SPECULAR_SINGLE)
+        specular = average_specular_single(dot(w, mirror), u_shininess);
+#else
+        specular = average_specular_blended(dot(w, mirror), cos_r, u_shininess);
+#endif
+    }
+#endif
+    return u_k_d * diffuse + u_k_s * specular;
+}
+
 void main() {
     vec3 p = v_world_position;
     vec3 view = normalize(u_eye - p);
@@ -61,26 +95,30 @@ void main() {
     vec3 mirror = reflect(-view, n);
 
     vec3 radiance = vec3(0.0);
-    for (int i = 0; i < u_light_count; ++i) {
-        vec3 w = lights[i].direction.xyz;
-        float cos_r = lights[i].direction.w;
-        float cos_theta = dot(n, w);
-#if defined(DIFFUSE_CAP)
-        float diffuse = average_clamped_cosine(cos_theta, cos_r);
+#if defined(SHADOW_TILE_LISTS)
+    // Every light unshadowed, then the shadow taken off for the lights listed for this 16x16 tile
+    // (glsl/shadow_tiles.comp): the others see V = 1 here. The lists are the same for all pixels of a
+    // tile, so on SIMD rasterisers the second loop's trip count is uniform.
+#if defined(FLAT_RECEIVER)
+    radiance = u_unshadowed;  // a plane with a diffuse material: its normal, hence every a_i, is constant
 #else
-        float diffuse = max(cos_theta, 0.0);  // the paper's centre sample, a_d = k_d cos theta_c
+    for (int i = 0; i < u_light_count; ++i) radiance += lights[i].radiance.rgb * reflectivity(i, n, mirror);
 #endif
-        float specular = 0.0;  // the BRDF is zero under the tangent plane (DESIGN.md §2)
-        if (u_k_s > 0.0 && cos_theta > 0.0) {
-#if defined(SPECULAR_SINGLE)
-            specular = average_specular_single(dot(w, mirror), u_shininess);
-#else
-            specular = average_specular_blended(dot(w, mirror), cos_r, u_shininess);
-#endif
-        }
-        vec3 a = u_k_d * diffuse + u_k_s * specular;
+    uint base = (uint(gl_FragCoord.y) / 16u * u_tiles_x + uint(gl_FragCoord.x) / 16u) * uint(MAX_LIGHTS + 1);
+    uint count = tile_lists[base];
+    for (uint k = 0u; k < count; ++k) {
+        int i = int(tile_lists[base + 1u + k]);
+        vec3 a = reflectivity(i, n, mirror);
         if (max(a.r, max(a.g, a.b)) <= 0.0) continue;  // no reflection: skip the shadow lookups
-        radiance += visibility(lights[i], p, n, cos_theta) * lights[i].radiance.rgb * a;
+        radiance -= (1.0 - visibility(lights[i], p, n, dot(n, lights[i].direction.xyz))) * lights[i].radiance.rgb * a;
     }
+    radiance = max(radiance, vec3(0.0));  // fully shadowed pixels: the difference may round below zero
+#else
+    for (int i = 0; i < u_light_count; ++i) {
+        vec3 a = reflectivity(i, n, mirror);
+        if (max(a.r, max(a.g, a.b)) <= 0.0) continue;  // no reflection: skip the shadow lookups
+        radiance += visibility(lights[i], p, n, dot(n, lights[i].direction.xyz)) * lights[i].radiance.rgb * a;
+    }
+#endif
     o_color = vec4(radiance, 1.0);  // alpha 1 marks object pixels (the accuracy comparison masks by it)
 }

@@ -8,6 +8,8 @@ layout(location = 0) uniform mat4 u_world_from_object;
 layout(location = 4) uniform mat3 u_world_normal_from_object;  // inverse transpose
 layout(location = 8) uniform mat4 u_clip_from_world;
 
+invariant gl_Position;  // the depth pre-pass and the shading pass must give equal depths
+
 layout(location = 0) out vec3 v_world_position;
 layout(location = 1) out vec3 v_world_normal;
 

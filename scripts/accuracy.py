@@ -48,11 +48,6 @@ TABLE_PAIRS = GRID_PAIRS + [("sphere_n10", "city"), ("engine", "courtyard"), ("s
 SPECULAR_PAIRS = [("sphere_n10", "city"), ("sphere_n100", "city"), ("sphere_n100", "studio")]
 DIFFUSE_PAIRS = [("figure", "city"), ("figure", "studio"), ("engine", "courtyard")]
 TILE_PAIRS = [("figure", "city"), ("figure", "studio"), ("engine", "courtyard")]
-# ccvt's decomposition took 30-140 s per render here (N = 16-128, every render decomposes again), so the
-# default run covers it on fewer pairs and N; --full covers it like the others.
-CCVT_TABLE_PAIRS = GRID_PAIRS
-CCVT_GRID_PAIRS = [("figure", "city"), ("figure", "studio")]
-CCVT_NS = [16, 32, 64, 128]
 
 # The seed study: the same scene decomposed with other seeds (lloyd and random use one; mediancut and fs do not).
 SEED_PAIRS = [("figure", "studio"), ("sphere_n100", "studio"), ("figure", "city")]
@@ -441,10 +436,6 @@ def write_accuracy(ctx, path):
     w("Coverage of this run: the N = 128 table on " + ", ".join(f"{s}/{m}" for s, m in ctx["table_pairs"]) + ";")
     w("the full method × N grid on " + ", ".join(f"{s}/{m}" for s, m in ctx["grid_pairs"]) + ";")
     w("side studies as listed with each table. `--full` covers every scene × map in every study.")
-    if not a.full:
-        w(f"`ccvt` (slow to decompose here, see the render times in results.csv) is covered at N = 128 on "
-          + ", ".join(f"{s}/{m}" for s, m in CCVT_TABLE_PAIRS) + " and over N = " + ", ".join(map(str, CCVT_NS))
-          + " on " + ", ".join(f"{s}/{m}" for s, m in CCVT_GRID_PAIRS) + " only.")
     if a.no_grid_methods:
         w(f"Methods left out of the grid in this run: {a.no_grid_methods}.")
     w("")
@@ -733,7 +724,7 @@ def weaknesses(ctx):
         w("  Energy concentration alone does not explain it (fs concentrates about as much and does better here); the cell")
         w("  approximation alone (no visibility) favours lloyd (see the calibration above), so the loss comes with visibility.")
         w("  The cause is not diagnosed further in this report.")
-        w("  `ccvt` (equal-energy cells by construction) is the best here but by far the slowest to decompose.")
+        w("  `ccvt` (equal-energy cells by construction) does better here, at the cost of the slowest decomposition (see the last table).")
     # 2. lights sampled every frame
     gpu = [(rr(ctx, s, m, "fs-gpu"), rr(ctx, s, m, "fs"), s, m) for s, m in ctx["table_pairs"]]
     gpu = [x for x in gpu if x[0] is not None and x[1] is not None]
@@ -859,13 +850,7 @@ def main():
     skip = set(filter(None, args.no_grid_methods.split(",")))
     jobs = []
     def covered(scene, map_, m, n, in_grid):
-        if m in skip and in_grid:
-            return False
-        if m != "ccvt" or args.full:
-            return True
-        if in_grid:
-            return (scene, map_) in CCVT_GRID_PAIRS and n in CCVT_NS
-        return (scene, map_) in CCVT_TABLE_PAIRS
+        return not (m in skip and in_grid)
 
     for scene, map_ in table_pairs:
         for m in METHODS:

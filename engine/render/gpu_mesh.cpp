@@ -1,8 +1,12 @@
 #include "render/gpu_mesh.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 namespace envshadow::render {
 
@@ -28,7 +32,28 @@ GpuMesh::GpuMesh(const Mesh& mesh) {
     }
     glVertexArrayElementBuffer(vao, indices_.id());
 
+    caster_lod_ = build_caster_lod(mesh.positions, mesh.indices);
+    caster_indices_ = make(caster_lod_.indices);
+    caster_vertex_array_ = gl::VertexArray::create();
+    const GLuint caster_vao = caster_vertex_array_.id();
+    glVertexArrayVertexBuffer(caster_vao, 0, positions_.id(), 0, sizeof(glm::vec3));
+    glEnableVertexArrayAttrib(caster_vao, 0);
+    glVertexArrayAttribFormat(caster_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(caster_vao, 0, 0);
+    glVertexArrayElementBuffer(caster_vao, caster_indices_.id());
+
     if (mesh.positions.empty()) return;
+    // Flat: one unit normal everywhere, and every position on the plane through the first with it.
+    if (!mesh.normals.empty() && mesh.normals.size() == mesh.positions.size()) {
+        const glm::vec3 n = mesh.normals.front();
+        float extent = 0.0f;
+        for (const glm::vec3& p : mesh.positions) extent = std::max(extent, glm::length(p - mesh.positions.front()));
+        flat_ = std::abs(glm::length(n) - 1.0f) < 1e-5f;
+        for (std::size_t i = 0; flat_ && i < mesh.positions.size(); ++i)
+            flat_ = glm::length(mesh.normals[i] - n) <= 1e-6f &&
+                    std::abs(glm::dot(mesh.positions[i] - mesh.positions.front(), n)) <= 1e-6f * std::max(extent, 1.0f);
+        if (flat_) flat_normal_ = n;
+    }
     bounds_min_ = glm::vec3(std::numeric_limits<float>::infinity());
     bounds_max_ = -bounds_min_;
     for (const glm::vec3& p : mesh.positions) {
@@ -43,6 +68,23 @@ void GpuMesh::draw() const {
 
 void GpuMesh::draw_instanced(int count) const {
     glDrawElementsInstanced(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr, count);
+}
+
+}  // namespace envshadow::render
+
+namespace envshadow::render {
+
+void GpuMesh::draw_caster(int level, int instances) const {
+    const CasterLevel& l = caster_lod_.levels[std::size_t(level)];
+    glDrawElementsInstanced(GL_TRIANGLES, GLsizei(l.index_count), GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(std::uintptr_t(l.first_index) * sizeof(std::uint32_t)),
+                            instances);
+}
+
+void GpuMesh::draw_caster(int level) const {
+    const CasterLevel& l = caster_lod_.levels[std::size_t(level)];
+    glDrawElements(GL_TRIANGLES, GLsizei(l.index_count), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(std::uintptr_t(l.first_index) * sizeof(std::uint32_t)));
 }
 
 }  // namespace envshadow::render

@@ -1,7 +1,9 @@
 #include "render/render_settings.h"
 
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <utility>
 
@@ -82,6 +84,90 @@ void validate(const RenderSettings& settings) {
         throw UsageError("--depth-bits: " + std::to_string(settings.depth_bits) + " is not 16 or 32");
     for (float bias : {settings.slope_bias, settings.normal_offset, settings.depth_bias})
         if (!std::isfinite(bias) || bias < 0.0f) throw UsageError("shadow biases must be finite and >= 0");
+    if (!std::isfinite(settings.caster_lod) || settings.caster_lod < 0.0f || settings.caster_lod > 4.0f)
+        throw UsageError("--caster-lod: the error must be 0..4 shadow texels");
+}
+
+namespace {
+std::string_view trim(std::string_view text) {
+    while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+    while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
+    return text;
+}
+
+double parse_number(std::string_view text, std::string_view option) {
+    const std::string copy(text);
+    char* end = nullptr;
+    const double value = std::strtod(copy.c_str(), &end);
+    if (copy.empty() || end != copy.c_str() + copy.size() || !std::isfinite(value))
+        throw UsageError(std::string(option) + ": '" + copy + "' is not a number");
+    return value;
+}
+
+bool parse_on_off(std::string_view text, std::string_view option) {
+    if (text == "on") return true;
+    if (text == "off") return false;
+    throw UsageError(std::string(option) + ": '" + std::string(text) + "' is not on or off");
+}
+}  // namespace
+
+RenderSettings apply_variant(RenderSettings settings, std::string_view variant, std::string_view option) {
+    std::size_t start = 0;
+    while (start <= variant.size()) {
+        const std::size_t comma = std::min(variant.find(',', start), variant.size());
+        const std::string_view item = trim(variant.substr(start, comma - start));
+        start = comma + 1;
+        if (item.empty()) continue;
+        if (item == "baseline") {
+            settings = baseline(settings);
+            continue;
+        }
+        if (item == "optimised" || item == "default") continue;
+        const std::size_t eq = item.find('=');
+        if (eq == std::string_view::npos)
+            throw UsageError(std::string(option) + ": '" + std::string(item) +
+                             "' is neither baseline, optimised nor key=value");
+        const std::string_view key = trim(item.substr(0, eq)), value = trim(item.substr(eq + 1));
+        if (key == "caster-lod") {
+            settings.caster_lod = value == "off" ? 0.0f : float(parse_number(value, option));
+        } else if (key == "prepass") {
+            settings.depth_prepass = parse_on_off(value, option);
+        } else if (key == "ubo") {
+            settings.lights_uniform_block = parse_on_off(value, option);
+        } else if (key == "cull") {
+            settings.cull_back_faces = parse_on_off(value, option);
+        } else if (key == "specialise") {
+            settings.specialise_shaders = parse_on_off(value, option);
+        } else if (key == "tiles") {
+            settings.shadow_tile_lists = parse_on_off(value, option);
+        } else if (key == "flat") {
+            settings.flat_receivers = parse_on_off(value, option);
+        } else if (key == "depth-bits") {
+            settings.depth_bits = int(parse_number(value, option));
+        } else if (key == "tile") {
+            settings.tile_size = int(parse_number(value, option));
+        } else if (key == "atlas") {
+            settings.atlas = parse_atlas_mode(value, option);
+        } else if (key == "pcf") {
+            settings.pcf = parse_pcf_kernel(value, option);
+        } else {
+            throw UsageError(std::string(option) + ": unknown key '" + std::string(key) +
+                             "' (caster-lod, prepass, ubo, cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf)");
+        }
+    }
+    validate(settings);
+    return settings;
+}
+
+RenderSettings baseline(RenderSettings settings) {
+    settings.caster_lod = 0.0f;
+    settings.depth_prepass = false;
+    settings.lights_uniform_block = false;
+    settings.cull_back_faces = false;
+    settings.specialise_shaders = false;
+    settings.shadow_tile_lists = false;
+    settings.flat_receivers = false;
+    return settings;
 }
 
 }  // namespace envshadow::render

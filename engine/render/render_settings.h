@@ -32,7 +32,44 @@ struct RenderSettings {
     bool background = true;
     AtlasMode atlas = AtlasMode::clip_distances;
     bool skip_lights = true;  // drop lights hidden by the ground or negligible (render/lights.h)
+    // Optimisations of issue 10 (docs/PERFORMANCE.md); baseline() turns them all off.
+    // Shadow casters drawn at the coarsest level of detail whose measured error is at most this many
+    // of the frame's smallest atlas texels (render/caster_lod.h); 0: the full meshes. A surface moved
+    // by d along its normal is still compared (max(sin, 0.2) + cos) * texel >= texel in front of
+    // itself by the normal offset and depth bias (1 texel each), so it cannot shadow itself up to a
+    // texel; but thin parts a few texels across (the viruses' spikes at 128^2 tiles) change their
+    // shadows' speckle visibly already at 0.4 texel (golden fails: 0.22% of pixels differ, 0.2%
+    // allowed), so 0.3; flyover's figures take 1 texel invisibly (docs/PERFORMANCE.md).
+    float caster_lod = 0.3f;
+    // Depth-only pass of the objects first, then the N-light shading once per visible pixel
+    // (depth test EQUAL) instead of once per rasterised fragment.
+    bool depth_prepass = true;
+    // Light records in a uniform block (needs GL_MAX_UNIFORM_BLOCK_SIZE >= 256 records, else the
+    // storage block is used) instead of a shader storage block.
+    bool lights_uniform_block = true;
+    // Closed casters (every edge shared by two oppositely wound triangles) drawn into the atlas with
+    // back faces culled: the nearest surface seen from a light is always a front face of a closed
+    // mesh, so the depth maps are the same with half the triangles. Open meshes keep both faces.
+    bool cull_back_faces = true;
+    // Objects whose material has no specular part shaded by a shader compiled without it.
+    bool specialise_shaders = true;
+    // With the depth pre-pass: per 16x16 screen tile, the lights whose shadow tile can see any visible
+    // receiver there (glsl/shadow_tiles.comp); the others' visibility is exactly 1 and not looked up.
+    bool shadow_tile_lists = true;
+    // With the tile lists: planes with a diffuse material (the ground) take the unshadowed sum of the
+    // lights, the same for all their pixels, from the CPU instead of summing it per pixel.
+    bool flat_receivers = true;
 };
+
+// The first working renderer's settings (issue 10's baseline): `settings` with every optimisation
+// of issue 10 off.
+RenderSettings baseline(RenderSettings settings);
+
+// `settings` changed by a variant of `bench --variants`: comma-separated items, each a preset
+// ("baseline": baseline(); "optimised" or "default": nothing changed) or key=value, with keys
+// caster-lod (texels; "off" = 0), prepass, ubo, cull, specialise, tiles, flat (on/off), depth-bits, tile, atlas, pcf. Applied left
+// to right; validated. UsageError naming `option` for anything else.
+RenderSettings apply_variant(RenderSettings settings, std::string_view variant, std::string_view option);
 
 std::string_view to_string(AtlasMode mode);
 std::string_view to_string(PcfKernel kernel);
@@ -47,7 +84,7 @@ SpecularMode parse_specular_mode(std::string_view name, std::string_view option)
 CapKind parse_cap_kind(std::string_view name, std::string_view option);
 DiffuseMode parse_diffuse_mode(std::string_view name, std::string_view option);
 
-// UsageError if a value is out of range (tile size, depth bits, negative biases).
+// UsageError if a value is out of range (tile size, depth bits, negative biases, caster LOD).
 void validate(const RenderSettings& settings);
 
 }  // namespace envshadow::render

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -24,6 +25,11 @@ namespace {
 constexpr GLuint kAtlasUnit = 0;
 constexpr GLuint kEnvironmentUnit = 1;
 constexpr GLuint kLightsBinding = 0;
+constexpr GLuint kDepthUnit = 2;          // glsl/shadow_tiles.comp
+constexpr GLuint kTileListsBinding = 1;   // shadow_tiles.comp writes, shade.frag (SHADOW_TILE_LISTS) reads
+constexpr int kScreenTile = 16;           // pixels; shadow_tiles.comp's work group, shade.frag's tile
+constexpr GLuint kCasterRectsBinding = 3;  // shadow_tiles.comp
+constexpr int kMaxCasterRects = 16;        // per light; more casters share one rectangle (the tile)
 
 // Explicit uniform locations of glsl/shadow_atlas.vert, shade.vert/.frag, background.frag.
 namespace loc {
@@ -38,6 +44,8 @@ constexpr GLint atlas_texel = 14;
 constexpr GLint k_d = 15;
 constexpr GLint k_s = 16;
 constexpr GLint shininess = 17;
+constexpr GLint tiles_x = 18;
+constexpr GLint unshadowed = 19;
 constexpr GLint direction_from_clip = 0;
 constexpr GLint map_from_world = 4;
 }  // namespace loc
@@ -76,6 +84,10 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings) {
     validate(settings_);
     for (const glsl::File& file : glsl::files()) library_.add(file.name, file.source);
     glGetIntegerv(GL_MAX_VIEWPORTS, &max_viewports_);
+    GLint max_block = 0;
+    glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
+    uniform_block_fits_ = std::size_t(max_block) >= kMaxTiles * sizeof(LightRecord);
+    use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
     max_viewports_ = std::clamp(max_viewports_, 1, kMaxViewports);
     empty_vertex_array_ = gl::VertexArray::create();
     shadow_sampler_ = gl::Sampler::create();
@@ -92,7 +104,11 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings) {
 Renderer::~Renderer() = default;
 
 void Renderer::build_programs() {
-    std::vector<std::string> atlas_defines;
+    // Shared by the atlas, shading and screen-tile programs.
+    std::vector<std::string> light_defines{"MAX_LIGHTS " + std::to_string(kMaxTiles)};
+    if (use_uniform_block_) light_defines.push_back("LIGHTS_UNIFORM_BLOCK");
+    tiles_program_ = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, light_defines);
+    std::vector<std::string> atlas_defines = light_defines;
     if (settings_.atlas == AtlasMode::viewport_array && !GLAD_GL_ARB_shader_viewport_layer_array) {
         log::warn("GL_ARB_shader_viewport_layer_array is missing: drawing the shadow atlas with clip distances");
         settings_.atlas = AtlasMode::clip_distances;
@@ -101,12 +117,22 @@ void Renderer::build_programs() {
     if (settings_.atlas == AtlasMode::viewport_array) atlas_defines.push_back("ATLAS_VIEWPORT_ARRAY");
     atlas_program_ = library_.build({{GL_VERTEX_SHADER, "shadow_atlas.vert"}}, atlas_defines);
 
-    std::vector<std::string> shade_defines;
+    std::vector<std::string> shade_defines = light_defines;
     if (settings_.diffuse == DiffuseMode::cap) shade_defines.push_back("DIFFUSE_CAP");
     if (settings_.specular == SpecularMode::single) shade_defines.push_back("SPECULAR_SINGLE");
     if (settings_.pcf == PcfKernel::wide) shade_defines.push_back("PCF_WIDE");
+    if (tile_lists_active()) shade_defines.push_back("SHADOW_TILE_LISTS");
     shade_program_ =
         library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
+    shade_defines.push_back("DIFFUSE_ONLY");
+    shade_diffuse_program_ =
+        library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
+    shade_defines.push_back("FLAT_RECEIVER");
+    shade_flat_program_ =
+        library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
+    if (!prepass_program_)  // shade.vert's gl_Position is invariant: the shading pass's depths equal these
+        prepass_program_ =
+            library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
     if (!background_program_)
         background_program_ =
             library_.build({{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
@@ -116,8 +142,10 @@ void Renderer::set_settings(const RenderSettings& settings) {
     validate(settings);
     const RenderSettings old = settings_;
     settings_ = settings;
+    use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
     if (old.atlas != settings.atlas || old.diffuse != settings.diffuse || old.specular != settings.specular ||
-        old.pcf != settings.pcf)
+        old.pcf != settings.pcf || old.lights_uniform_block != settings.lights_uniform_block ||
+        old.shadow_tile_lists != settings.shadow_tile_lists || old.depth_prepass != settings.depth_prepass)
         build_programs();
     if (old.skip_lights != settings.skip_lights) select_lights();
 }
@@ -177,7 +205,8 @@ void Renderer::select_lights() {
     light_frames_.clear();
     for (const WorldLight& light : lights_.kept) light_frames_.push_back(light_frame(light.direction));
     records_.assign(lights_.kept.size(), LightRecord{});
-    light_buffer_ = gl::Buffer::create(std::max<std::size_t>(records_.size(), 1) * sizeof(LightRecord));
+    // Room for kMaxTiles records: a uniform block's bound range must cover its whole declared array.
+    light_buffer_ = gl::Buffer::create(std::size_t(kMaxTiles) * sizeof(LightRecord));
 }
 
 void Renderer::ensure_atlas() {
@@ -206,6 +235,10 @@ void Renderer::ensure_target(int width, int height) {
     if (color_ && color_.width() == width && color_.height() == height) return;
     color_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
     depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
+    depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
+    screen_tiles_ = glm::ivec2((width + kScreenTile - 1) / kScreenTile, (height + kScreenTile - 1) / kScreenTile);
+    tile_lists_ = gl::Buffer::create(std::size_t(screen_tiles_.x) * std::size_t(screen_tiles_.y) *
+                                     std::size_t(kMaxTiles + 1) * sizeof(std::uint32_t));
     target_ = gl::Framebuffer::create();
     target_.attach(GL_COLOR_ATTACHMENT0, color_);
     target_.attach(GL_DEPTH_ATTACHMENT, depth_);
@@ -227,6 +260,7 @@ void Renderer::update_instances(double time) {
 void Renderer::fit_lights() {
     const glm::vec2 tile_uv(1.0f / float(layout_.columns), 1.0f / float(layout_.rows));
     const bool weighted = settings_.cap == CapKind::weighted;
+    min_texel_world_ = std::numeric_limits<float>::infinity();
     for (std::size_t k = 0; k < records_.size(); ++k) {
         const WorldLight& light = lights_.kept[k];
         const OrthographicFit fit =
@@ -239,7 +273,28 @@ void Renderer::fit_lights() {
         record.tile = glm::vec4(float(column) * tile_uv.x, float(row) * tile_uv.y, tile_uv.x, tile_uv.y);
         record.bias = glm::vec4(settings_.depth_bias * fit.texel_world / fit.depth_range,
                                 settings_.normal_offset * fit.texel_world, 0.0f, 0.0f);
+        min_texel_world_ = std::min(min_texel_world_, fit.texel_world);
     }
+    // Each caster's box in each light's clip space, widened by 2 texels (shadow_tiles.comp).
+    const std::size_t casters = caster_points_.size() / 8;
+    caster_rect_count_ = casters <= std::size_t(kMaxCasterRects) ? int(std::max<std::size_t>(casters, 1)) : 1;
+    caster_rects_.assign(records_.size() * std::size_t(caster_rect_count_), glm::vec4(-1.0f, -1.0f, 1.0f, 1.0f));
+    if (casters >= 1 && casters <= std::size_t(kMaxCasterRects)) {
+        const float pad = 2.0f * 2.0f / float(layout_.tile_size);  // 2 texels in clip units
+        for (std::size_t k = 0; k < records_.size(); ++k)
+            for (std::size_t c = 0; c < casters; ++c) {
+                glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+                for (std::size_t j = 0; j < 8; ++j) {
+                    const glm::vec2 xy(records_[k].clip_from_world * glm::vec4(caster_points_[8 * c + j], 1.0f));
+                    lo = glm::min(lo, xy);
+                    hi = glm::max(hi, xy);
+                }
+                caster_rects_[k * casters + c] = glm::vec4(lo - pad, hi + pad);
+            }
+    }
+    if (caster_rects_.empty()) caster_rects_.push_back(glm::vec4(0.0f));
+    caster_rect_buffer_.upload_resizing(caster_rects_.data(), caster_rects_.size() * sizeof(glm::vec4));
+    if (records_.empty()) min_texel_world_ = 0.0f;
     light_buffer_.upload(records_.data(), records_.size() * sizeof(LightRecord));
 }
 
@@ -260,13 +315,30 @@ void Renderer::draw_atlas() {
     const int tiles = int(records_.size());
     const int size = layout_.tile_size;
 
-    auto for_each_caster = [&](auto&& draw) {
+    // Each caster at the coarsest level of detail within settings_.caster_lod of the smallest texel
+    // of this frame's tiles (level 0, the full mesh, with caster_lod = 0).
+    atlas_triangles_ = 0;
+    auto for_each_caster = [&](int tiles_per_draw, auto&& draw) {
         for (const Instance& instance : instances_) {
             if (!instance.object.casts_shadows) continue;
+            const CasterLod& lod = instance.mesh->caster_lod();
+            const int level = choose_caster_level(
+                lod, caster_error_budget(instance.world_from_object, min_texel_world_, settings_.caster_lod));
+            atlas_triangles_ += std::size_t(lod.levels[std::size_t(level)].index_count / 3) * std::size_t(tiles_per_draw);
             glProgramUniformMatrix4fv(atlas_program_.id(), loc::world_from_object, 1, GL_FALSE,
                                       &instance.world_from_object[0][0]);
-            instance.mesh->bind();
-            draw(*instance.mesh);
+            // Closed casters: front faces only (the light frame keeps the winding: right x up = toward,
+            // so faces turned to the light are counter-clockwise in the tile; a mirroring transform
+            // turns them clockwise).
+            if (settings_.cull_back_faces && lod.levels[std::size_t(level)].closed) {
+                glEnable(GL_CULL_FACE);
+                glCullFace(GL_BACK);
+                glFrontFace(glm::determinant(glm::mat3(instance.world_from_object)) < 0.0f ? GL_CW : GL_CCW);
+            } else {
+                glDisable(GL_CULL_FACE);
+            }
+            instance.mesh->bind_caster();
+            draw(*instance.mesh, level);
         }
     };
     switch (settings_.atlas) {
@@ -274,7 +346,7 @@ void Renderer::draw_atlas() {
             for (GLenum plane = 0; plane < 4; ++plane) glEnable(GL_CLIP_DISTANCE0 + plane);
             glViewport(0, 0, layout_.width(), layout_.height());
             glProgramUniform1i(atlas_program_.id(), loc::first_tile, 0);
-            for_each_caster([&](const GpuMesh& mesh) { mesh.draw_instanced(tiles); });  // one draw per mesh
+            for_each_caster(tiles, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, tiles); });  // one draw per mesh
             for (GLenum plane = 0; plane < 4; ++plane) glDisable(GL_CLIP_DISTANCE0 + plane);
             break;
         case AtlasMode::viewport_array:
@@ -289,48 +361,127 @@ void Renderer::draw_atlas() {
                 }
                 glViewportArrayv(0, batch, rects.data());
                 glProgramUniform1i(atlas_program_.id(), loc::first_tile, first);
-                for_each_caster([&](const GpuMesh& mesh) { mesh.draw_instanced(batch); });
+                for_each_caster(batch, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, batch); });
             }
             break;
         case AtlasMode::per_tile:
             for (int k = 0; k < tiles; ++k) {
                 glViewport((k % layout_.columns) * size, (k / layout_.columns) * size, size, size);
                 glProgramUniform1i(atlas_program_.id(), loc::first_tile, k);
-                for_each_caster([&](const GpuMesh& mesh) { mesh.draw(); });
+                for_each_caster(1, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level); });
             }
             break;
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
+    glDisable(GL_CULL_FACE);
+    glFrontFace(GL_CCW);
+}
+
+void Renderer::draw_depth_prepass(const CameraView& view) {
+    gl::ScopedPass pass(&timer_, "depth pre-pass");
+    const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
+    const GLuint program = prepass_program_.id();
+    prepass_program_.use();
+    glProgramUniformMatrix4fv(program, loc::clip_from_world, 1, GL_FALSE, &clip_from_world[0][0]);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    for (const Instance& instance : instances_) {
+        glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE, &instance.world_from_object[0][0]);
+        instance.mesh->bind();
+        instance.mesh->draw();
+    }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+bool Renderer::tile_lists_active() const {
+    return settings_.shadow_tile_lists && settings_.depth_prepass;
+}
+
+void Renderer::build_tile_lists(const CameraView& view) {
+    gl::ScopedPass pass(&timer_, "shadow tile lists");
+    const glm::mat4 world_from_clip = glm::inverse(view.clip_from_view * view.view_from_world);
+    float pad = min_texel_world_;  // position reconstruction and rounding; V = 1 for 2 texels inside the border anyway
+    for (const LightRecord& record : records_) pad = std::max(pad, record.bias.y + min_texel_world_);
+    const GLuint program = tiles_program_.id();
+    tiles_program_.use();
+    glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, &world_from_clip[0][0]);
+    glProgramUniform1i(program, 4, int(records_.size()));
+    glProgramUniform1f(program, 5, pad);
+    glProgramUniform1i(program, 6, caster_rect_count_);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCasterRectsBinding, caster_rect_buffer_.id());
+    depth_.bind(kDepthUnit);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileListsBinding, tile_lists_.id());
+    glDispatchCompute(GLuint(screen_tiles_.x), GLuint(screen_tiles_.y), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glBindTextureUnit(kDepthUnit, 0);
 }
 
 void Renderer::draw_objects(const CameraView& view) {
+    if (settings_.depth_prepass) draw_depth_prepass(view);
+    if (tile_lists_active()) build_tile_lists(view);
     gl::ScopedPass pass(&timer_, "shading");
     const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
-    const GLuint program = shade_program_.id();
-    shade_program_.use();
-    glProgramUniformMatrix4fv(program, loc::clip_from_world, 1, GL_FALSE, &clip_from_world[0][0]);
-    glProgramUniform3f(program, loc::eye, view.eye.x, view.eye.y, view.eye.z);
-    glProgramUniform1i(program, loc::light_count, int(records_.size()));
-    glProgramUniform2f(program, loc::atlas_texel, 1.0f / float(layout_.width()), 1.0f / float(layout_.height()));
+    for (const gl::Program* shade : {&shade_program_, &shade_diffuse_program_, &shade_flat_program_}) {
+        const GLuint program = shade->id();
+        glProgramUniformMatrix4fv(program, loc::clip_from_world, 1, GL_FALSE, &clip_from_world[0][0]);
+        glProgramUniform3f(program, loc::eye, view.eye.x, view.eye.y, view.eye.z);
+        glProgramUniform1i(program, loc::light_count, int(records_.size()));
+        glProgramUniform2f(program, loc::atlas_texel, 1.0f / float(layout_.width()), 1.0f / float(layout_.height()));
+        glProgramUniform1ui(program, loc::tiles_x, GLuint(screen_tiles_.x));
+    }
     atlas_depth_.bind(kAtlasUnit);
     shadow_sampler_.bind(kAtlasUnit);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
+    // After the pre-pass only the visible fragment of each pixel passes (bit-identical depths:
+    // shade.vert's gl_Position is invariant), so the light loop runs once per pixel.
+    glDepthFunc(settings_.depth_prepass ? GL_EQUAL : GL_LESS);
+    glDepthMask(settings_.depth_prepass ? GL_FALSE : GL_TRUE);
     glDisable(GL_CULL_FACE);  // two-sided (shade.frag turns the normal to the viewer)
     for (const Instance& instance : instances_) {
         const Material& material = instance.object.material;
         const glm::vec3 k_d(brdf::diffuse_coefficient(material.rho_d.r), brdf::diffuse_coefficient(material.rho_d.g),
                             brdf::diffuse_coefficient(material.rho_d.b));
+        const float k_s = brdf::specular_coefficient(material.rho_s, material.shininess);
+        // Materials without a specular part get the shader compiled without it (shade.frag DIFFUSE_ONLY).
+        const bool diffuse_only = settings_.specialise_shaders && !(k_s > 0.0f);
+        // A plane with a diffuse material (the ground): the normal the shader would use, turned to the
+        // eye as shade.frag turns it, gives every a_i once for all its pixels.
+        glm::vec3 flat_normal(0.0f);
+        bool flat = false;
+        if (diffuse_only && settings_.flat_receivers && tile_lists_active() && settings_.diffuse == DiffuseMode::center &&
+            instance.mesh->flat_normal(flat_normal)) {
+            const glm::vec3 n = glm::normalize(instance.world_normal_from_object * flat_normal);
+            const glm::vec3 point(instance.world_from_object * glm::vec4(instance.mesh->bounds_min(), 1.0f));
+            const float side = glm::dot(n, view.eye - point);
+            if (std::isfinite(side) && std::abs(side) > 1e-4f) {
+                flat = true;
+                flat_normal = side < 0.0f ? -n : n;
+            }
+        }
+        const gl::Program& shade = flat ? shade_flat_program_ : diffuse_only ? shade_diffuse_program_ : shade_program_;
+        const GLuint program = shade.id();
+        shade.use();
+        if (flat) {
+            glm::dvec3 sum(0.0);
+            for (const LightRecord& record : records_)
+                sum += glm::dvec3(record.radiance) * (glm::dvec3(k_d) * double(std::max(glm::dot(flat_normal, glm::vec3(record.direction)), 0.0f)));
+            glProgramUniform3f(program, loc::unshadowed, float(sum.x), float(sum.y), float(sum.z));
+        }
         glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE, &instance.world_from_object[0][0]);
         glProgramUniformMatrix3fv(program, loc::world_normal_from_object, 1, GL_FALSE,
                                   &instance.world_normal_from_object[0][0]);
         glProgramUniform3f(program, loc::k_d, k_d.r, k_d.g, k_d.b);
-        glProgramUniform1f(program, loc::k_s, brdf::specular_coefficient(material.rho_s, material.shininess));
+        glProgramUniform1f(program, loc::k_s, k_s);
         glProgramUniform1f(program, loc::shininess, material.shininess);
         instance.mesh->bind();
         instance.mesh->draw();
     }
     glBindSampler(kAtlasUnit, 0);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
 }
 
 void Renderer::draw_background(const CameraView& view) {
@@ -360,7 +511,8 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     ensure_target(view.width, view.height);
     update_instances(time);
     fit_lights();
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, light_buffer_.id());
+    glBindBufferBase(use_uniform_block_ ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER, kLightsBinding,
+                     light_buffer_.id());
     if (!timer_warmed_up_) {
         // Mesa's llvmpipe (22.3) gives the first GL_TIME_ELAPSED query of a context that draws
         // anything a start time of 0 (it reads as the time since boot): spend it on a clear.
@@ -392,6 +544,7 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     stats.lights_negligible = lights_.negligible;
     stats.atlas_bytes = atlas_bytes();
     stats.atlas = layout_;
+    stats.atlas_triangles = atlas_triangles_;
     return stats;
 }
 

@@ -19,6 +19,7 @@
 
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "core/image.h"
@@ -54,6 +55,7 @@ struct FrameStats {
     int lights_negligible = 0;
     std::size_t atlas_bytes = 0;
     AtlasLayout atlas;
+    std::size_t atlas_triangles = 0;  // caster triangles drawn into the atlas, all tiles together
 };
 
 class Renderer {
@@ -111,11 +113,16 @@ private:
     void fit_lights();
     void draw_atlas();
     void draw_objects(const CameraView& view);
+    void draw_depth_prepass(const CameraView& view);
+    bool tile_lists_active() const;
+    void build_tile_lists(const CameraView& view);
     void draw_background(const CameraView& view);
 
     RenderSettings settings_;
     gl::ShaderLibrary library_;
-    gl::Program atlas_program_, shade_program_, background_program_;
+    gl::Program atlas_program_, shade_program_, shade_diffuse_program_, shade_flat_program_, prepass_program_,
+        background_program_;
+    gl::Program tiles_program_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
     gl::Sampler shadow_sampler_;
     gl::GpuTimer timer_;
@@ -133,6 +140,8 @@ private:
     std::vector<LightFrame> light_frames_;
     std::vector<LightRecord> records_;      // rewritten every frame
     std::vector<glm::vec3> caster_points_;  // rewritten every frame
+    float min_texel_world_ = 0.0f;          // smallest atlas texel of this frame's fits (world units)
+    std::size_t atlas_triangles_ = 0;
     gl::Buffer light_buffer_;
 
     AtlasLayout layout_;
@@ -140,10 +149,17 @@ private:
     gl::Texture atlas_depth_;
     gl::Framebuffer atlas_;
     int max_viewports_ = 1;
+    bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds kMaxTiles light records
+    bool use_uniform_block_ = false;
 
     gl::Texture environment_;
     gl::Texture color_, depth_;
     gl::Framebuffer target_;
+    glm::ivec2 screen_tiles_{0, 0};  // 16x16-pixel tiles of the target
+    gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
+    std::vector<glm::vec4> caster_rects_;  // per light, per caster: its box in the light's clip space
+    int caster_rect_count_ = 1;
+    gl::Buffer caster_rect_buffer_;
 };
 
 }  // namespace envshadow::render

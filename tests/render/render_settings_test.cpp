@@ -51,5 +51,42 @@ TEST(RenderSettings, BadValuesAreUsageErrorsNamingTheOption) {
     EXPECT_THROW(validate(s), UsageError);
 }
 
+TEST(RenderSettings, BaselineTurnsEveryOptimisationOff) {
+    const RenderSettings optimised;
+    EXPECT_GT(optimised.caster_lod, 0.0f);
+    EXPECT_TRUE(optimised.depth_prepass);
+    const RenderSettings first = baseline(optimised);
+    EXPECT_EQ(first.caster_lod, 0.0f);
+    EXPECT_FALSE(first.depth_prepass);
+    EXPECT_EQ(first.tile_size, optimised.tile_size);  // everything else stays
+    EXPECT_EQ(first.atlas, optimised.atlas);
+}
+
+TEST(RenderSettings, VariantsApplyLeftToRight) {
+    const RenderSettings base;
+    EXPECT_EQ(apply_variant(base, "baseline", "--variants").caster_lod, 0.0f);
+    EXPECT_TRUE(apply_variant(base, "optimised", "--variants").depth_prepass);
+    const RenderSettings v =
+        apply_variant(base, "baseline, caster-lod=0.25,depth-bits=32,tile=128,atlas=per-tile,pcf=wide", "--variants");
+    EXPECT_EQ(v.caster_lod, 0.25f);
+    EXPECT_FALSE(v.depth_prepass);
+    EXPECT_EQ(v.depth_bits, 32);
+    EXPECT_EQ(v.tile_size, 128);
+    EXPECT_EQ(v.atlas, AtlasMode::per_tile);
+    EXPECT_EQ(v.pcf, PcfKernel::wide);
+    EXPECT_EQ(apply_variant(base, "caster-lod=off", "--variants").caster_lod, 0.0f);
+    EXPECT_FALSE(apply_variant(base, "prepass=off", "--variants").depth_prepass);
+    const RenderSettings off = apply_variant(base, "ubo=off,cull=off,specialise=off,tiles=off,flat=off", "--variants");
+    EXPECT_FALSE(off.lights_uniform_block || off.cull_back_faces || off.specialise_shaders || off.shadow_tile_lists ||
+                 off.flat_receivers);
+    const RenderSettings none = baseline(base);
+    EXPECT_FALSE(none.lights_uniform_block || none.cull_back_faces || none.specialise_shaders ||
+                 none.shadow_tile_lists || none.flat_receivers);
+    EXPECT_EQ(apply_variant(base, "", "--variants").tile_size, base.tile_size);
+    for (const char* bad : {"fast", "prepass=maybe", "caster-lod=x", "caster-lod=-1", "caster-lod=nan", "tile=64",
+                            "depth-bits=24", "colour=red"})
+        EXPECT_THROW(apply_variant(base, bad, "--variants"), UsageError) << bad;
+}
+
 }  // namespace
 }  // namespace envshadow::render

@@ -1,0 +1,50 @@
+#pragma once
+// Shadow-caster level of detail (issue 10): a chain of simplified index buffers of a mesh
+// (meshoptimizer), each with its geometric error, and the choice of the coarsest level whose error
+// stays under a fraction of a shadow-map texel. Plain C++, no GL: tested headless.
+//
+// Why the image does not change: a caster's depth map is sampled at texel resolution; a surface
+// that moves by at most `fraction` of a texel (in any direction: silhouette or depth) moves the
+// sampled depth by less than the depth bias (1 texel) and the silhouette by less than the PCF
+// footprint. The receivers are never simplified (shading draws the full mesh).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+namespace envshadow::render {
+
+struct CasterLevel {
+    std::uint32_t first_index = 0;  // into CasterLod::indices
+    std::uint32_t index_count = 0;
+    float error = 0.0f;  // bound on the distance (object space) of the simplified surface from the original
+    bool closed = false;  // welded by position, every edge is shared by exactly two oppositely wound triangles
+};
+
+struct CasterLod {
+    // Level 0 is the original index buffer (error 0); every further level has fewer triangles and a
+    // larger error than the one before. All levels index the mesh's own vertex array.
+    std::vector<std::uint32_t> indices;
+    std::vector<CasterLevel> levels;
+};
+
+// Relative error targets (fractions of the mesh's extent) the chain is built for: 1/8192 growing by sqrt(2)
+// up to 1/32. Levels that remove under 10% of the previous level's triangles are not kept.
+CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices);
+
+// Whether the triangles form closed surfaces, consistently wound: every directed edge (a, b) occurs
+// once and its reverse (b, a) once. Degenerate triangles make it false.
+bool is_closed(std::span<const std::uint32_t> indices);
+
+// The coarsest level whose error is at most `max_error` (object space); level 0 when max_error <= 0.
+int choose_caster_level(const CasterLod& lod, float max_error);
+
+// Largest object-space error allowed for an instance drawn into tiles whose smallest texel is
+// `min_texel_world` (world units): `fraction` of that texel divided by the largest column length of
+// world_from_object (an object-space displacement e moves by at most e times it in the world).
+// 0 (full resolution) when fraction <= 0, i.e. LOD off.
+float caster_error_budget(const glm::mat4& world_from_object, float min_texel_world, float fraction);
+
+}  // namespace envshadow::render

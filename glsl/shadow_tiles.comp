@@ -1,0 +1,95 @@
+#version 450 core
+// Which lights can shadow each 16x16 tile of the image (issue 10: "cull per tile"). After the
+// depth pre-pass, one work group per screen tile bounds the visible receivers of its pixels in the
+// world (pushed out by the largest normal offset), and lists the lights for which any of them falls
+// inside the rectangle of one of the casters in that light's tile (the caster's box projected into
+// the light's clip space, widened by 2 texels: the PCF footprint's reach). Everywhere else the tile
+// holds cleared depth, so the visibility there is exactly 1 and shade.frag (SHADOW_TILE_LISTS) skips
+// the lookup. The list keeps the light order.
+#include "cells.glsl"
+
+layout(local_size_x = 16, local_size_y = 16) in;
+
+layout(binding = 2) uniform sampler2D u_depth;  // the image's depth after the pre-pass (NEAREST)
+layout(location = 0) uniform mat4 u_world_from_clip;
+layout(location = 4) uniform int u_light_count;
+layout(location = 5) uniform float u_pad;  // world units: the largest normal offset and rounding
+
+layout(location = 6) uniform int u_caster_count;  // rectangles per light
+
+layout(std430, binding = 1) writeonly buffer TileLists { uint tile_lists[]; };  // per tile: count, lights
+// Per light, u_caster_count rectangles in its clip space: xy lower left, zw upper right.
+layout(std430, binding = 3) readonly buffer CasterRects { vec4 caster_rects[]; };
+
+shared uint s_lo[3], s_hi[3];
+shared uint s_any;
+shared uint s_needed[MAX_LIGHTS];
+
+// Floats as uints that order like the floats (for atomicMin / atomicMax).
+uint ordered(float f) {
+    uint u = floatBitsToUint(f);
+    return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
+}
+float unordered(uint u) {
+    return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7fffffffu : ~u);
+}
+
+void main() {
+    uint local = gl_LocalInvocationIndex;
+    if (local < 3u) {
+        s_lo[local] = 0xffffffffu;
+        s_hi[local] = 0u;
+    }
+    if (local == 0u) s_any = 0u;
+    barrier();
+
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = textureSize(u_depth, 0);
+    if (all(lessThan(pixel, size))) {
+        float depth = texelFetch(u_depth, pixel, 0).r;
+        if (depth < 1.0) {  // an object (the background keeps the cleared depth 1)
+            vec4 ndc = vec4((vec2(pixel) + 0.5) / vec2(size) * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
+            vec4 world = u_world_from_clip * ndc;
+            vec3 p = world.xyz / world.w;
+            for (int c = 0; c < 3; ++c) {
+                atomicMin(s_lo[c], ordered(p[c]));
+                atomicMax(s_hi[c], ordered(p[c]));
+            }
+            s_any = 1u;
+        }
+    }
+    barrier();
+
+    uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    uint base = tile * uint(MAX_LIGHTS + 1);
+    if (s_any == 0u) {
+        if (local == 0u) tile_lists[base] = 0u;
+        return;
+    }
+    vec3 lo = vec3(unordered(s_lo[0]), unordered(s_lo[1]), unordered(s_lo[2])) - u_pad;
+    vec3 hi = vec3(unordered(s_hi[0]), unordered(s_hi[1]), unordered(s_hi[2])) + u_pad;
+    for (uint i = local; i < uint(u_light_count); i += 256u) {
+        // The box's corners in the light's clip space; the box lies outside the tile where all
+        // corners are beyond one side.
+        vec2 clip_lo = vec2(1e30), clip_hi = vec2(-1e30);
+        for (int k = 0; k < 8; ++k) {
+            vec3 corner = vec3((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y, (k & 4) != 0 ? hi.z : lo.z);
+            vec2 c = (lights[i].clip_from_world * vec4(corner, 1.0)).xy;
+            clip_lo = min(clip_lo, c);
+            clip_hi = max(clip_hi, c);
+        }
+        uint needed = 0u;
+        for (int c = 0; c < u_caster_count; ++c) {
+            vec4 rect = caster_rects[int(i) * u_caster_count + c];
+            if (all(lessThanEqual(clip_lo, rect.zw)) && all(greaterThanEqual(clip_hi, rect.xy))) needed = 1u;
+        }
+        s_needed[i] = needed;
+    }
+    barrier();
+    if (local == 0u) {
+        uint count = 0u;
+        for (uint i = 0u; i < uint(u_light_count); ++i)
+            if (s_needed[i] != 0u) tile_lists[base + 1u + count++] = i;
+        tile_lists[base] = count;
+    }
+}
