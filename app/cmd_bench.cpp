@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,8 @@
 #include "env/cells.h"
 #include "env/environment.h"
 #include "gl/context.h"
+#include "glsl/embedded.h"
+#include "render/fs_sampler.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
@@ -32,6 +35,7 @@ namespace {
 struct BenchOptions {
     std::string scene, env, method = "lloyd", backend = "egl", json, sweep, atlas = "clip-distances", variants,
         caster_lod, prepass;
+    std::string fs_importance = "256x128";  // fs-gpu: the importance map, WxH or "full" (the environment's)
     bool baseline = false;
     int lights = 128, frames = 100, warmup = 10, width = 1280, height = 720, tile = 256, depth_bits = 16;
     double time_step = 1.0 / 60.0;  // animation seconds per frame
@@ -49,6 +53,7 @@ struct Row {
     std::vector<std::string> pass_order;        // as the renderer reports them (pipeline order)
     std::map<std::string, TimeSummary> passes;  // GPU time per pass
     TimeSummary gpu_ms;                       // sum of the passes per frame
+    std::size_t gpu_frames = 0;               // frames whose every pass had a valid reading (gpu_ms's samples)
 };
 
 struct Variant {
@@ -58,8 +63,11 @@ struct Variant {
 };
 
 // One row per variant for this sweep point; the variants' frames are interleaved.
+// With `sampler` (fs-gpu) the lights are sampled on the GPU before every frame; the sampling is part of
+// the frame's wall time and reported as its own column (wall time, up to the lights' read-back).
 std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const Scene& scene, const EnvironmentMap& map,
-                         std::vector<Variant>& variants, std::map<int, Decomposition>& decompositions) {
+                         std::vector<Variant>& variants, std::map<int, Decomposition>& decompositions,
+                         render::FsSampler* sampler) {
     Row common;
     common.point = point;
     common.lights = point.lights ? point.lights : o.lights;
@@ -68,7 +76,10 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
 
     auto found = decompositions.find(common.lights);
     if (found == decompositions.end())
-        found = decompositions.emplace(common.lights, decompose(map, DecomposeOptions{parse_method(o.method), common.lights, o.seed})).first;
+        found = decompositions
+                    .emplace(common.lights, sampler ? Decomposition{}
+                                                    : decompose(map, DecomposeOptions{parse_method(o.method), common.lights, o.seed}))
+                    .first;
     common.decompose_ms = found->second.seconds * 1000.0;
 
     std::vector<Row> rows(variants.size(), common);
@@ -90,8 +101,17 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
         const render::CameraView view = render::camera_view(scene, common.width, common.height, time);
         for (std::size_t v = 0; v < variants.size(); ++v) {
             const auto start = std::chrono::steady_clock::now();
-            const render::FrameStats stats = variants[v].renderer->render(time, view);  // waits for the GPU's timer results
+            std::vector<gl::PassTime> sampling;
+            if (sampler) {  // wall time: GL_TIME_ELAPSED around the sampler's compute and transform feedback is
+                            // unreliable on llvmpipe and spoils the renderer's next query (docs/PERFORMANCE.md)
+                sampler->sample(variants[v].renderer->environment_texture(), render::FsSampleRequest{common.lights});
+                variants[v].renderer->set_lights(sampler->read_lights());  // waits for the sampler
+                sampling.push_back({"fs-gpu sampling (wall)",
+                                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
+            }
+            render::FrameStats stats = variants[v].renderer->render(time, view);  // waits for the GPU's timer results
             const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            stats.passes.insert(stats.passes.begin(), sampling.begin(), sampling.end());
             Row& row = rows[v];
             row.lights_drawn = stats.lights;
             row.atlas_triangles = stats.atlas_triangles;
@@ -99,18 +119,28 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
             Samples& s = samples[v];
             s.frame_ms.push_back(wall);
             double total = 0.0;
+            bool all_valid = true;
             for (const gl::PassTime& pass : stats.passes) {
                 if (!s.pass_ms.count(pass.pass)) row.pass_order.push_back(pass.pass);
-                s.pass_ms[pass.pass].push_back(pass.milliseconds);
-                total += pass.milliseconds;
+                std::vector<double>& times = s.pass_ms[pass.pass];
+                // A GPU pass cannot outlast the frame that waited for it: llvmpipe times the first query
+                // after the GPU sampler's transform feedback from 0 (it reads as the time since boot).
+                if (pass.milliseconds > wall) {
+                    all_valid = false;
+                    continue;
+                }
+                times.push_back(pass.milliseconds);
+                if (pass.pass != "fs-gpu sampling (wall)") total += pass.milliseconds;  // GPU passes only
             }
-            s.gpu_ms.push_back(total);
+            if (all_valid) s.gpu_ms.push_back(total);
         }
     }
     for (std::size_t v = 0; v < variants.size(); ++v) {
         rows[v].frame_ms = summarize(samples[v].frame_ms);
         rows[v].gpu_ms = summarize(samples[v].gpu_ms);
-        for (auto& [pass, values] : samples[v].pass_ms) rows[v].passes[pass] = summarize(values);
+        rows[v].gpu_frames = samples[v].gpu_ms.size();
+        for (auto& [pass, values] : samples[v].pass_ms)
+            if (!values.empty()) rows[v].passes[pass] = summarize(values);  // else no valid reading: left out
         rows[v].ratio = rows[0].frame_ms.median > 0.0 ? rows[v].frame_ms.median / rows[0].frame_ms.median : 0.0;
     }
     return rows;
@@ -134,13 +164,20 @@ void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std:
     std::printf("\n");
     for (const Row& r : rows) {
         const std::string resolution = std::to_string(r.width) + "x" + std::to_string(r.height);
-        std::printf("%-22s %5d %5d %5d %11s %8.2f / %6.2f %9.1f %9.2f", r.point.label.c_str(), r.lights, r.lights_drawn,
-                    r.tile, resolution.c_str(), r.frame_ms.median, r.frame_ms.p95,
-                    r.frame_ms.median > 0 ? 1000.0 / r.frame_ms.median : 0.0, r.gpu_ms.median);
+        std::printf("%-22s %5d %5d %5d %11s %8.2f / %6.2f %9.1f", r.point.label.c_str(), r.lights, r.lights_drawn, r.tile,
+                    resolution.c_str(), r.frame_ms.median, r.frame_ms.p95,
+                    r.frame_ms.median > 0 ? 1000.0 / r.frame_ms.median : 0.0);
+        if (r.gpu_frames > 0)
+            std::printf(" %9.2f", r.gpu_ms.median);
+        else
+            std::printf(" %9s", "-");
         if (variants) std::printf(" %6.3f %10zu", r.ratio, r.atlas_triangles);
         for (const std::string& pass : pass_names) {
             auto it = r.passes.find(pass);
-            std::printf(" %14.2f", it == r.passes.end() ? 0.0 : it->second.median);
+            if (it == r.passes.end())
+                std::printf(" %14s", "-");  // not timed, or no valid reading
+            else
+                std::printf(" %14.2f", it->second.median);
         }
         if (variants) std::printf("  %s", r.variant.c_str());
         std::printf("\n");
@@ -154,12 +191,13 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
     };
     nlohmann::json out = {{"scene", o.scene},        {"renderer", renderer_name}, {"backend", o.backend},
                           {"method", o.method},      {"frames", o.frames},        {"warmup", o.warmup},
+                          {"fs_importance", o.method == "fs-gpu" ? o.fs_importance : ""},
                           {"triangles", triangles},  {"atlas_mode", o.atlas},     {"variants", o.variants},
                           {"rows", nlohmann::json::array()}};
     for (const Row& r : rows) {
         nlohmann::json passes = nlohmann::json::object();
         for (const auto& [pass, s] : r.passes) passes[pass] = summary(s);
-        passes["total"] = summary(r.gpu_ms);
+        if (r.gpu_frames > 0) passes["total"] = summary(r.gpu_ms);
         out["rows"].push_back({{"setting", r.point.label},
                                {"variant", r.variant},
                                {"ratio_to_first_variant", r.ratio},
@@ -177,6 +215,19 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
                                {"gpu_ms", passes}});
     }
     return out;
+}
+
+// --fs-importance: "full" (0 x 0: the environment's own size) or W x H, within the map, W a multiple of 16
+// (the sampler's unrolled scan).
+glm::ivec2 fs_importance_size(const std::string& text, const EnvironmentMap& map) {
+    if (text == "full") return {0, 0};
+    int width = 0, height = 0;
+    char x = 0, rest = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width < 16 || height < 1 ||
+        width % 16 != 0 || width > map.width || height > map.height)
+        throw UsageError("--fs-importance " + text + ": give 'full' or WxH with W a multiple of 16, at most the map's " +
+                         std::to_string(map.width) + "x" + std::to_string(map.height));
+    return {width, height};
 }
 
 int run_bench(const BenchOptions& o) {
@@ -211,6 +262,7 @@ int run_bench(const BenchOptions& o) {
     Scene scene = load_scene(o.scene);
     if (!o.env.empty()) scene.environment.source = o.env;
     const EnvironmentMap map = load_environment(scene.environment.source);
+    const glm::ivec2 importance_size = o.method == "fs-gpu" ? fs_importance_size(o.fs_importance, map) : glm::ivec2(0);
 
     auto context = gl::create_context(gl::parse_backend(o.backend));
     const std::string renderer_name = context->renderer();
@@ -220,11 +272,22 @@ int run_bench(const BenchOptions& o) {
         variant.renderer->set_environment(map);
     }
 
+    std::optional<render::FsSampler> sampler;
+    if (o.method == "fs-gpu") {
+        gl::ShaderLibrary shaders;
+        for (const glsl::File& f : glsl::files()) shaders.add(f.name, f.source);
+        render::FsSamplerOptions options;
+        options.importance_width = importance_size.x;
+        options.importance_height = importance_size.y;
+        sampler.emplace(shaders, options);
+    }
+
     std::map<int, Decomposition> decompositions;
     std::vector<Row> rows;
     for (const SweepPoint& point : points) {
         log::info("bench: " + point.label);
-        for (Row& row : measure(o, point, scene, map, variants, decompositions)) rows.push_back(std::move(row));
+        for (Row& row : measure(o, point, scene, map, variants, decompositions, sampler ? &*sampler : nullptr))
+            rows.push_back(std::move(row));
     }
     print_table(rows, o, renderer_name, scene.triangle_count());
     if (!o.json.empty()) write_file_atomically(o.json, to_json(rows, o, renderer_name, scene.triangle_count()).dump(2) + "\n");
@@ -239,8 +302,10 @@ Command add_bench_command(CLI::App& parent) {
     app->add_option("--scene", o->scene, "Scene JSON or .gltf/.glb")->required();
     app->add_option("--env", o->env, "Environment (.exr, .hdr, builtin:…), overrides the scene's");
     app->add_option("--lights", o->lights, "Number of cells N")->check(CLI::Range(1, kMaxLights));
-    app->add_option("--method", o->method, "Decomposition method")
-        ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs"}));
+    app->add_option("--method", o->method,
+                    "Decomposition: lloyd, ccvt, mediancut, random, fs; or fs-gpu (lights sampled on the GPU every frame)")
+        ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs", "fs-gpu"}));
+    app->add_option("--fs-importance", o->fs_importance, "fs-gpu: importance map size, WxH or full (default 256x128)");
     app->add_option("--seed", o->seed, "Seed of the decomposition");
     app->add_option("--frames", o->frames, "Timed frames")->check(CLI::Range(1, 100000));
     app->add_option("--warmup", o->warmup, "Untimed frames first")->check(CLI::Range(0, 100000));

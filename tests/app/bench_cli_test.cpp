@@ -7,6 +7,8 @@
 #include <sstream>
 #include <string>
 
+#include <sys/wait.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -68,6 +70,38 @@ TEST_P(BenchCli, SweepTableAndJsonAgree) {
     }
     EXPECT_EQ(result["rows"][0]["lights"].get<int>(), 8);
     EXPECT_EQ(result["rows"][1]["lights"].get<int>(), 16);
+}
+
+// --method fs-gpu: no decomposition; the GPU sampler runs before every frame at the importance size asked
+// for, and its wall time is a column of its own, inside the frame's.
+TEST_P(BenchCli, GpuSamplingIsTimedEveryFrameAtEachImportanceSize) {
+    for (const std::string size : {"256x128", "1024x512"}) {
+        const fs::path json = fs::path(ENVSHADOW_BINARY_DIR) / "bench" / ("bench_fs_" + size + "_" + GetParam() + ".json");
+        fs::create_directories(json.parent_path());
+        fs::remove(json);
+        const std::string command = std::string(ENVSHADOW_EXE) + " bench --scene " + ENVSHADOW_SOURCE_DIR +
+                                    "/assets/scenes/flyover.json --env builtin:sky --method fs-gpu --fs-importance " + size +
+                                    " --lights 32 --frames 2 --warmup 1 --width 160 --height 96 --tile 128 --backend " +
+                                    GetParam() + " --json " + json.string() + " 2>&1";
+        int status = 0;
+        const std::string table = run(command, status);
+        ASSERT_EQ(status, 0) << command << "\n" << table;
+        const nlohmann::json result = nlohmann::json::parse(std::ifstream(json));
+        EXPECT_EQ(result["method"], "fs-gpu");
+        EXPECT_EQ(result["fs_importance"], size);
+        const auto& row = result["rows"][0];
+        EXPECT_EQ(row["decompose_ms"].get<double>(), 0.0);
+        EXPECT_GT(row["lights_drawn"].get<int>(), 0);
+        const double sampling = row["gpu_ms"]["fs-gpu sampling (wall)"]["median"];
+        EXPECT_GT(sampling, 0.0);
+        EXPECT_LT(sampling, row["frame_ms"]["median"].get<double>());
+    }
+    int status = 0;
+    const std::string bad = run(std::string(ENVSHADOW_EXE) + " bench --scene " + ENVSHADOW_SOURCE_DIR +
+                                    "/assets/scenes/flyover.json --method fs-gpu --fs-importance 100x50 --frames 1 2>&1",
+                                status);
+    EXPECT_EQ(WEXITSTATUS(status), 2) << bad;
+    EXPECT_NE(bad.find("--fs-importance"), std::string::npos) << bad;
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, BenchCli, ::testing::Values("egl", "osmesa"));
