@@ -40,6 +40,7 @@ nlohmann::ordered_json to_json(const Decomposition& d) {
             {"integral", {d.integral.r, d.integral.g, d.integral.b}},
             {"seconds", d.seconds},
             {"iterations", d.iterations},
+            {"coarse_iterations", d.coarse_iterations},
             {"final_movement", d.final_movement}};
 }
 
@@ -65,8 +66,11 @@ int run_decompose(const DecomposeArguments& args) {
 
     std::printf("decompose: %s %dx%d, %s, %zu lights, %.3f s", args.env.c_str(), d.width, d.height,
                 std::string(to_string(d.method)).c_str(), d.cells.size(), d.seconds);
-    if (options.method == Method::lloyd || options.method == Method::ccvt)
-        std::printf(", %d iterations (final movement %.2e rad)", d.iterations, d.final_movement);
+    if (options.method == Method::lloyd || options.method == Method::ccvt) {
+        std::printf(", %d iterations", d.iterations);
+        if (d.coarse_iterations > 0) std::printf(" (%d of them at a lower resolution)", d.coarse_iterations);
+        std::printf(", final movement %.2e rad", d.final_movement);
+    }
     glm::dvec3 sum(0.0);
     for (const Cell& c : d.cells) sum += glm::dvec3(c.radiance);
     std::printf("\nintegral of L dw = (%.6g, %.6g, %.6g), sum over the cells = (%.6g, %.6g, %.6g)\n", d.integral.r,

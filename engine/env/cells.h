@@ -10,6 +10,7 @@
 
 #include "env/environment.h"
 #include "env/importance.h"
+#include "env/nearest_site.h"
 
 namespace envshadow {
 
@@ -24,10 +25,6 @@ struct Cell {
 enum class Method { lloyd, ccvt, mediancut, random, fs };
 std::string_view to_string(Method method);
 Method parse_method(std::string_view name);  // throws UsageError
-
-// How texels find their nearest site: the tile search, or every site for every texel (the baseline the
-// benchmark compares against; both give the same cells).
-enum class SiteSearch { tiles, brute_force };
 
 inline constexpr int kMaxLights = 256;
 
@@ -45,7 +42,8 @@ struct Decomposition {
     std::vector<std::uint16_t> texel_cell;  // cell index of every texel (j * width + i)
     glm::dvec3 integral{0.0};               // integral of L dw computed directly from the map
     double seconds = 0.0;
-    int iterations = 0;               // Lloyd / CCVT iterations run
+    int iterations = 0;               // Lloyd / CCVT iterations run, at every resolution
+    int coarse_iterations = 0;        // of those, the ones run at a lower resolution (Lloyd)
     double final_movement = 0.0;      // largest site movement of the last iteration (radians)
     std::vector<glm::dvec3> sites;    // the sites texel_cell was assigned to (one per cell; CCVT's
                                       // cells are their power cells up to the texels balance_texels moved)

@@ -87,26 +87,7 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
     const auto start = std::chrono::steady_clock::now();
 
     const ImportanceMap importance = build_importance(map);
-    const NearestSiteSearch search(importance);
-    std::vector<std::uint16_t> scratch;
-    Partition partition;
-    if (options.search == SiteSearch::tiles) {
-        partition.moments = [&](std::span<const glm::dvec3> sites, std::span<const double> bias) {
-            return search.moments(sites, bias);
-        };
-        partition.assign = [&](std::span<const glm::dvec3> sites, std::span<const double> bias,
-                               std::span<std::uint16_t> texel_cell) { search.assign(sites, bias, texel_cell); };
-    } else {
-        scratch.resize(importance.texel_count());
-        partition.moments = [&](std::span<const glm::dvec3> sites, std::span<const double> bias) {
-            assign_nearest_brute_force(importance, sites, bias, scratch);
-            return partition_moments(importance, scratch, int(sites.size()));
-        };
-        partition.assign = [&](std::span<const glm::dvec3> sites, std::span<const double> bias,
-                               std::span<std::uint16_t> texel_cell) {
-            assign_nearest_brute_force(importance, sites, bias, texel_cell);
-        };
-    }
+    const Partition partition(importance, options.search);
 
     SiteSet sites;
     switch (options.method) {
@@ -140,6 +121,7 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
     result.cells = integrate_cells(map, importance, result.texel_cell, sites.sites);
     result.integral = integrate_radiance(map);
     result.iterations = sites.iterations;
+    result.coarse_iterations = sites.coarse_iterations;
     result.final_movement = sites.final_movement;
     result.sites = std::move(sites.sites);
     result.site_bias = std::move(sites.bias);

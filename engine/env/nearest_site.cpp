@@ -343,4 +343,23 @@ std::vector<CellMoments> NearestSiteSearch::moments(std::span<const glm::dvec3> 
     return total;
 }
 
+Partition::Partition(const ImportanceMap& importance, SiteSearch search) : importance_(&importance), search_(search) {
+    if (search == SiteSearch::tiles) tiles_.emplace(importance);
+}
+
+std::vector<CellMoments> Partition::moments(std::span<const glm::dvec3> sites, std::span<const double> bias) const {
+    if (tiles_) return tiles_->moments(sites, bias);
+    std::vector<std::uint16_t> texel_cell(importance_->texel_count());
+    assign_nearest_brute_force(*importance_, sites, bias, texel_cell);
+    return partition_moments(*importance_, texel_cell, int(sites.size()));
+}
+
+void Partition::assign(std::span<const glm::dvec3> sites, std::span<const double> bias,
+                       std::span<std::uint16_t> texel_cell) const {
+    if (tiles_)
+        tiles_->assign(sites, bias, texel_cell);
+    else
+        assign_nearest_brute_force(*importance_, sites, bias, texel_cell);
+}
+
 }  // namespace envshadow

@@ -10,6 +10,7 @@
 // left with one candidate is taken whole (its precomputed moments added at once).
 #include <cstdint>
 #include <glm/vec3.hpp>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -84,6 +85,28 @@ public:
 private:
     const ImportanceMap* importance_;
     std::vector<Level> levels_;  // coarse to fine; each tile splits into 2 x 2 tiles of the next level
+};
+
+// How texels find their nearest site: the tile search, or every site for every texel (the baseline the
+// benchmark compares against; both give the same cells).
+enum class SiteSearch { tiles, brute_force };
+
+// The nearest-site partition of one importance map (which must outlive it) by either search: what the
+// relaxations evaluate at every iteration.
+class Partition {
+public:
+    Partition(const ImportanceMap& importance, SiteSearch search);
+
+    const ImportanceMap& importance() const { return *importance_; }
+    SiteSearch search() const { return search_; }
+    std::vector<CellMoments> moments(std::span<const glm::dvec3> sites, std::span<const double> bias) const;
+    void assign(std::span<const glm::dvec3> sites, std::span<const double> bias,
+                std::span<std::uint16_t> texel_cell) const;
+
+private:
+    const ImportanceMap* importance_;
+    SiteSearch search_;
+    std::optional<NearestSiteSearch> tiles_;  // with SiteSearch::tiles
 };
 
 }  // namespace envshadow

@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <queue>
 #include <unordered_map>
 
@@ -90,44 +91,6 @@ double lloyd_energy(const std::vector<glm::dvec3>& sites, const std::vector<Cell
         energy += cells[k].importance - glm::dot(cells[k].importance_direction, sites[k]);
     return energy;
 }
-
-}  // namespace
-
-SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition) {
-    // Start at Lloyd's asymptotic site density, sqrt of the importance density (Gersho 1979: rho^(d/(d+2))
-    // in d = 2 dimensions), well stratified: weight sqrt(lum) dw = sqrt(I dw).
-    std::vector<float> weight(importance.texel_count());
-    for (int j = 0; j < importance.height; ++j)
-        for (int i = 0; i < importance.width; ++i) {
-            const size_t t = size_t(j) * size_t(importance.width) + size_t(i);
-            weight[t] = float(std::sqrt(double(importance.importance[t]) * importance.row_solid_angle[size_t(j)]));
-        }
-    SiteSet result;
-    result.sites = initial_sites(importance, weight, count, seed);
-    double previous_energy = std::numeric_limits<double>::infinity();
-    for (int iteration = 1; iteration <= kLloydMaxIterations; ++iteration) {
-        const std::vector<CellMoments> cells = partition.moments(result.sites, {});
-        const double energy = lloyd_energy(result.sites, cells);
-        result.iterations = iteration;
-        // Converged: the last move gained less than kLloydEnergyTolerance of the energy. The sites stay
-        // where this partition was computed; final_movement is how far the next step would move them.
-        if (previous_energy - energy <= kLloydEnergyTolerance * energy) {
-            result.final_movement = 0.0;
-            for (size_t k = 0; k < result.sites.size(); ++k)
-                result.final_movement =
-                    std::max(result.final_movement,
-                             angle_between(centroid_direction(cells[k], result.sites[k]), result.sites[k]));
-            break;
-        }
-        previous_energy = energy;
-        result.final_movement = move_to_centroids(result.sites, cells);
-        result.final_movement = std::max(result.final_movement, reseed_empty_cells(result.sites, nullptr, cells));
-        if (result.final_movement == 0.0) break;
-    }
-    return result;
-}
-
-namespace {
 
 // Cells' adjacency, weighted by how much importance crosses each border per unit of bias: the integral
 // of the importance density along the border over |s_a - s_b|, measured on the texel pairs (p, q) that
@@ -397,8 +360,7 @@ public:
             state.excess[size_t(k)] = share - state.statistics.mass[size_t(k)];
             squares += state.excess[size_t(k)] * state.excess[size_t(k)];
         }
-        state.variation =
-            share > 0.0 ? std::sqrt(squares / count_) / share : std::numeric_limits<double>::infinity();
+        state.variation = share > 0.0 ? std::sqrt(squares / count_) / share : std::numeric_limits<double>::infinity();
         return state;
     }
 
@@ -474,34 +436,70 @@ private:
     int evaluations_left_;
 };
 
-}  // namespace
-
-namespace {
-
-// The problem at a coarser resolution, maybe blurred: its own importance map and tile search.
+// The problem at a coarser resolution, maybe blurred: its own importance map and partition.
 struct Resolution {
-    std::unique_ptr<ImportanceMap> importance;  // the search keeps its address
-    std::unique_ptr<NearestSiteSearch> search;
-    Partition partition;
+    std::unique_ptr<ImportanceMap> importance;  // the partition keeps its address
+    std::optional<Partition> partition;
 };
 
 // `factor` is used only where it divides the map and leaves at least 16 rows.
-Resolution at_resolution(const ImportanceMap& fine, int factor, int blur) {
+Resolution at_resolution(const ImportanceMap& fine, int factor, int blur, SiteSearch search) {
     if (fine.width % factor != 0 || fine.height % factor != 0 || fine.height / factor < 16) factor = 1;
     Resolution r;
     r.importance = std::make_unique<ImportanceMap>(factor > 1 ? downsample_importance(fine, factor) : fine);
     if (blur > 0) *r.importance = blurred(*r.importance, blur);
-    r.search = std::make_unique<NearestSiteSearch>(*r.importance);
-    const NearestSiteSearch* search = r.search.get();
-    r.partition.moments = [search](std::span<const glm::dvec3> sites, std::span<const double> bias) {
-        return search->moments(sites, bias);
-    };
-    r.partition.assign = [search](std::span<const glm::dvec3> sites, std::span<const double> bias,
-                                  std::span<std::uint16_t> texel_cell) { search->assign(sites, bias, texel_cell); };
+    r.partition.emplace(*r.importance, search);
     return r;
 }
 
+// Lloyd iterations from result.sites until an iteration gains less than kLloydEnergyTolerance of the
+// energy; adds the iterations run to result.iterations.
+void relax_lloyd(const Partition& partition, SiteSet& result) {
+    double previous_energy = std::numeric_limits<double>::infinity();
+    for (int iteration = 1; iteration <= kLloydMaxIterations; ++iteration) {
+        const std::vector<CellMoments> cells = partition.moments(result.sites, {});
+        const double energy = lloyd_energy(result.sites, cells);
+        ++result.iterations;
+        // Converged: the last move gained less than kLloydEnergyTolerance of the energy. The sites stay
+        // where this partition was computed; final_movement is how far the next step would move them.
+        if (previous_energy - energy <= kLloydEnergyTolerance * energy) {
+            result.final_movement = 0.0;
+            for (size_t k = 0; k < result.sites.size(); ++k)
+                result.final_movement =
+                    std::max(result.final_movement,
+                             angle_between(centroid_direction(cells[k], result.sites[k]), result.sites[k]));
+            return;
+        }
+        previous_energy = energy;
+        result.final_movement = move_to_centroids(result.sites, cells);
+        result.final_movement = std::max(result.final_movement, reseed_empty_cells(result.sites, nullptr, cells));
+        if (result.final_movement == 0.0) return;
+    }
+}
+
 }  // namespace
+
+SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition) {
+    // Start at Lloyd's asymptotic site density, sqrt of the importance density (Gersho 1979: rho^(d/(d+2))
+    // in d = 2 dimensions), well stratified: weight sqrt(lum) dw = sqrt(I dw).
+    std::vector<float> weight(importance.texel_count());
+    for (int j = 0; j < importance.height; ++j)
+        for (int i = 0; i < importance.width; ++i) {
+            const size_t t = size_t(j) * size_t(importance.width) + size_t(i);
+            weight[t] = float(std::sqrt(double(importance.importance[t]) * importance.row_solid_angle[size_t(j)]));
+        }
+    SiteSet result;
+    result.sites = initial_sites(importance, weight, count, seed);
+    // Coarse to fine: converged at a lower resolution, where an iteration costs a fraction, the sites
+    // need few iterations more at full resolution.
+    for (int factor : kLloydCoarseFactors) {
+        const Resolution coarse = at_resolution(importance, factor, 0, partition.search());
+        if (coarse.importance->width != importance.width) relax_lloyd(*coarse.partition, result);
+    }
+    result.coarse_iterations = result.iterations;
+    relax_lloyd(partition, result);
+    return result;
+}
 
 // The importance CCVT shares out. A texel heavier than an equal share (a sun) cannot be split between
 // cells, so it is left out of the sharing: every cell, including the one that happens to hold it,
@@ -538,9 +536,9 @@ SiteSet sites_ccvt(const ImportanceMap& full_importance, int count, const Partit
     // Capacity first at coarse resolutions on blurred importance (a smooth problem, which Newton's method
     // solves well, and cheap to evaluate), then on the map at the working resolution.
     for (const auto& [factor, blur] : kCcvtCoarseLevels) {
-        Resolution level = at_resolution(importance, factor, blur);
+        Resolution level = at_resolution(importance, factor, blur, partition.search());
         const int budget = kCcvtEvaluationsPerLevel;
-        CapacitySolver capacity(*level.importance, count, level.partition, budget);
+        CapacitySolver capacity(*level.importance, count, *level.partition, budget);
         CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
         // Sites closer than a texel of this resolution leave cells empty here: move them first.
         for (int round = 0; round < 4 && reseed_empty_cells(result.sites, &result.bias, state.statistics.moments) > 0.0;
@@ -550,13 +548,14 @@ SiteSet sites_ccvt(const ImportanceMap& full_importance, int count, const Partit
     }
     // The sites move at a coarser resolution only where its texels are small against a share: a cell
     // must be able to shed or take less than a texel's worth.
-    Resolution working = at_resolution(importance, kCcvtWorkingFactor, 0);
+    Resolution working = at_resolution(importance, kCcvtWorkingFactor, 0, partition.search());
     if (working.importance->width != importance.width) {
         double heaviest = 0.0;
         for (float v : working.importance->importance) heaviest = std::max(heaviest, double(v));
-        if (heaviest > kCcvtCoarseTexelShare * importance.total / count) working = at_resolution(importance, 1, 0);
+        if (heaviest > kCcvtCoarseTexelShare * importance.total / count)
+            working = at_resolution(importance, 1, 0, partition.search());
     }
-    CapacitySolver capacity(*working.importance, count, working.partition, kCcvtMaxEvaluations);
+    CapacitySolver capacity(*working.importance, count, *working.partition, kCcvtMaxEvaluations);
     CapacitySolver::State state = capacity.evaluate(result.sites, result.bias);
     capacity.improve(result.sites, result.bias, state, kCcvtEvaluationsPerLevel);
 
@@ -607,8 +606,7 @@ SiteSet sites_ccvt(const ImportanceMap& full_importance, int count, const Partit
     }
 
     // A last balance at full resolution (the cells are assigned there), with what budget is left.
-    CapacitySolver full(importance, count, partition,
-                        std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
+    CapacitySolver full(importance, count, partition, std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
     CapacitySolver::State polish = full.evaluate(result.sites, result.bias);
     full.improve(result.sites, result.bias, polish, std::max(kCcvtPolishEvaluations, capacity.evaluations_left()));
 

@@ -2,7 +2,6 @@
 // The five ways of placing sites on the sphere (DESIGN.md §3). Each returns sites (and, for CCVT, the
 // power-diagram biases); decompose() then assigns texels to the nearest site and integrates the cells.
 #include <cstdint>
-#include <functional>
 #include <glm/vec3.hpp>
 #include <random>
 #include <span>
@@ -17,20 +16,12 @@ namespace envshadow {
 struct SiteSet {
     std::vector<glm::dvec3> sites;  // unit vectors
     std::vector<double> bias;       // empty, or per site (nearest_site.h): CCVT's power weights / 2
-    int iterations = 0;             // relaxation iterations run (Lloyd, CCVT)
+    int iterations = 0;             // relaxation iterations run (Lloyd, CCVT), at every resolution
+    int coarse_iterations = 0;      // of those, the ones run at a lower resolution (Lloyd)
     double final_movement = 0.0;    // largest site movement of the last iteration, radians
     // Empty, or the texel -> cell assignment the method settled on (CCVT: the power diagram of the sites
     // and biases, then balance_texels); decompose() assigns texels to the nearest site where it is empty.
     std::vector<std::uint16_t> texel_cell;
-};
-
-// The nearest-site partition as the relaxations use it (the tile search or the brute force): the
-// cells' moments, or the texel -> cell assignment.
-struct Partition {
-    std::function<std::vector<CellMoments>(std::span<const glm::dvec3> sites, std::span<const double> bias)> moments;
-    std::function<void(std::span<const glm::dvec3> sites, std::span<const double> bias,
-                       std::span<std::uint16_t> texel_cell)>
-        assign;
 };
 
 // Uniform double in [0, 1) from 53 random bits (the same on every standard library).
@@ -81,7 +72,9 @@ SiteSet sites_median_cut(const ImportanceMap& importance, int count);
 // importance-weighted mean direction of its cell, decreasing E = sum I (1 - w . s), until an iteration
 // gains less than kLloydEnergyTolerance of E. Starts from Floyd-Steinberg samples of sqrt(I dw) (Lloyd's
 // asymptotic site density, stratified; the seed shifts the halftoning), which saves most of the
-// hundreds of iterations independent importance samples need to even out.
+// hundreds of iterations independent importance samples need to even out. Coarse to fine: converges
+// first at 1/factor of the resolution for each of kLloydCoarseFactors (an iteration there costs about
+// 1/factor^2), then again at full resolution, where only a few iterations remain.
 SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition);
 
 // ccvt: capacity-constrained Voronoi tessellation as a power diagram (Balzer et al. 2009; de Goes et
@@ -121,7 +114,8 @@ TexelBalance balance_texels(const ImportanceMap& importance, std::span<std::uint
                             int max_passes = kCcvtBalancePasses);
 
 inline constexpr double kLloydEnergyTolerance = 1e-4;
-inline constexpr int kLloydMaxIterations = 500;
+inline constexpr int kLloydMaxIterations = 500;    // per resolution
+inline constexpr int kLloydCoarseFactors[] = {2};  // Lloyd converges at 1/2 of the resolution first
 // CCVT: the capacity problem is solved first at coarse resolutions on blurred importance ({factor,
 // blur radius in coarse texels}), then the sites move at the working resolution (1/kCcvtWorkingFactor),
 // and a last balance runs at full resolution. Each stage has a budget of evaluations (an assignment and

@@ -31,6 +31,7 @@ void decompose_with(benchmark::State& state, Method method, SiteSearch search) {
         benchmark::DoNotOptimize(d.cells.data());
     }
     state.counters["iterations"] = d.iterations;
+    state.counters["coarse_iterations"] = d.coarse_iterations;
     state.counters["final_movement"] = d.final_movement;
     state.counters["cells"] = double(d.cells.size());
 }
