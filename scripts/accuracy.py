@@ -878,6 +878,12 @@ def main():
                 jobs.append((scene, map_, m, 128, {"seed": seed}))
     if args.report_only:
         jobs = []
+    # Studies share cases (lloyd at N = 128 with the defaults is in most): run each once, or two renders
+    # of the same case would write, compare and remove the same image at once.
+    unique = {}
+    for j in jobs:
+        unique.setdefault(result_key(j[0], j[1], j[2], j[3], dict(DEFAULTS, **j[4]), args.error), j)
+    jobs = list(unique.values())
     order = {pr: i for i, pr in enumerate(needed)}
     jobs.sort(key=lambda j: order[(j[0], j[1])])  # stable: renders follow the references as they arrive
     failed = []
