@@ -34,7 +34,7 @@ namespace {
 
 struct BenchOptions {
     std::string scene, env, method = "lloyd", backend = "egl", json, sweep, atlas = "clip-distances", variants,
-        caster_lod, prepass;
+        caster_lod, prepass, pass_timing = "auto";
     std::string fs_importance = "256x128";  // fs-gpu: the importance map, WxH or "full" (the environment's)
     bool baseline = false;
     int lights = 128, frames = 100, warmup = 10, width = 1280, height = 720, tile = 256, depth_bits = 16;
@@ -146,10 +146,15 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
     return rows;
 }
 
+const char* pass_timing_name(gl::PassTiming timing) {
+    return timing == gl::PassTiming::synchronous ? "wait" : "queries";
+}
+
 void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std::string& renderer_name,
-                 std::size_t triangles) {
-    std::printf("envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up\n", o.scene.c_str(),
-                renderer_name.c_str(), o.backend.c_str(), triangles, o.frames, o.warmup);
+                 std::size_t triangles, gl::PassTiming timing) {
+    std::printf("envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s\n",
+                o.scene.c_str(), renderer_name.c_str(), o.backend.c_str(), triangles, o.frames, o.warmup,
+                timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries");
     std::vector<std::string> pass_names;  // union over the rows, in pipeline order
     for (const Row& r : rows)
         for (std::size_t i = 0; i < r.pass_order.size(); ++i)
@@ -185,7 +190,7 @@ void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std:
 }
 
 nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, const std::string& renderer_name,
-                       std::size_t triangles) {
+                       std::size_t triangles, gl::PassTiming timing) {
     auto summary = [](const TimeSummary& s) {
         return nlohmann::json{{"median", s.median}, {"p95", s.p95}, {"mean", s.mean}, {"min", s.min}, {"max", s.max}};
     };
@@ -193,6 +198,7 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
                           {"method", o.method},      {"frames", o.frames},        {"warmup", o.warmup},
                           {"fs_importance", o.method == "fs-gpu" ? o.fs_importance : ""},
                           {"triangles", triangles},  {"atlas_mode", o.atlas},     {"variants", o.variants},
+                          {"pass_timing", pass_timing_name(timing)},
                           {"rows", nlohmann::json::array()}};
     for (const Row& r : rows) {
         nlohmann::json passes = nlohmann::json::object();
@@ -266,8 +272,10 @@ int run_bench(const BenchOptions& o) {
 
     auto context = gl::create_context(gl::parse_backend(o.backend));
     const std::string renderer_name = context->renderer();
+    const gl::PassTiming timing = gl::parse_pass_timing(o.pass_timing, context->is_software(), "--pass-timing");
     for (Variant& variant : variants) {
         variant.renderer = std::make_unique<render::Renderer>(variant.settings);
+        variant.renderer->set_pass_timing(timing);
         variant.renderer->set_scene(scene);
         variant.renderer->set_environment(map);
     }
@@ -289,8 +297,9 @@ int run_bench(const BenchOptions& o) {
         for (Row& row : measure(o, point, scene, map, variants, decompositions, sampler ? &*sampler : nullptr))
             rows.push_back(std::move(row));
     }
-    print_table(rows, o, renderer_name, scene.triangle_count());
-    if (!o.json.empty()) write_file_atomically(o.json, to_json(rows, o, renderer_name, scene.triangle_count()).dump(2) + "\n");
+    print_table(rows, o, renderer_name, scene.triangle_count(), timing);
+    if (!o.json.empty())
+        write_file_atomically(o.json, to_json(rows, o, renderer_name, scene.triangle_count(), timing).dump(2) + "\n");
     return 0;
 }
 
@@ -316,6 +325,10 @@ Command add_bench_command(CLI::App& parent) {
     app->add_option("--atlas", o->atlas, "clip-distances (one draw), viewport-array, per-tile (baseline)");
     app->add_option("--time-step", o->time_step, "Animation seconds per frame")->check(CLI::Range(0.0, 10.0));
     app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
+    app->add_option("--pass-timing", o->pass_timing,
+                    "auto (default: wait on a software rasteriser, queries on a GPU), queries (GL_TIME_ELAPSED) or "
+                    "wait (glFinish around each pass)")
+        ->check(CLI::IsMember({"auto", "queries", "wait"}));
     app->add_option("--json", o->json, "Write the results as JSON");
     app->add_option("--variants", o->variants,
                     "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, "

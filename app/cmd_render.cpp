@@ -34,7 +34,7 @@ struct RenderOptions {
     int lights = 128, width = 960, height = 540, tile = 256, depth_bits = 16, frames = 1;
     double time = 0.0;
     std::uint64_t seed = 1;
-    std::string caster_lod, prepass;
+    std::string caster_lod, prepass, pass_timing = "auto";
     bool per_tile_atlas = false, no_background = false, baseline = false;
 };
 
@@ -83,6 +83,7 @@ int run_render(const RenderOptions& o) {
 
     auto context = gl::create_context(gl::parse_backend(o.backend));
     render::Renderer renderer(settings);
+    renderer.set_pass_timing(gl::parse_pass_timing(o.pass_timing, context->is_software(), "--pass-timing"));
     renderer.set_scene(scene);
     renderer.set_environment(map);
     std::optional<render::FsSampler> fs_sampler;
@@ -137,8 +138,9 @@ int run_render(const RenderOptions& o) {
                 stats.atlas.tile_size, stats.atlas.width(), stats.atlas.height(), settings.depth_bits,
                 stats.atlas_bytes);
     for (render::AtlasMode mode : modes) {
-        std::printf("gpu ms (%s atlas%s):", std::string(render::to_string(mode)).c_str(),
-                    o.frames > 1 ? (", median of " + std::to_string(o.frames) + " frames").c_str() : "");
+        std::printf("gpu ms (%s atlas%s%s):", std::string(render::to_string(mode)).c_str(),
+                    o.frames > 1 ? (", median of " + std::to_string(o.frames) + " frames").c_str() : "",
+                    renderer.pass_timing() == gl::PassTiming::synchronous ? ", each pass waited for" : "");
         double total = 0.0;
         for (const gl::PassTime& pass : stats.passes) {
             const double ms = summarize(times[mode][pass.pass]).median;
@@ -179,6 +181,10 @@ Command add_render_command(CLI::App& parent) {
     app->add_option("--width", o->width, "Image width")->check(CLI::Range(16, 8192));
     app->add_option("--height", o->height, "Image height")->check(CLI::Range(16, 8192));
     app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
+    app->add_option("--pass-timing", o->pass_timing,
+                    "auto (default: wait on a software rasteriser, queries on a GPU), queries (GL_TIME_ELAPSED) or "
+                    "wait (glFinish around each pass)")
+        ->check(CLI::IsMember({"auto", "queries", "wait"}));
     app->add_option("--time", o->time, "Animation time in seconds (builtin:sky's sun: one hour per second)");
     app->add_option("--out", o->out, "PNG to write (exposure, filmic tone map, sRGB)");
     app->add_option("--exr", o->exr, "EXR to write (linear; alpha 1 on objects, 0 on the background)");

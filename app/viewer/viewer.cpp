@@ -126,6 +126,7 @@ public:
 
         display_ = std::make_unique<render::Display>();
         renderer_ = std::make_unique<render::Renderer>(settings_);
+        renderer_->set_pass_timing(gl::parse_pass_timing(options.pass_timing, context_->is_software(), "--pass-timing"));
 
         lights_ = options.lights;
         if (options.method == "fs-gpu")
@@ -528,6 +529,13 @@ private:
         const float frame = frame_ms_.empty() ? 0.0f : frame_ms_.back();
         ImGui::Text("%.1f FPS (%.2f ms per frame)", frame > 0.0f ? 1000.0 / double(frame) : 0.0, double(frame));
         plot("frame", frame_ms_);
+        bool synchronous = renderer_->pass_timing() == gl::PassTiming::synchronous;
+        if (ImGui::Checkbox("wait for each pass", &synchronous))
+            renderer_->set_pass_timing(synchronous ? gl::PassTiming::synchronous : gl::PassTiming::queries);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("Times each pass by the clock between glFinish calls: exact on a software\n"
+                              "rasteriser, whose GL_TIME_ELAPSED queries misplace the work (on by default\n"
+                              "there); on a GPU the queries are exact and waiting costs the overlap.");
         for (const gl::PassTime& pass : stats.passes) plot(pass.pass.c_str(), pass_ms_[pass.pass]);
         if (light_source_ == LightSource::gpu_fs) plot("fs-gpu sampling (wall)", pass_ms_["fs-gpu sampling (wall)"]);
         ImGui::End();

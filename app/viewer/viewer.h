@@ -16,6 +16,7 @@ struct ViewerOptions {
     int width = 1600, height = 900;
     int frames = 0;             // > 0: quit after this many frames (automated runs)
     std::string screenshot;     // with frames: the window, UI included, written here at the end
+    std::string pass_timing = "auto";  // gl::parse_pass_timing
 };
 
 int run_viewer(const ViewerOptions& options);

@@ -52,6 +52,13 @@ std::string Context::renderer() const {
     return s ? reinterpret_cast<const char*>(s) : "unknown";
 }
 
+bool Context::is_software() const {
+    const std::string name = renderer();
+    for (const char* software : {"llvmpipe", "softpipe", "SWR", "Software Rasterizer"})
+        if (name.find(software) != std::string::npos) return true;
+    return false;
+}
+
 std::string Context::version() const {
     const GLubyte* s = glGetString(GL_VERSION);
     return s ? reinterpret_cast<const char*>(s) : "unknown";

@@ -45,6 +45,8 @@ public:
     // GL_RENDERER, GL_VERSION and a short description of the platform ("EGL device 0", ...).
     std::string renderer() const;
     std::string version() const;
+    // Mesa's llvmpipe, softpipe or another rasteriser on the CPU (GL_RENDERER says so).
+    bool is_software() const;
     const std::string& platform() const { return platform_; }
 
 protected:

@@ -2,19 +2,40 @@
 
 #include <algorithm>
 
+#include "core/error.h"
+
 namespace envshadow::gl {
+
+PassTiming parse_pass_timing(std::string_view name, bool software_rasteriser, std::string_view flag) {
+    if (name == "queries") return PassTiming::queries;
+    if (name == "wait") return PassTiming::synchronous;
+    if (name == "auto") return software_rasteriser ? PassTiming::synchronous : PassTiming::queries;
+    throw UsageError(std::string(flag) + " " + std::string(name) + ": expected auto, queries or wait");
+}
 
 void GpuTimer::begin(std::string_view pass) {
     if (open_) end();
-    if (entries_.size() == pool_.size()) pool_.push_back(Query::create(GL_TIME_ELAPSED));
-    entries_.push_back({std::string(pass), entries_.size()});
-    glBeginQuery(GL_TIME_ELAPSED, pool_[entries_.back().query].id());
+    const std::size_t index = entries_.size();
+    entries_.push_back({std::string(pass), index});
+    if (mode_ == PassTiming::synchronous) {
+        glFinish();  // the earlier passes' work is not this pass's
+        started_ = std::chrono::steady_clock::now();
+    } else {
+        if (index == pool_.size()) pool_.push_back(Query::create(GL_TIME_ELAPSED));
+        glBeginQuery(GL_TIME_ELAPSED, pool_[index].id());
+    }
     open_ = true;
 }
 
 void GpuTimer::end() {
     if (!open_) return;
-    glEndQuery(GL_TIME_ELAPSED);
+    if (mode_ == PassTiming::synchronous) {
+        glFinish();
+        entries_.back().milliseconds =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started_).count();
+    } else {
+        glEndQuery(GL_TIME_ELAPSED);
+    }
     open_ = false;
 }
 
@@ -22,12 +43,16 @@ std::vector<PassTime> GpuTimer::resolve() {
     end();
     std::vector<PassTime> times;
     for (const Entry& e : entries_) {
-        GLuint64 ns = 0;
-        glGetQueryObjectui64v(pool_[e.query].id(), GL_QUERY_RESULT, &ns);
+        double milliseconds = e.milliseconds;
+        if (mode_ == PassTiming::queries) {
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(pool_[e.query].id(), GL_QUERY_RESULT, &ns);
+            milliseconds = double(ns) * 1e-6;
+        }
         // The same pass may be measured in pieces; report their sum.
         auto it = std::find_if(times.begin(), times.end(), [&](const PassTime& t) { return t.pass == e.pass; });
-        if (it == times.end()) times.push_back({e.pass, double(ns) * 1e-6});
-        else it->milliseconds += double(ns) * 1e-6;
+        if (it == times.end()) times.push_back({e.pass, milliseconds});
+        else it->milliseconds += milliseconds;
     }
     entries_.clear();
     return times;

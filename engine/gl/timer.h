@@ -1,6 +1,12 @@
 #pragma once
 // GPU time per render pass with GL_TIME_ELAPSED queries. Passes must not nest. Results are read
 // back by resolve(), which waits for the GPU; call it after the frame's last pass.
+//
+// Software rasterisers defer draws to their next flush and date a query by when its commands are
+// binned or flushed, not executed: Mesa's llvmpipe (22.3) gives one pass the time of the next, or 0.
+// PassTiming::synchronous times passes by the wall clock between glFinish calls instead: exact
+// there, at the cost of the overlap between passes (and on a GPU, of its pipelining).
+#include <chrono>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,8 +20,17 @@ struct PassTime {
     double milliseconds = 0.0;
 };
 
+enum class PassTiming { queries, synchronous };
+
+// A --pass-timing value: "queries", "wait" (synchronous), or "auto": wait on a software rasteriser,
+// queries on a GPU. Throws UsageError naming `flag` for anything else.
+PassTiming parse_pass_timing(std::string_view name, bool software_rasteriser, std::string_view flag);
+
 class GpuTimer {
 public:
+    void set_mode(PassTiming mode) { mode_ = mode; }
+    PassTiming mode() const { return mode_; }
+
     void begin(std::string_view pass);
     void end();
     // The passes measured since the last resolve(), in order, then resets for the next frame.
@@ -24,11 +39,14 @@ public:
 private:
     struct Entry {
         std::string pass;
-        std::size_t query;
+        std::size_t query;          // PassTiming::queries
+        double milliseconds = 0.0;  // PassTiming::synchronous, set by end()
     };
     std::vector<Query> pool_;
     std::vector<Entry> entries_;
     bool open_ = false;
+    PassTiming mode_ = PassTiming::queries;
+    std::chrono::steady_clock::time_point started_;
 };
 
 // Begins a pass on construction and ends it on destruction.

@@ -83,6 +83,10 @@ public:
     enum class CellSpace { map, world };
     void set_lights(std::vector<Cell> cells, CellSpace space = CellSpace::map);
 
+    // How render() times its passes (gl/timer.h): GL_TIME_ELAPSED queries by default.
+    void set_pass_timing(gl::PassTiming timing) { timer_.set_mode(timing); }
+    gl::PassTiming pass_timing() const { return timer_.mode(); }
+
     // Renders one frame at animation time `time` into the linear HDR target (RGBA32F): objects
     // alpha 1, background alpha 0 (or transparent black without a background).
     FrameStats render(double time, const CameraView& view);

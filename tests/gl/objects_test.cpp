@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include "core/error.h"
 #include "gl/objects.h"
+#include "gl/timer.h"
 
 namespace envshadow::gl {
 namespace {
@@ -34,6 +36,19 @@ TEST(GlObjects, EmptyOnesNeedNoContext) {
     EXPECT_FALSE(bool(f));
     EXPECT_FALSE(bool(t));
     EXPECT_FALSE(bool(p));
+}
+
+TEST(PassTiming, AutoWaitsOnlyOnASoftwareRasteriser) {
+    EXPECT_EQ(parse_pass_timing("auto", true, "--pass-timing"), PassTiming::synchronous);
+    EXPECT_EQ(parse_pass_timing("auto", false, "--pass-timing"), PassTiming::queries);
+    EXPECT_EQ(parse_pass_timing("queries", true, "--pass-timing"), PassTiming::queries);
+    EXPECT_EQ(parse_pass_timing("wait", false, "--pass-timing"), PassTiming::synchronous);
+    try {
+        parse_pass_timing("sometimes", true, "--pass-timing");
+        ADD_FAILURE() << "no error";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("--pass-timing sometimes"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

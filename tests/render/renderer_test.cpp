@@ -1,6 +1,7 @@
 // The renderer end to end on small images: the white furnace, shadows under a sun, the blended
 // specular against the single sample, the three ways of drawing the atlas, skipped lights.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -430,6 +431,36 @@ TEST_P(RendererTest, WorldSpaceCellsAreNotRotatedAgain) {
     const Image from_map = render_with(map_cells, Renderer::CellSpace::map);
     EXPECT_GT(object_psnr(render_with(world_cells, Renderer::CellSpace::world), from_map), 50.0);
     EXPECT_LT(object_psnr(render_with(world_cells, Renderer::CellSpace::map), from_map), 30.0);  // turned twice
+}
+
+// Waiting for each pass (gl/timer.h): the passes are timed one after another inside the frame, so
+// together they take no longer than render() itself, and none is skipped or timed as 0.
+TEST_P(RendererTest, WaitedPassTimesAddUpToNoMoreThanTheFrame) {
+    Scene scene;
+    scene.objects.push_back(make_object(mesh_of(SphereShape{0.5f, 32}), glm::vec3(0.0f), diffuse(0.5f)));
+    Renderer renderer;
+    renderer.set_pass_timing(gl::PassTiming::synchronous);
+    renderer.set_scene(scene);
+    renderer.set_lights(cells_of("builtin:constant", 20));
+    EnvironmentMap map;  // for the background pass
+    map.width = 8;
+    map.height = 4;
+    map.texels.assign(32, glm::vec3(0.5f));
+    renderer.set_environment(map);
+    const CameraView view = look_at({0, 0, 3}, glm::vec3(0), 96, 96);
+    renderer.render(0.0, view);  // the first frame builds what the settings need
+    for (int frame = 0; frame < 3; ++frame) {
+        const auto start = std::chrono::steady_clock::now();
+        const render::FrameStats stats = renderer.render(0.0, view);
+        const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        ASSERT_EQ(stats.passes.size(), 5u);
+        double sum = 0.0;
+        for (const gl::PassTime& pass : stats.passes) {
+            EXPECT_GT(pass.milliseconds, 0.0) << pass.pass;
+            sum += pass.milliseconds;
+        }
+        EXPECT_LE(sum, wall) << "frame " << frame;
+    }
 }
 
 TEST_P(RendererTest, ReportsTheAtlasAndThePasses) {
