@@ -209,7 +209,7 @@ CellStatistics cell_statistics(const ImportanceMap& importance, std::span<const 
                 const double value = importance.importance[t];
                 const glm::dvec3 p = importance.directions(i, j);
                 out.moments[size_t(a)].add(value, importance.row_solid_angle[size_t(j)], p);
-                const int right = (i + 1) % width, left = (i + width - 1) % width;
+                const int right = i + 1 < width ? i + 1 : 0, left = i > 0 ? i - 1 : width - 1;  // across the seam
                 const int neighbours[4] = {cell(right, j), cell(left, j), j + 1 < height ? cell(i, j + 1) : a,
                                            j > 0 ? cell(i, j - 1) : a};
                 if (neighbours[0] == a && neighbours[1] == a && neighbours[2] == a && neighbours[3] == a) {
