@@ -378,10 +378,7 @@ public:
         double best_variation = state.variation;
         std::vector<double> best_bias = bias;
         State best_state = state;
-        int stalled = 0;  // steps in a row that did not lower the best variation by kCcvtStallGain
-        for (int s = 0; s < steps && state.variation >= kCcvtCapacityTolerance && !exhausted() &&
-                        stalled < kCcvtStallSteps;
-             ++s) {
+        for (int s = 0; s < steps && state.variation >= kCcvtCapacityTolerance && !exhausted(); ++s) {
             std::vector<double> step = solve_laplacian(state.statistics.borders, state.excess);
             // A cell without borders (empty at this resolution) has no slope to follow: it waits.
             std::vector<bool> bordered(step.size(), false);
@@ -413,7 +410,6 @@ public:
                 centre(bias);
                 state = evaluate(sites, bias);
             }
-            stalled = state.variation < (1.0 - kCcvtStallGain) * best_variation ? 0 : stalled + 1;
             if (state.variation < best_variation) {
                 best_variation = state.variation;
                 best_bias = bias;

@@ -130,11 +130,6 @@ inline constexpr int kCcvtEvaluationsPerLevel = 30;
 inline constexpr int kCcvtNewtonStepsPerIteration = 2;
 inline constexpr int kCcvtPolishEvaluations = 20;
 inline constexpr double kCcvtCapacityTolerance = 0.02;
-// A capacity solve gives up after kCcvtStallSteps Newton steps in a row that lower the best variation
-// by less than kCcvtStallGain (relative): where the map's edges stall it, the rest of the budget
-// would be spent on rejected line searches.
-inline constexpr int kCcvtStallSteps = 6;
-inline constexpr double kCcvtStallGain = 0.02;
 inline constexpr double kCcvtSmallestStep = 1.0 / 32.0;  // Newton step lengths tried: 1, 1/2, .., this
 inline constexpr double kCcvtMoveFraction = 0.1;         // a site moves at most this fraction of its cell's radius
 inline constexpr double kCcvtRelativeMovementTolerance = 0.1;
