@@ -325,10 +325,7 @@ Command add_bench_command(CLI::App& parent) {
     app->add_option("--atlas", o->atlas, "clip-distances (one draw), viewport-array, per-tile (baseline)");
     app->add_option("--time-step", o->time_step, "Animation seconds per frame")->check(CLI::Range(0.0, 10.0));
     app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
-    app->add_option("--pass-timing", o->pass_timing,
-                    "auto (default: wait on a software rasteriser, queries on a GPU), queries (GL_TIME_ELAPSED) or "
-                    "wait (glFinish around each pass)")
-        ->check(CLI::IsMember({"auto", "queries", "wait"}));
+    add_pass_timing_option(app, &o->pass_timing);
     app->add_option("--json", o->json, "Write the results as JSON");
     app->add_option("--variants", o->variants,
                     "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, "

@@ -181,10 +181,7 @@ Command add_render_command(CLI::App& parent) {
     app->add_option("--width", o->width, "Image width")->check(CLI::Range(16, 8192));
     app->add_option("--height", o->height, "Image height")->check(CLI::Range(16, 8192));
     app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
-    app->add_option("--pass-timing", o->pass_timing,
-                    "auto (default: wait on a software rasteriser, queries on a GPU), queries (GL_TIME_ELAPSED) or "
-                    "wait (glFinish around each pass)")
-        ->check(CLI::IsMember({"auto", "queries", "wait"}));
+    add_pass_timing_option(app, &o->pass_timing);
     app->add_option("--time", o->time, "Animation time in seconds (builtin:sky's sun: one hour per second)");
     app->add_option("--out", o->out, "PNG to write (exposure, filmic tone map, sRGB)");
     app->add_option("--exr", o->exr, "EXR to write (linear; alpha 1 on objects, 0 on the background)");

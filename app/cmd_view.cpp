@@ -24,10 +24,7 @@ Command add_view_command(CLI::App& parent) {
     app->add_option("--time", options->time, "Animation time at the start, in seconds")->check(CLI::Range(-1e6, 1e6));
     app->add_option("--width", options->width, "Window width")->check(CLI::Range(320, 8192));
     app->add_option("--height", options->height, "Window height")->check(CLI::Range(240, 8192));
-    app->add_option("--pass-timing", options->pass_timing,
-                    "auto (default: wait on a software rasteriser, queries on a GPU), queries (GL_TIME_ELAPSED) or "
-                    "wait (glFinish around each pass)")
-        ->check(CLI::IsMember({"auto", "queries", "wait"}));
+    add_pass_timing_option(app, &options->pass_timing);
     app->add_option("--frames", options->frames, "Quit after this many frames (automated runs)")->check(CLI::Range(1, 1000000));
     app->add_option("--screenshot", options->screenshot, "With --frames: write the window, UI included, to this PNG");
     return {app, [options] {

@@ -3,6 +3,7 @@
 // command line has been parsed. `run` returns the exit code; errors are thrown (core/error.h) and
 // mapped to exit codes by main(): UsageError 2, InputError 3, PlatformError 4.
 #include <functional>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -19,6 +20,14 @@ Command add_bench_command(CLI::App& parent);
 Command add_reference_command(CLI::App& parent);
 Command add_compare_command(CLI::App& parent);
 Command add_view_command(CLI::App& parent);
+
+// --pass-timing, for the commands that render; gl::parse_pass_timing reads the value.
+inline void add_pass_timing_option(CLI::App* app, std::string* value) {
+    app->add_option("--pass-timing", *value,
+                    "auto (default: wait on a software rasteriser, queries on a GPU), queries (GL_TIME_ELAPSED) or "
+                    "wait (glFinish around each pass)")
+        ->check(CLI::IsMember({"auto", "queries", "wait"}));
+}
 
 // `envshadow --version`: version, GL renderer per backend, backend availability.
 int print_version();
