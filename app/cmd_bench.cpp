@@ -24,7 +24,7 @@
 #include "env/cells.h"
 #include "env/environment.h"
 #include "gl/context.h"
-#include "glsl/embedded.h"
+#include "render/embedded_shaders.h"
 #include "render/fs_sampler.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -34,9 +34,9 @@ namespace {
 
 struct BenchOptions {
     std::string scene, env, method = "lloyd", backend = "egl", json, sweep, atlas = "clip-distances", variants,
-        caster_lod, prepass, pass_timing = "auto";
+        pass_timing = "auto";
     std::string fs_importance = "256x128";  // fs-gpu: the importance map, WxH or "full" (the environment's)
-    bool baseline = false;
+    OptimisationFlags optimisations;
     int lights = 128, frames = 100, warmup = 10, width = 1280, height = 720, tile = 256, depth_bits = 16;
     double time_step = 1.0 / 60.0;  // animation seconds per frame
     std::uint64_t seed = 1;
@@ -106,7 +106,7 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
                             // unreliable on llvmpipe and spoils the renderer's next query (docs/PERFORMANCE.md)
                 sampler->sample(variants[v].renderer->environment_texture(), render::FsSampleRequest{common.lights});
                 variants[v].renderer->set_lights(sampler->read_lights());  // waits for the sampler
-                sampling.push_back({"fs-gpu sampling (wall)",
+                sampling.push_back({render::kFsSamplingPass,
                                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
             }
             render::FrameStats stats = variants[v].renderer->render(time, view);  // waits for the GPU's timer results
@@ -130,7 +130,7 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
                     continue;
                 }
                 times.push_back(pass.milliseconds);
-                if (pass.pass != "fs-gpu sampling (wall)") total += pass.milliseconds;  // GPU passes only
+                if (pass.pass != render::kFsSamplingPass) total += pass.milliseconds;  // GPU passes only
             }
             if (all_valid) s.gpu_ms.push_back(total);
         }
@@ -249,9 +249,7 @@ int run_bench(const BenchOptions& o) {
     settings.depth_bits = o.depth_bits;
     settings.tile_size = o.tile;
     settings.atlas = render::parse_atlas_mode(o.atlas, "--atlas");
-    if (o.baseline) settings = render::baseline(settings);
-    if (!o.caster_lod.empty()) settings = render::apply_variant(settings, "caster-lod=" + o.caster_lod, "--caster-lod");
-    if (!o.prepass.empty()) settings = render::apply_variant(settings, "prepass=" + o.prepass, "--prepass");
+    settings = apply(o.optimisations, settings);
     render::validate(settings);
     // One renderer per variant (each with its own atlas), all in one context.
     std::vector<std::string> labels;
@@ -282,12 +280,10 @@ int run_bench(const BenchOptions& o) {
 
     std::optional<render::FsSampler> sampler;
     if (o.method == "fs-gpu") {
-        gl::ShaderLibrary shaders;
-        for (const glsl::File& f : glsl::files()) shaders.add(f.name, f.source);
         render::FsSamplerOptions options;
         options.importance_width = importance_size.x;
         options.importance_height = importance_size.y;
-        sampler.emplace(shaders, options);
+        sampler.emplace(render::embedded_shaders(), options);
     }
 
     std::map<int, Decomposition> decompositions;
@@ -328,11 +324,9 @@ Command add_bench_command(CLI::App& parent) {
     add_pass_timing_option(app, &o->pass_timing);
     app->add_option("--json", o->json, "Write the results as JSON");
     app->add_option("--variants", o->variants,
-                    "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, "
-                    "depth-bits, tile, atlas, pcf); ratios to the first");
-    app->add_flag("--baseline", o->baseline, "The first working renderer: every issue-10 optimisation off");
-    app->add_option("--caster-lod", o->caster_lod, "Caster LOD error in shadow texels, or off")->type_name("F|off");
-    app->add_option("--prepass", o->prepass, "Depth pre-pass before shading: on or off")->check(CLI::IsMember({"on", "off"}));
+                    "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, ubo, "
+                    "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf); ratios to the first");
+    add_optimisation_options(app, &o->optimisations);
     app->add_option("--sweep", o->sweep, "One row per setting: lights=16,32,…  resolution=640x360,…  tile=128,…");
     return {app, [o] { return run_bench(*o); }};
 }

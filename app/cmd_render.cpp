@@ -20,7 +20,7 @@
 #include "env/cells.h"
 #include "env/environment.h"
 #include "gl/context.h"
-#include "glsl/embedded.h"
+#include "render/embedded_shaders.h"
 #include "render/fs_sampler.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -34,8 +34,9 @@ struct RenderOptions {
     int lights = 128, width = 960, height = 540, tile = 256, depth_bits = 16, frames = 1;
     double time = 0.0;
     std::uint64_t seed = 1;
-    std::string caster_lod, prepass, pass_timing = "auto";
-    bool per_tile_atlas = false, no_background = false, baseline = false;
+    std::string pass_timing = "auto";
+    OptimisationFlags optimisations;
+    bool per_tile_atlas = false, no_background = false;
 };
 
 render::RenderSettings settings_from(const RenderOptions& o) {
@@ -48,9 +49,7 @@ render::RenderSettings settings_from(const RenderOptions& o) {
     s.diffuse = render::parse_diffuse_mode(o.diffuse, "--diffuse");
     s.background = !o.no_background;
     if (o.per_tile_atlas) s.atlas = render::AtlasMode::per_tile;
-    if (o.baseline) s = render::baseline(s);
-    if (!o.caster_lod.empty()) s = render::apply_variant(s, "caster-lod=" + o.caster_lod, "--caster-lod");
-    if (!o.prepass.empty()) s = render::apply_variant(s, "prepass=" + o.prepass, "--prepass");
+    s = apply(o.optimisations, s);
     render::validate(s);
     return s;
 }
@@ -88,9 +87,7 @@ int run_render(const RenderOptions& o) {
     renderer.set_environment(map);
     std::optional<render::FsSampler> fs_sampler;
     if (fs_gpu) {
-        gl::ShaderLibrary shaders;
-        for (const glsl::File& f : glsl::files()) shaders.add(f.name, f.source);
-        fs_sampler.emplace(shaders);
+        fs_sampler.emplace(render::embedded_shaders());
     } else {
         renderer.set_lights(decomposition.cells);
     }
@@ -200,11 +197,7 @@ Command add_render_command(CLI::App& parent) {
         ->check(CLI::IsMember({"clip-distances", "viewport-array", "per-tile", "all"}));
     app->add_option("--frames", o->frames, "Frames to render; GPU times are their medians")
         ->check(CLI::Range(1, 10000));
-    app->add_flag("--baseline", o->baseline, "The first working renderer: every issue-10 optimisation off");
-    app->add_option("--caster-lod", o->caster_lod, "Shadow-caster LOD error in shadow texels (default 0.3), or off")
-        ->type_name("F|off");
-    app->add_option("--prepass", o->prepass, "Depth pre-pass before shading: on (default) or off")
-        ->check(CLI::IsMember({"on", "off"}));
+    add_optimisation_options(app, &o->optimisations);
     app->add_flag("--no-background", o->no_background, "Leave the background transparent black");
     return {app, [o] { return run_render(*o); }};
 }

@@ -37,8 +37,8 @@
 #include "env/latlong.h"
 #include "gl/context.h"
 #include "gl/readback.h"
-#include "glsl/embedded.h"
 #include "render/display.h"
+#include "render/embedded_shaders.h"
 #include "render/fs_sampler.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -71,7 +71,7 @@ struct LoadedModel {
 struct AnimatedSky {
     std::string source;  // the spec it animates
     EnvironmentMap map;
-    Image8 picture;      // picture_of(map)
+    Image8 picture;      // draw_map(map)
     double time = 0.0;   // the animation time (seconds) it was made for
 };
 
@@ -81,18 +81,11 @@ struct DropQueue {
     std::vector<std::string> paths;
 };
 
-// The map tone-mapped to middle grey, for the panels.
-Image8 picture_of(const EnvironmentMap& map) {
-    Image linear(map.width, map.height);
-    for (size_t t = 0; t < map.texels.size(); ++t) linear.pixels[t] = glm::vec4(map.texels[t], 1.0f);
-    return tonemap_to_srgb8(linear, auto_exposure_stops(map));
-}
-
 LoadedEnvironment load_and_decompose(std::shared_ptr<const EnvironmentMap> map, DecomposeOptions options) {
     LoadedEnvironment result;
     result.decomposition = decompose(*map, options);
     result.cells_picture = draw_cells(*map, result.decomposition);
-    result.map_picture = picture_of(*map);
+    result.map_picture = draw_map(*map);
     result.map = std::move(map);
     return result;
 }
@@ -315,7 +308,7 @@ private:
         };
         push(frame_ms_, float(dt * 1000.0));
         for (const gl::PassTime& pass : stats.passes) push(pass_ms_[pass.pass], float(pass.milliseconds));
-        if (light_source_ == LightSource::gpu_fs) push(pass_ms_["fs-gpu sampling (wall)"], float(fs_sampling_ms_));
+        if (light_source_ == LightSource::gpu_fs) push(pass_ms_[render::kFsSamplingPass], float(fs_sampling_ms_));
     }
 
     // --- lights sampled on the GPU ---------------------------------------------------------------
@@ -356,11 +349,7 @@ private:
             if (auto sky = sky_job_.wait(error_)) show_sky(*sky);
         }
         try {
-            if (!fs_sampler_) {
-                gl::ShaderLibrary shaders;
-                for (const glsl::File& f : glsl::files()) shaders.add(f.name, f.source);
-                fs_sampler_.emplace(shaders);
-            }
+            if (!fs_sampler_) fs_sampler_.emplace(render::embedded_shaders());
             const auto start = std::chrono::steady_clock::now();
             fs_sampler_->sample(renderer_->environment_texture(), render::FsSampleRequest{lights_});
             fs_lights_ = fs_sampler_->read_lights();
@@ -391,7 +380,7 @@ private:
         if (animated_sky_time_ == time_) return;
         sky_job_.start("sky at " + std::to_string(time_) + " s", [source, spec, time = time_] {
             AnimatedSky sky{source, load_environment(spec), {}, time};
-            sky.picture = picture_of(sky.map);
+            sky.picture = draw_map(sky.map);
             return sky;
         });
     }
@@ -537,7 +526,7 @@ private:
                               "rasteriser, whose GL_TIME_ELAPSED queries misplace the work (on by default\n"
                               "there); on a GPU the queries are exact and waiting costs the overlap.");
         for (const gl::PassTime& pass : stats.passes) plot(pass.pass.c_str(), pass_ms_[pass.pass]);
-        if (light_source_ == LightSource::gpu_fs) plot("fs-gpu sampling (wall)", pass_ms_["fs-gpu sampling (wall)"]);
+        if (light_source_ == LightSource::gpu_fs) plot(render::kFsSamplingPass, pass_ms_[render::kFsSamplingPass]);
         ImGui::End();
     }
 

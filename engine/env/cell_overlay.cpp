@@ -13,11 +13,15 @@ float auto_exposure_stops(const EnvironmentMap& map) {
     return float(std::log2(0.18 / log_average));
 }
 
-Image8 draw_cells(const EnvironmentMap& map, const Decomposition& decomposition) {
+Image8 draw_map(const EnvironmentMap& map) {
     Image linear(map.width, map.height, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
     for (int j = 0; j < map.height; ++j)
         for (int i = 0; i < map.width; ++i) linear.at(i, j) = glm::vec4(map.at(i, j), 1.0f);
-    Image8 picture = tonemap_to_srgb8(linear, auto_exposure_stops(map));
+    return tonemap_to_srgb8(linear, auto_exposure_stops(map));
+}
+
+Image8 draw_cells(const EnvironmentMap& map, const Decomposition& decomposition) {
+    Image8 picture = draw_map(map);
 
     auto cell = [&](int i, int j) { return decomposition.texel_cell[size_t(j) * size_t(map.width) + size_t(i)]; };
     auto paint = [&](int i, int j, std::uint8_t r, std::uint8_t g, std::uint8_t b) {

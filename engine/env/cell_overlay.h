@@ -10,7 +10,10 @@ namespace envshadow {
 // Exposure that brings the map's log-average luminance to middle grey (0.18), in stops.
 float auto_exposure_stops(const EnvironmentMap& map);
 
-// Same size as the map. Borders (between horizontally or vertically adjacent texels of different cells,
+// The map tone-mapped (auto_exposure_stops, filmic, sRGB), same size as the map.
+Image8 draw_map(const EnvironmentMap& map);
+
+// draw_map with the cells over it. Borders (between horizontally or vertically adjacent texels of different cells,
 // across the u = 0/1 seam too) are drawn in white, centres as red dots with a dark outline.
 Image8 draw_cells(const EnvironmentMap& map, const Decomposition& decomposition);
 

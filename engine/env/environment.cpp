@@ -6,7 +6,6 @@
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -126,10 +125,10 @@ EnvironmentMap builtin_constant(const std::string& spec, std::string_view argume
     return map;
 }
 
-EnvironmentMap builtin_sky(const std::string& spec, std::string_view arguments) {
+// The key=value list after "builtin:sky:" (the last of a key counts); `width` is the map's.
+SkyParameters parse_sky(const std::string& spec, std::string_view arguments, double& width) {
     SkyParameters sky;
-    bool has_time = false;
-    double width = 1024;
+    width = 1024;
     while (!arguments.empty()) {
         const size_t comma = arguments.find(',');
         const std::string_view item = arguments.substr(0, comma);
@@ -147,7 +146,7 @@ EnvironmentMap builtin_sky(const std::string& spec, std::string_view arguments) 
         else if (key == "intensity")
             check_range(spec, key, sky.intensity = value, 0.0, 1e12);
         else if (key == "time")
-            sky.time_hours = value, has_time = true;
+            sky.time_hours = value;
         else if (key == "width")
             check_range(spec, key, width = value, 2.0, kMaxEnvironmentWidth);
         else
@@ -155,7 +154,18 @@ EnvironmentMap builtin_sky(const std::string& spec, std::string_view arguments) 
                              "' (elevation, azimuth, size, intensity, time, width)");
     }
     if (width != std::floor(width) || int(width) % 2 != 0) throw InputError(spec + ": width must be an even integer");
-    if (!has_time) sky.time_hours = 12.0;
+    return sky;
+}
+
+// builtin:sky's arguments: what follows "builtin:sky:", or nothing.
+std::string_view sky_arguments(const std::string& spec) {
+    constexpr std::string_view prefix = "builtin:sky:";
+    return spec.starts_with(prefix) ? std::string_view(spec).substr(prefix.size()) : std::string_view();
+}
+
+EnvironmentMap builtin_sky(const std::string& spec, std::string_view arguments) {
+    double width = 0.0;
+    const SkyParameters sky = parse_sky(spec, arguments, width);
     EnvironmentMap map = blank_map(spec, int(width));
     render_sky(sky, map);
     return map;
@@ -229,8 +239,8 @@ void render_sky(const SkyParameters& sky, EnvironmentMap& map) {
 
 std::string environment_at_time(const std::string& spec, double seconds) {
     if (seconds == 0.0 || (spec != "builtin:sky" && !spec.starts_with("builtin:sky:"))) return spec;
-    const std::size_t at = spec.rfind("time=");  // the last time= counts, as in the parser
-    const double hours = (at == std::string::npos ? 12.0 : std::strtod(spec.c_str() + at + 5, nullptr)) + seconds;
+    double width = 0.0;
+    const double hours = parse_sky(spec, sky_arguments(spec), width).time_hours + seconds;
     return spec + (spec == "builtin:sky" ? ":" : ",") + "time=" + std::to_string(hours);  // the last key wins
 }
 

@@ -44,7 +44,7 @@ EnvironmentMap load_environment(const std::string& spec, const EnvironmentLoadOp
 
 // The spec of `spec` after `seconds` of animation: builtin:sky's sun advances one hour per second from
 // the spec's time (noon by default), so the environment animates with the scene; every other
-// environment is returned unchanged.
+// environment is returned unchanged. InputError for a builtin:sky spec that does not parse.
 std::string environment_at_time(const std::string& spec, double seconds);
 
 // builtin:sky. Azimuth is the lat-long longitude phi = 2 pi u (0 = +X, 90 = +Z). The sun moves on a

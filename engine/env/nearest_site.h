@@ -97,7 +97,6 @@ class Partition {
 public:
     Partition(const ImportanceMap& importance, SiteSearch search);
 
-    const ImportanceMap& importance() const { return *importance_; }
     SiteSearch search() const { return search_; }
     std::vector<CellMoments> moments(std::span<const glm::dvec3> sites, std::span<const double> bias) const;
     void assign(std::span<const glm::dvec3> sites, std::span<const double> bias,

@@ -442,9 +442,14 @@ struct Resolution {
     std::optional<Partition> partition;
 };
 
-// `factor` is used only where it divides the map and leaves at least 16 rows.
+// Whether the map can be taken to 1/factor of its resolution: factor divides it and leaves at least 16 rows.
+bool coarsens(const ImportanceMap& fine, int factor) {
+    return factor > 1 && fine.width % factor == 0 && fine.height % factor == 0 && fine.height / factor >= 16;
+}
+
+// At full resolution where the map does not coarsen by `factor`.
 Resolution at_resolution(const ImportanceMap& fine, int factor, int blur, SiteSearch search) {
-    if (fine.width % factor != 0 || fine.height % factor != 0 || fine.height / factor < 16) factor = 1;
+    if (!coarsens(fine, factor)) factor = 1;
     Resolution r;
     r.importance = std::make_unique<ImportanceMap>(factor > 1 ? downsample_importance(fine, factor) : fine);
     if (blur > 0) *r.importance = blurred(*r.importance, blur);
@@ -493,8 +498,9 @@ SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t se
     // Coarse to fine: converged at a lower resolution, where an iteration costs a fraction, the sites
     // need few iterations more at full resolution.
     for (int factor : kLloydCoarseFactors) {
+        if (!coarsens(importance, factor)) continue;
         const Resolution coarse = at_resolution(importance, factor, 0, partition.search());
-        if (coarse.importance->width != importance.width) relax_lloyd(*coarse.partition, result);
+        relax_lloyd(*coarse.partition, result);
     }
     result.coarse_iterations = result.iterations;
     relax_lloyd(partition, result);
@@ -549,7 +555,7 @@ SiteSet sites_ccvt(const ImportanceMap& full_importance, int count, const Partit
     // The sites move at a coarser resolution only where its texels are small against a share: a cell
     // must be able to shed or take less than a texel's worth.
     Resolution working = at_resolution(importance, kCcvtWorkingFactor, 0, partition.search());
-    if (working.importance->width != importance.width) {
+    if (coarsens(importance, kCcvtWorkingFactor)) {
         double heaviest = 0.0;
         for (float v : working.importance->importance) heaviest = std::max(heaviest, double(v));
         if (heaviest > kCcvtCoarseTexelShare * importance.total / count)

@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "glsl/embedded.h"
+#include "render/embedded_shaders.h"
 
 namespace envshadow::render {
 
 Display::Display() {
-    gl::ShaderLibrary library;
-    for (const glsl::File& f : glsl::files()) library.add(f.name, f.source);
+    const gl::ShaderLibrary library = embedded_shaders();
     present_program_ = library.build({{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "present.frag"}});
     preview_program_ = library.build({{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "atlas_preview.frag"}});
     empty_vertex_array_ = gl::VertexArray::create();

@@ -108,6 +108,10 @@ struct FsSamplerOptions {
     bool merge_samples_per_texel = true;
 };
 
+// The sampler's wall time from dispatch to lights read back, as `bench` and the viewer list it beside
+// the renderer's GPU passes.
+inline constexpr const char* kFsSamplingPass = "fs-gpu sampling (wall)";
+
 struct FsSampleRequest {
     int samples = 128;               // M, the number of samples wanted (1 .. 2047)
     glm::mat3 world_from_map{1.0f};  // the scene's environment rotation

@@ -48,11 +48,11 @@ GpuMesh::GpuMesh(const Mesh& mesh) {
         const glm::vec3 n = mesh.normals.front();
         float extent = 0.0f;
         for (const glm::vec3& p : mesh.positions) extent = std::max(extent, glm::length(p - mesh.positions.front()));
-        flat_ = std::abs(glm::length(n) - 1.0f) < 1e-5f;
-        for (std::size_t i = 0; flat_ && i < mesh.positions.size(); ++i)
-            flat_ = glm::length(mesh.normals[i] - n) <= 1e-6f &&
-                    std::abs(glm::dot(mesh.positions[i] - mesh.positions.front(), n)) <= 1e-6f * std::max(extent, 1.0f);
-        if (flat_) flat_normal_ = n;
+        bool flat = std::abs(glm::length(n) - 1.0f) < 1e-5f;
+        for (std::size_t i = 0; flat && i < mesh.positions.size(); ++i)
+            flat = glm::length(mesh.normals[i] - n) <= 1e-6f &&
+                   std::abs(glm::dot(mesh.positions[i] - mesh.positions.front(), n)) <= 1e-6f * std::max(extent, 1.0f);
+        if (flat) flat_normal_ = n;
     }
     bounds_min_ = glm::vec3(std::numeric_limits<float>::infinity());
     bounds_max_ = -bounds_min_;
@@ -66,25 +66,11 @@ void GpuMesh::draw() const {
     glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
 }
 
-void GpuMesh::draw_instanced(int count) const {
-    glDrawElementsInstanced(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr, count);
-}
-
-}  // namespace envshadow::render
-
-namespace envshadow::render {
-
 void GpuMesh::draw_caster(int level, int instances) const {
     const CasterLevel& l = caster_lod_.levels[std::size_t(level)];
     glDrawElementsInstanced(GL_TRIANGLES, GLsizei(l.index_count), GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(std::uintptr_t(l.first_index) * sizeof(std::uint32_t)),
                             instances);
-}
-
-void GpuMesh::draw_caster(int level) const {
-    const CasterLevel& l = caster_lod_.levels[std::size_t(level)];
-    glDrawElements(GL_TRIANGLES, GLsizei(l.index_count), GL_UNSIGNED_INT,
-                   reinterpret_cast<const void*>(std::uintptr_t(l.first_index) * sizeof(std::uint32_t)));
 }
 
 }  // namespace envshadow::render

@@ -2,6 +2,8 @@
 // A scene mesh in GPU buffers: attribute 0 position, attribute 1 normal (object space), 32-bit
 // indices; and the shadow-caster levels of detail (render/caster_lod.h) in a second index buffer
 // over the same positions. Needs a current GL context.
+#include <optional>
+
 #include <glm/vec3.hpp>
 
 #include "gl/objects.h"
@@ -13,23 +15,18 @@ namespace envshadow::render {
 class GpuMesh {
 public:
     explicit GpuMesh(const Mesh& mesh);
-    void draw() const;                     // glDrawElements
-    void draw_instanced(int count) const;  // glDrawElementsInstanced
+    void draw() const;  // glDrawElements
     void bind() const { vertex_array_.bind(); }
     const glm::vec3& bounds_min() const { return bounds_min_; }
     const glm::vec3& bounds_max() const { return bounds_max_; }
     GLsizei index_count() const { return index_count_; }
-    // True, with the normal, when every vertex has the same normal and lies on one plane (a ground).
-    bool flat_normal(glm::vec3& normal) const {
-        normal = flat_normal_;
-        return flat_;
-    }
+    // The normal, when every vertex has it and lies on one plane (a ground).
+    const std::optional<glm::vec3>& flat_normal() const { return flat_normal_; }
 
     // Caster levels (level 0: the full mesh). Bind the caster vertex array (positions only) first.
     const CasterLod& caster_lod() const { return caster_lod_; }
     void bind_caster() const { caster_vertex_array_.bind(); }
-    void draw_caster(int level, int instances) const;  // glDrawElementsInstanced of that level
-    void draw_caster(int level) const;                 // glDrawElements of that level
+    void draw_caster(int level, int instances = 1) const;  // glDrawElementsInstanced of that level
 
 private:
     gl::Buffer positions_, normals_, indices_, caster_indices_;
@@ -37,8 +34,7 @@ private:
     GLsizei index_count_ = 0;
     CasterLod caster_lod_;
     glm::vec3 bounds_min_{0.0f}, bounds_max_{0.0f};  // from the positions (Mesh::bounds may be unset)
-    bool flat_ = false;
-    glm::vec3 flat_normal_{0.0f};
+    std::optional<glm::vec3> flat_normal_;
 };
 
 }  // namespace envshadow::render

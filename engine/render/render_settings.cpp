@@ -1,7 +1,7 @@
 #include "render/render_settings.h"
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -111,6 +111,19 @@ bool parse_on_off(std::string_view text, std::string_view option) {
 }
 }  // namespace
 
+namespace {
+// The on/off optimisations of issue 10, by their --variants key; baseline() turns them all off
+// (caster-lod, the eighth, takes a number).
+constexpr std::array<std::pair<std::string_view, bool RenderSettings::*>, 6> kSwitches = {{
+    {"prepass", &RenderSettings::depth_prepass},
+    {"ubo", &RenderSettings::lights_uniform_block},
+    {"cull", &RenderSettings::cull_back_faces},
+    {"specialise", &RenderSettings::specialise_shaders},
+    {"tiles", &RenderSettings::shadow_tile_lists},
+    {"flat", &RenderSettings::flat_receivers},
+}};
+}  // namespace
+
 RenderSettings apply_variant(RenderSettings settings, std::string_view variant, std::string_view option) {
     std::size_t start = 0;
     while (start <= variant.size()) {
@@ -128,20 +141,11 @@ RenderSettings apply_variant(RenderSettings settings, std::string_view variant, 
             throw UsageError(std::string(option) + ": '" + std::string(item) +
                              "' is neither baseline, optimised nor key=value");
         const std::string_view key = trim(item.substr(0, eq)), value = trim(item.substr(eq + 1));
-        if (key == "caster-lod") {
+        const auto on_off = std::find_if(kSwitches.begin(), kSwitches.end(), [&](const auto& s) { return s.first == key; });
+        if (on_off != kSwitches.end()) {
+            settings.*(on_off->second) = parse_on_off(value, option);
+        } else if (key == "caster-lod") {
             settings.caster_lod = value == "off" ? 0.0f : float(parse_number(value, option));
-        } else if (key == "prepass") {
-            settings.depth_prepass = parse_on_off(value, option);
-        } else if (key == "ubo") {
-            settings.lights_uniform_block = parse_on_off(value, option);
-        } else if (key == "cull") {
-            settings.cull_back_faces = parse_on_off(value, option);
-        } else if (key == "specialise") {
-            settings.specialise_shaders = parse_on_off(value, option);
-        } else if (key == "tiles") {
-            settings.shadow_tile_lists = parse_on_off(value, option);
-        } else if (key == "flat") {
-            settings.flat_receivers = parse_on_off(value, option);
         } else if (key == "depth-bits") {
             settings.depth_bits = int(parse_number(value, option));
         } else if (key == "tile") {
@@ -151,8 +155,10 @@ RenderSettings apply_variant(RenderSettings settings, std::string_view variant, 
         } else if (key == "pcf") {
             settings.pcf = parse_pcf_kernel(value, option);
         } else {
-            throw UsageError(std::string(option) + ": unknown key '" + std::string(key) +
-                             "' (caster-lod, prepass, ubo, cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf)");
+            std::string keys = "caster-lod";
+            for (const auto& [name, member] : kSwitches) keys += ", " + std::string(name);
+            throw UsageError(std::string(option) + ": unknown key '" + std::string(key) + "' (" + keys +
+                             ", depth-bits, tile, atlas, pcf)");
         }
     }
     validate(settings);
@@ -161,12 +167,7 @@ RenderSettings apply_variant(RenderSettings settings, std::string_view variant, 
 
 RenderSettings baseline(RenderSettings settings) {
     settings.caster_lod = 0.0f;
-    settings.depth_prepass = false;
-    settings.lights_uniform_block = false;
-    settings.cull_back_faces = false;
-    settings.specialise_shaders = false;
-    settings.shadow_tile_lists = false;
-    settings.flat_receivers = false;
+    for (const auto& [name, member] : kSwitches) settings.*member = false;
     return settings;
 }
 

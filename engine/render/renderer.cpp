@@ -16,7 +16,7 @@
 #include "env/brdf.h"
 #include "env/orientation.h"
 #include "gl/readback.h"
-#include "glsl/embedded.h"
+#include "render/embedded_shaders.h"
 
 namespace envshadow::render {
 
@@ -31,7 +31,8 @@ constexpr int kScreenTile = 16;           // pixels; shadow_tiles.comp's work gr
 constexpr GLuint kCasterRectsBinding = 3;  // shadow_tiles.comp
 constexpr int kMaxCasterRects = 16;        // per light; more casters share one rectangle (the tile)
 
-// Explicit uniform locations of glsl/shadow_atlas.vert, shade.vert/.frag, background.frag.
+// Explicit uniform locations of glsl/shadow_atlas.vert, shade.vert/.frag, background.frag and
+// (tiles_*) shadow_tiles.comp.
 namespace loc {
 constexpr GLint world_from_object = 0;
 constexpr GLint first_tile = 4;
@@ -48,6 +49,10 @@ constexpr GLint tiles_x = 18;
 constexpr GLint unshadowed = 19;
 constexpr GLint direction_from_clip = 0;
 constexpr GLint map_from_world = 4;
+constexpr GLint tiles_world_from_clip = 0;
+constexpr GLint tiles_light_count = 4;
+constexpr GLint tiles_pad = 5;
+constexpr GLint tiles_caster_count = 6;
 }  // namespace loc
 
 // Texels between the casters and a tile's border: the wide PCF reaches 1.5 texels from its centre.
@@ -80,9 +85,8 @@ CameraView camera_view(const Scene& scene, int width, int height, double time) {
     return view;
 }
 
-Renderer::Renderer(const RenderSettings& settings) : settings_(settings) {
+Renderer::Renderer(const RenderSettings& settings) : settings_(settings), library_(embedded_shaders()) {
     validate(settings_);
-    for (const glsl::File& file : glsl::files()) library_.add(file.name, file.source);
     glGetIntegerv(GL_MAX_VIEWPORTS, &max_viewports_);
     GLint max_block = 0;
     glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
@@ -407,10 +411,10 @@ void Renderer::build_tile_lists(const CameraView& view) {
     for (const LightRecord& record : records_) pad = std::max(pad, record.bias.y + min_texel_world_);
     const GLuint program = tiles_program_.id();
     tiles_program_.use();
-    glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, &world_from_clip[0][0]);
-    glProgramUniform1i(program, 4, int(records_.size()));
-    glProgramUniform1f(program, 5, pad);
-    glProgramUniform1i(program, 6, caster_rect_count_);
+    glProgramUniformMatrix4fv(program, loc::tiles_world_from_clip, 1, GL_FALSE, &world_from_clip[0][0]);
+    glProgramUniform1i(program, loc::tiles_light_count, int(records_.size()));
+    glProgramUniform1f(program, loc::tiles_pad, pad);
+    glProgramUniform1i(program, loc::tiles_caster_count, caster_rect_count_);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCasterRectsBinding, caster_rect_buffer_.id());
     depth_.bind(kDepthUnit);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileListsBinding, tile_lists_.id());
@@ -452,8 +456,8 @@ void Renderer::draw_objects(const CameraView& view) {
         glm::vec3 flat_normal(0.0f);
         bool flat = false;
         if (diffuse_only && settings_.flat_receivers && tile_lists_active() && settings_.diffuse == DiffuseMode::center &&
-            instance.mesh->flat_normal(flat_normal)) {
-            const glm::vec3 n = glm::normalize(instance.world_normal_from_object * flat_normal);
+            instance.mesh->flat_normal()) {
+            const glm::vec3 n = glm::normalize(instance.world_normal_from_object * *instance.mesh->flat_normal());
             const glm::vec3 point(instance.world_from_object * glm::vec4(instance.mesh->bounds_min(), 1.0f));
             const float side = glm::dot(n, view.eye - point);
             if (std::isfinite(side) && std::abs(side) > 1e-4f) {

@@ -5,16 +5,15 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <regex>
 #include <set>
-#include <sstream>
 #include <string>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "common/test_files.h"
 #include "core/image.h"
 #include "env/environment.h"
 
@@ -35,11 +34,9 @@ std::string run_viewer(const std::string& arguments, const fs::path& out) {
     // moment ("Xvfb failed to start"); that is the harness, not the viewer, so it is tried again.
     int status = -1;
     for (int attempt = 0; attempt < 3 && status != 0; ++attempt) status = std::system(command.c_str());
-    std::ifstream in(log);
-    std::stringstream text;
-    text << in.rdbuf();
-    EXPECT_EQ(status, 0) << command << "\n" << text.str();
-    return text.str();
+    const std::string text = test::read_text(log);
+    EXPECT_EQ(status, 0) << command << "\n" << text;
+    return text;
 }
 
 TEST(Viewer, RunsUnderXvfbAndShowsTheSceneAndTheUi) {

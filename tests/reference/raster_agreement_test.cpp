@@ -6,11 +6,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "common/test_files.h"
 #include "core/image.h"
 
 namespace envshadow {
@@ -22,10 +22,7 @@ const fs::path kOutput = fs::path(ENVSHADOW_BINARY_DIR) / "raster_agreement_test
 void run(const std::string& arguments, const fs::path& log) {
     const std::string command = std::string(ENVSHADOW_EXE) + " " + arguments + " > '" + log.string() + "' 2>&1";
     const int status = std::system(command.c_str());
-    std::ifstream in(log);
-    std::stringstream text;
-    text << in.rdbuf();
-    ASSERT_EQ(status, 0) << command << "\n" << text.str();
+    ASSERT_EQ(status, 0) << command << "\n" << test::read_text(log);
 }
 
 struct Agreement {

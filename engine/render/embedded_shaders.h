@@ -1,0 +1,10 @@
+#pragma once
+// The shaders of glsl/ (compiled into the binary by glsl/embed.cmake) as one library, with their
+// #include files: what the renderer, the display and the GPU sampler build their programs from.
+#include "gl/shader.h"
+
+namespace envshadow::render {
+
+gl::ShaderLibrary embedded_shaders();
+
+}  // namespace envshadow::render
