@@ -23,7 +23,8 @@ int parse_positive(const std::string& text, const std::string& spec) {
     } catch (const std::exception&) {
         used = 0;
     }
-    if (used != text.size() || value <= 0) throw UsageError("--sweep " + spec + ": '" + text + "' is not a positive integer");
+    if (used != text.size() || value <= 0)
+        throw UsageError("--sweep " + spec + ": '" + text + "' is not a positive integer");
     return value;
 }
 }  // namespace

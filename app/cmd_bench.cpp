@@ -9,8 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,7 +34,7 @@ namespace {
 
 struct BenchOptions {
     std::string scene, env, method = "lloyd", backend = "egl", json, sweep, atlas = "clip-distances", variants,
-        pass_timing = "auto";
+                            pass_timing = "auto";
     std::string fs_importance = "256x128";  // fs-gpu: the importance map, WxH or "full" (the environment's)
     OptimisationFlags optimisations;
     int lights = 128, frames = 100, warmup = 10, width = 1280, height = 720, tile = 256, depth_bits = 16;
@@ -49,11 +49,11 @@ struct Row {
     std::size_t atlas_triangles = 0;
     int lights = 0, lights_drawn = 0, tile = 0, width = 0, height = 0;
     double decompose_ms = 0.0;
-    TimeSummary frame_ms;                     // wall time per frame, CPU and GPU
+    TimeSummary frame_ms;                       // wall time per frame, CPU and GPU
     std::vector<std::string> pass_order;        // as the renderer reports them (pipeline order)
     std::map<std::string, TimeSummary> passes;  // GPU time per pass
-    TimeSummary gpu_ms;                       // sum of the passes per frame
-    std::size_t gpu_frames = 0;               // frames whose every pass had a valid reading (gpu_ms's samples)
+    TimeSummary gpu_ms;                         // sum of the passes per frame
+    std::size_t gpu_frames = 0;                 // frames whose every pass had a valid reading (gpu_ms's samples)
 };
 
 struct Variant {
@@ -77,8 +77,9 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
     auto found = decompositions.find(common.lights);
     if (found == decompositions.end())
         found = decompositions
-                    .emplace(common.lights, sampler ? Decomposition{}
-                                                    : decompose(map, DecomposeOptions{parse_method(o.method), common.lights, o.seed}))
+                    .emplace(common.lights,
+                             sampler ? Decomposition{}
+                                     : decompose(map, DecomposeOptions{parse_method(o.method), common.lights, o.seed}))
                     .first;
     common.decompose_ms = found->second.seconds * 1000.0;
 
@@ -106,11 +107,13 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
                             // unreliable on llvmpipe and spoils the renderer's next query (docs/PERFORMANCE.md)
                 sampler->sample(variants[v].renderer->environment_texture(), render::FsSampleRequest{common.lights});
                 variants[v].renderer->set_lights(sampler->read_lights());  // waits for the sampler
-                sampling.push_back({render::kFsSamplingPass,
-                                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
+                sampling.push_back(
+                    {render::kFsSamplingPass,
+                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
             }
             render::FrameStats stats = variants[v].renderer->render(time, view);  // waits for the GPU's timer results
-            const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            const double wall =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
             stats.passes.insert(stats.passes.begin(), sampling.begin(), sampling.end());
             Row& row = rows[v];
             row.lights_drawn = stats.lights;
@@ -152,9 +155,10 @@ const char* pass_timing_name(gl::PassTiming timing) {
 
 void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std::string& renderer_name,
                  std::size_t triangles, gl::PassTiming timing) {
-    std::printf("envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s\n",
-                o.scene.c_str(), renderer_name.c_str(), o.backend.c_str(), triangles, o.frames, o.warmup,
-                timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries");
+    std::printf(
+        "envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s\n",
+        o.scene.c_str(), renderer_name.c_str(), o.backend.c_str(), triangles, o.frames, o.warmup,
+        timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries");
     std::vector<std::string> pass_names;  // union over the rows, in pipeline order
     for (const Row& r : rows)
         for (std::size_t i = 0; i < r.pass_order.size(); ++i)
@@ -169,8 +173,8 @@ void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std:
     std::printf("\n");
     for (const Row& r : rows) {
         const std::string resolution = std::to_string(r.width) + "x" + std::to_string(r.height);
-        std::printf("%-22s %5d %5d %5d %11s %8.2f / %6.2f %9.1f", r.point.label.c_str(), r.lights, r.lights_drawn, r.tile,
-                    resolution.c_str(), r.frame_ms.median, r.frame_ms.p95,
+        std::printf("%-22s %5d %5d %5d %11s %8.2f / %6.2f %9.1f", r.point.label.c_str(), r.lights, r.lights_drawn,
+                    r.tile, resolution.c_str(), r.frame_ms.median, r.frame_ms.p95,
                     r.frame_ms.median > 0 ? 1000.0 / r.frame_ms.median : 0.0);
         if (r.gpu_frames > 0)
             std::printf(" %9.2f", r.gpu_ms.median);
@@ -194,10 +198,16 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
     auto summary = [](const TimeSummary& s) {
         return nlohmann::json{{"median", s.median}, {"p95", s.p95}, {"mean", s.mean}, {"min", s.min}, {"max", s.max}};
     };
-    nlohmann::json out = {{"scene", o.scene},        {"renderer", renderer_name}, {"backend", o.backend},
-                          {"method", o.method},      {"frames", o.frames},        {"warmup", o.warmup},
+    nlohmann::json out = {{"scene", o.scene},
+                          {"renderer", renderer_name},
+                          {"backend", o.backend},
+                          {"method", o.method},
+                          {"frames", o.frames},
+                          {"warmup", o.warmup},
                           {"fs_importance", o.method == "fs-gpu" ? o.fs_importance : ""},
-                          {"triangles", triangles},  {"atlas_mode", o.atlas},     {"variants", o.variants},
+                          {"triangles", triangles},
+                          {"atlas_mode", o.atlas},
+                          {"variants", o.variants},
                           {"pass_timing", pass_timing_name(timing)},
                           {"rows", nlohmann::json::array()}};
     for (const Row& r : rows) {
@@ -216,8 +226,9 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
                                {"decompose_ms", r.decompose_ms},
                                {"frame_ms", summary(r.frame_ms)},
                                // FPS at the median frame time, and at the 95th-percentile (slow) frame time.
-                               {"fps", {{"median", r.frame_ms.median > 0 ? 1000.0 / r.frame_ms.median : 0.0},
-                                        {"p95", r.frame_ms.p95 > 0 ? 1000.0 / r.frame_ms.p95 : 0.0}}},
+                               {"fps",
+                                {{"median", r.frame_ms.median > 0 ? 1000.0 / r.frame_ms.median : 0.0},
+                                 {"p95", r.frame_ms.p95 > 0 ? 1000.0 / r.frame_ms.p95 : 0.0}}},
                                {"gpu_ms", passes}});
     }
     return out;
@@ -229,9 +240,10 @@ glm::ivec2 fs_importance_size(const std::string& text, const EnvironmentMap& map
     if (text == "full") return {0, 0};
     int width = 0, height = 0;
     char x = 0, rest = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width < 16 || height < 1 ||
-        width % 16 != 0 || width > map.width || height > map.height)
-        throw UsageError("--fs-importance " + text + ": give 'full' or WxH with W a multiple of 16, at most the map's " +
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width < 16 ||
+        height < 1 || width % 16 != 0 || width > map.width || height > map.height)
+        throw UsageError("--fs-importance " + text +
+                         ": give 'full' or WxH with W a multiple of 16, at most the map's " +
                          std::to_string(map.width) + "x" + std::to_string(map.height));
     return {width, height};
 }
@@ -239,10 +251,11 @@ glm::ivec2 fs_importance_size(const std::string& text, const EnvironmentMap& map
 int run_bench(const BenchOptions& o) {
     // CLI::Range lets NaN through (every comparison with it is false).
     if (!std::isfinite(o.time_step)) throw UsageError("--time-step must be a finite number of seconds");
-    const std::vector<SweepPoint> points = o.sweep.empty() ? std::vector<SweepPoint>{SweepPoint{0, 0, 0, 0, "default"}}
-                                                           : parse_sweep(o.sweep);
+    const std::vector<SweepPoint> points =
+        o.sweep.empty() ? std::vector<SweepPoint>{SweepPoint{0, 0, 0, 0, "default"}} : parse_sweep(o.sweep);
     for (const SweepPoint& p : points) {
-        if (p.lights > kMaxLights) throw UsageError("--sweep " + p.label + ": N must be 1.." + std::to_string(kMaxLights));
+        if (p.lights > kMaxLights)
+            throw UsageError("--sweep " + p.label + ": N must be 1.." + std::to_string(kMaxLights));
         if (p.width > 16384 || p.height > 16384) throw UsageError("--sweep " + p.label + ": resolution too large");
     }
     render::RenderSettings settings;
@@ -307,8 +320,9 @@ Command add_bench_command(CLI::App& parent) {
     app->add_option("--scene", o->scene, "Scene JSON or .gltf/.glb")->required();
     app->add_option("--env", o->env, "Environment (.exr, .hdr, builtin:…), overrides the scene's");
     app->add_option("--lights", o->lights, "Number of cells N")->check(CLI::Range(1, kMaxLights));
-    app->add_option("--method", o->method,
-                    "Decomposition: lloyd, ccvt, mediancut, random, fs; or fs-gpu (lights sampled on the GPU every frame)")
+    app->add_option(
+           "--method", o->method,
+           "Decomposition: lloyd, ccvt, mediancut, random, fs; or fs-gpu (lights sampled on the GPU every frame)")
         ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs", "fs-gpu"}));
     app->add_option("--fs-importance", o->fs_importance, "fs-gpu: importance map size, WxH or full (default 256x128)");
     app->add_option("--seed", o->seed, "Seed of the decomposition");
@@ -323,9 +337,10 @@ Command add_bench_command(CLI::App& parent) {
     app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
     add_pass_timing_option(app, &o->pass_timing);
     app->add_option("--json", o->json, "Write the results as JSON");
-    app->add_option("--variants", o->variants,
-                    "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, ubo, "
-                    "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf); ratios to the first");
+    app->add_option(
+        "--variants", o->variants,
+        "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, ubo, "
+        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf); ratios to the first");
     add_optimisation_options(app, &o->optimisations);
     app->add_option("--sweep", o->sweep, "One row per setting: lights=16,32,…  resolution=640x360,…  tile=128,…");
     return {app, [o] { return run_bench(*o); }};

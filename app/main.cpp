@@ -16,9 +16,9 @@ int main(int argc, char** argv) {
     bool version = false;
     cli.add_flag("--version", version, "Print the version, the GL renderer of each backend and which backends work");
 
-    std::vector<app::Command> commands = {
-        app::add_decompose_command(cli), app::add_render_command(cli),  app::add_bench_command(cli),
-        app::add_reference_command(cli), app::add_compare_command(cli), app::add_view_command(cli)};
+    std::vector<app::Command> commands = {app::add_decompose_command(cli), app::add_render_command(cli),
+                                          app::add_bench_command(cli),     app::add_reference_command(cli),
+                                          app::add_compare_command(cli),   app::add_view_command(cli)};
 
     try {
         cli.parse(argc, argv);

@@ -11,7 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libtbb-dev libmeshoptimizer-dev
   xvfb xauth
   gnuplot-nox
-  clang-14 libclang-rt-14-dev
+  clang-14 libclang-rt-14-dev clang-format-14 clang-format
   blender-data assimp-testmodels
 )
 

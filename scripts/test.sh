@@ -18,6 +18,8 @@ for arg in "$@"; do
 done
 
 scripts/install-deps.sh
+# Formatting first: it takes a second, and an unformatted file fails the run (.clang-format).
+scripts/check-format.sh
 # Sanitizer runs: leaks count, except those Mesa's drivers keep until exit (docs/ROBUSTNESS.md
 # explains the file); the first UBSan report fails the test, with a stack. EGL and GLX unload Mesa's
 # DRI driver (dlclose) before LeakSanitizer looks, so its leaks would come from "<unknown module>"

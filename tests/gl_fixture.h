@@ -14,7 +14,9 @@
 
 namespace envshadow::gl {
 // Keeps ctest's test names readable (gtest would print the enum's bytes).
-inline void PrintTo(Backend backend, std::ostream* out) { *out << to_string(backend); }
+inline void PrintTo(Backend backend, std::ostream* out) {
+    *out << to_string(backend);
+}
 }  // namespace envshadow::gl
 
 namespace envshadow::testing {
@@ -46,7 +48,7 @@ inline std::string backend_name(const ::testing::TestParamInfo<gl::Backend>& inf
     return std::string(gl::to_string(info.param));
 }
 
-#define ENVSHADOW_INSTANTIATE_GL_TEST(Suite)                                                        \
+#define ENVSHADOW_INSTANTIATE_GL_TEST(Suite)                                                            \
     INSTANTIATE_TEST_SUITE_P(Headless, Suite, ::testing::Values(gl::Backend::egl, gl::Backend::osmesa), \
                              ::envshadow::testing::backend_name)
 

@@ -21,11 +21,14 @@ public:
     }
     bool running() const { return future_.valid(); }
     const std::string& what() const { return what_; }
-    double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count(); }
+    double seconds() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+    }
 
     // The result once ready (then the job is idle again); a failure's message goes to `error`.
     std::optional<T> poll(std::string& error) {
-        if (!future_.valid() || future_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return std::nullopt;
+        if (!future_.valid() || future_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+            return std::nullopt;
         try {
             return future_.get();
         } catch (const std::exception& e) {

@@ -8,7 +8,7 @@
 
 namespace envshadow::app {
 namespace {
-constexpr float kMaxPitch = 1.5f;          // ~86 degrees: keeps lookAt's up vector well defined
+constexpr float kMaxPitch = 1.5f;  // ~86 degrees: keeps lookAt's up vector well defined
 constexpr float kRadiansPerPixel = 0.008f;
 constexpr float kZoomPerStep = 0.9f;
 constexpr float kMinDistance = 0.05f, kMaxDistance = 1000.0f;
@@ -45,7 +45,8 @@ void OrbitCamera::orbit(float dx, float dy) {
 
 void OrbitCamera::pan(float dx, float dy, float height) {
     // One pixel moves the target by the size of a pixel at the target's distance.
-    const float world_per_pixel = 2.0f * distance_ * std::tan(glm::radians(fov_y_degrees_) * 0.5f) / std::max(height, 1.0f);
+    const float world_per_pixel =
+        2.0f * distance_ * std::tan(glm::radians(fov_y_degrees_) * 0.5f) / std::max(height, 1.0f);
     const glm::vec3 forward = -eye_direction(yaw_, pitch_);
     const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0.0f, 1.0f, 0.0f)));
     const glm::vec3 up = glm::cross(right, forward);

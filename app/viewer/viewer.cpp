@@ -31,8 +31,8 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "core/log.h"
-#include "env/cells.h"
 #include "env/cell_overlay.h"
+#include "env/cells.h"
 #include "env/environment.h"
 #include "env/latlong.h"
 #include "gl/context.h"
@@ -71,8 +71,8 @@ struct LoadedModel {
 struct AnimatedSky {
     std::string source;  // the spec it animates
     EnvironmentMap map;
-    Image8 picture;      // draw_map(map)
-    double time = 0.0;   // the animation time (seconds) it was made for
+    Image8 picture;     // draw_map(map)
+    double time = 0.0;  // the animation time (seconds) it was made for
 };
 
 // Files dropped onto the window, collected by GLFW's callback and handled by the frame loop.
@@ -100,8 +100,8 @@ std::string timestamp() {
 class Viewer {
 public:
     explicit Viewer(const ViewerOptions& options) : options_(options) {
-        context_ = gl::create_context(gl::Backend::window,
-                                      gl::ContextOptions{options.width, options.height, false, true, true, "envshadow"});
+        context_ = gl::create_context(
+            gl::Backend::window, gl::ContextOptions{options.width, options.height, false, true, true, "envshadow"});
         window_ = static_cast<GLFWwindow*>(context_->native_window());
         glfwSetWindowUserPointer(window_, &drops_);
         glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
@@ -119,7 +119,8 @@ public:
 
         display_ = std::make_unique<render::Display>();
         renderer_ = std::make_unique<render::Renderer>(settings_);
-        renderer_->set_pass_timing(gl::parse_pass_timing(options.pass_timing, context_->is_software(), "--pass-timing"));
+        renderer_->set_pass_timing(
+            gl::parse_pass_timing(options.pass_timing, context_->is_software(), "--pass-timing"));
 
         lights_ = options.lights;
         if (options.method == "fs-gpu")
@@ -191,11 +192,9 @@ private:
     void start_decomposition() {
         if (!environment_) return;
         const DecomposeOptions decompose_options{method_, lights_, seed_};
-        environment_job_.start(std::string("decomposing (") + std::string(to_string(method_)) + ", N = " +
-                                   std::to_string(lights_) + ")",
-                               [map = environment_->map, decompose_options] {
-                                   return load_and_decompose(map, decompose_options);
-                               });
+        environment_job_.start(
+            std::string("decomposing (") + std::string(to_string(method_)) + ", N = " + std::to_string(lights_) + ")",
+            [map = environment_->map, decompose_options] { return load_and_decompose(map, decompose_options); });
     }
 
     void finish_jobs() {
@@ -256,7 +255,7 @@ private:
         if (ImGui::IsKeyPressed(GLFW_KEY_B)) settings_.background = !settings_.background, apply_settings();
         if (ImGui::IsKeyPressed(GLFW_KEY_S)) {
             settings_.specular = settings_.specular == render::SpecularMode::blended ? render::SpecularMode::single
-                                                                                      : render::SpecularMode::blended;
+                                                                                     : render::SpecularMode::blended;
             apply_settings();
         }
         if (ImGui::IsKeyPressed(GLFW_KEY_G))
@@ -320,7 +319,8 @@ private:
         });
         if (brightest == fs_lights_.end()) return log::info("fs-gpu: no lights sampled");
         char text[200];
-        std::snprintf(text, sizeof text, "fs-gpu: %zu lights in the last frame, the brightest toward (%.4f, %.4f, %.4f) in map space",
+        std::snprintf(text, sizeof text,
+                      "fs-gpu: %zu lights in the last frame, the brightest toward (%.4f, %.4f, %.4f) in map space",
                       fs_lights_.size(), double(brightest->direction.x), double(brightest->direction.y),
                       double(brightest->direction.z));
         std::string line = text;
@@ -354,7 +354,8 @@ private:
             fs_sampler_->sample(renderer_->environment_texture(), render::FsSampleRequest{lights_});
             fs_lights_ = fs_sampler_->read_lights();
             renderer_->set_lights(fs_lights_);
-            fs_sampling_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            fs_sampling_ms_ =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         } catch (const std::exception& e) {  // e.g. a GL without storage blocks in geometry shaders
             error_ = e.what();
             set_light_source(LightSource::cells);
@@ -394,14 +395,17 @@ private:
         ImGui::TextUnformatted(scene_.file.filename().string().c_str());
         if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", error_.c_str());
         if (environment_job_.running()) {
-            ImGui::ProgressBar(-1.0f * float(ImGui::GetTime()), ImVec2(-1, 0),
-                               (environment_job_.what() + " " + std::to_string(int(environment_job_.seconds() * 1000)) + " ms").c_str());
+            ImGui::ProgressBar(
+                -1.0f * float(ImGui::GetTime()), ImVec2(-1, 0),
+                (environment_job_.what() + " " + std::to_string(int(environment_job_.seconds() * 1000)) + " ms")
+                    .c_str());
         }
         if (model_job_.running()) ImGui::TextUnformatted(model_job_.what().c_str());
 
         if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
             int source = int(light_source_);
-            if (ImGui::RadioButton("cells (load time)", &source, int(LightSource::cells))) set_light_source(LightSource::cells);
+            if (ImGui::RadioButton("cells (load time)", &source, int(LightSource::cells)))
+                set_light_source(LightSource::cells);
             ImGui::SameLine();
             if (ImGui::RadioButton("GPU FS (every frame)", &source, int(LightSource::gpu_fs)))
                 set_light_source(LightSource::gpu_fs);
@@ -421,9 +425,9 @@ private:
                 ImGui::Checkbox("sun follows time (builtin:sky)", &sun_follows_time_);
                 if (fs_sampler_) {
                     const render::FsCounts counts = fs_sampler_->read_counts();
-                    ImGui::Text("GPU FS: %u lights from %u samples of a %dx%d importance map, %.2f ms", counts.light_count,
-                                counts.samples, fs_sampler_->importance_size().x, fs_sampler_->importance_size().y,
-                                fs_sampling_ms_);
+                    ImGui::Text("GPU FS: %u lights from %u samples of a %dx%d importance map, %.2f ms",
+                                counts.light_count, counts.samples, fs_sampler_->importance_size().x,
+                                fs_sampler_->importance_size().y, fs_sampling_ms_);
                 }
             } else if (environment_) {
                 const Decomposition& d = environment_->decomposition;
@@ -439,13 +443,19 @@ private:
         if (ImGui::CollapsingHeader("Shadows")) {
             bool changed = false;
             const int tiles[] = {128, 256, 512, 1024, 2048};
-            int tile_index = int(std::find(std::begin(tiles), std::end(tiles), settings_.tile_size) - std::begin(tiles));
+            int tile_index =
+                int(std::find(std::begin(tiles), std::end(tiles), settings_.tile_size) - std::begin(tiles));
             const char* tile_names[] = {"128", "256", "512", "1024", "2048"};
-            if (ImGui::Combo("tile size", &tile_index, tile_names, 5)) settings_.tile_size = tiles[tile_index], changed = true;
+            if (ImGui::Combo("tile size", &tile_index, tile_names, 5))
+                settings_.tile_size = tiles[tile_index], changed = true;
             int depth = settings_.depth_bits == 16 ? 0 : 1;
-            if (ImGui::Combo("depth", &depth, "16 bit\0" "32 bit float\0")) settings_.depth_bits = depth ? 32 : 16, changed = true;
+            if (ImGui::Combo("depth", &depth,
+                             "16 bit\0"
+                             "32 bit float\0"))
+                settings_.depth_bits = depth ? 32 : 16, changed = true;
             int pcf = int(settings_.pcf);
-            if (ImGui::Combo("PCF", &pcf, "2x2 hardware\0wide\0")) settings_.pcf = render::PcfKernel(pcf), changed = true;
+            if (ImGui::Combo("PCF", &pcf, "2x2 hardware\0wide\0"))
+                settings_.pcf = render::PcfKernel(pcf), changed = true;
             changed |= ImGui::SliderFloat("slope bias", &settings_.slope_bias, 0.0f, 8.0f);
             changed |= ImGui::SliderFloat("depth bias", &settings_.depth_bias, 0.0f, 8.0f);
             changed |= ImGui::SliderFloat("normal offset", &settings_.normal_offset, 0.0f, 4.0f);
@@ -454,7 +464,8 @@ private:
                 settings_.atlas = render::AtlasMode(atlas), changed = true;
             changed |= ImGui::Checkbox("skip hidden/negligible lights", &settings_.skip_lights);
             if (changed) apply_settings();
-            ImGui::Text("atlas %dx%d, %.1f MB", stats.atlas.width(), stats.atlas.height(), double(stats.atlas_bytes) / (1 << 20));
+            ImGui::Text("atlas %dx%d, %.1f MB", stats.atlas.width(), stats.atlas.height(),
+                        double(stats.atlas_bytes) / (1 << 20));
         }
 
         if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -463,7 +474,8 @@ private:
             if (ImGui::Combo("specular", &specular, "blended (Barsi)\0single sample\0"))
                 settings_.specular = render::SpecularMode(specular), changed = true;
             int cap = int(settings_.cap);
-            if (ImGui::Combo("cap radius", &cap, "solid angle\0radiance weighted\0")) settings_.cap = render::CapKind(cap), changed = true;
+            if (ImGui::Combo("cap radius", &cap, "solid angle\0radiance weighted\0"))
+                settings_.cap = render::CapKind(cap), changed = true;
             int diffuse = int(settings_.diffuse);
             if (ImGui::Combo("diffuse", &diffuse, "centre sample\0cap integral\0"))
                 settings_.diffuse = render::DiffuseMode(diffuse), changed = true;
@@ -478,13 +490,15 @@ private:
             selected_object_ = std::min(selected_object_, int(scene_.objects.size()) - 1);
             if (ImGui::BeginCombo("object", scene_.objects[size_t(selected_object_)].name.c_str())) {
                 for (int i = 0; i < int(scene_.objects.size()); ++i)
-                    if (ImGui::Selectable(scene_.objects[size_t(i)].name.c_str(), i == selected_object_)) selected_object_ = i;
+                    if (ImGui::Selectable(scene_.objects[size_t(i)].name.c_str(), i == selected_object_))
+                        selected_object_ = i;
                 ImGui::EndCombo();
             }
             Material& m = scene_.objects[size_t(selected_object_)].material;
             bool changed = ImGui::ColorEdit3("rho_d", &m.rho_d.x);
             changed |= ImGui::SliderFloat("rho_s", &m.rho_s, 0.0f, 1.0f);
-            changed |= ImGui::SliderFloat("shininess n", &m.shininess, 1.0f, 10000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
+            changed |=
+                ImGui::SliderFloat("shininess n", &m.shininess, 1.0f, 10000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
             if (changed) renderer_->set_material(size_t(selected_object_), m);
         }
 
@@ -522,9 +536,10 @@ private:
         if (ImGui::Checkbox("wait for each pass", &synchronous))
             renderer_->set_pass_timing(synchronous ? gl::PassTiming::synchronous : gl::PassTiming::queries);
         if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("Times each pass by the clock between glFinish calls: exact on a software\n"
-                              "rasteriser, whose GL_TIME_ELAPSED queries misplace the work (on by default\n"
-                              "there); on a GPU the queries are exact and waiting costs the overlap.");
+            ImGui::SetTooltip(
+                "Times each pass by the clock between glFinish calls: exact on a software\n"
+                "rasteriser, whose GL_TIME_ELAPSED queries misplace the work (on by default\n"
+                "there); on a GPU the queries are exact and waiting costs the overlap.");
         for (const gl::PassTime& pass : stats.passes) plot(pass.pass.c_str(), pass_ms_[pass.pass]);
         if (light_source_ == LightSource::gpu_fs) plot(render::kFsSamplingPass, pass_ms_[render::kFsSamplingPass]);
         ImGui::End();
@@ -590,12 +605,14 @@ private:
             const ImVec2 origin = ImGui::GetCursorScreenPos();
             ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(map_texture_.id())), ImVec2(w, h));
             float brightest = 0.0f;
-            for (const Cell& c : fs_lights_) brightest = std::max(brightest, c.radiance.r + c.radiance.g + c.radiance.b);
+            for (const Cell& c : fs_lights_)
+                brightest = std::max(brightest, c.radiance.r + c.radiance.g + c.radiance.b);
             for (const Cell& c : fs_lights_) {
                 const glm::dvec2 uv = latlong::uv(glm::dvec3(c.direction));
                 const float share = (c.radiance.r + c.radiance.g + c.radiance.b) / std::max(brightest, 1e-30f);
-                ImGui::GetWindowDrawList()->AddCircleFilled(ImVec2(origin.x + float(uv.x) * w, origin.y + float(uv.y) * h),
-                                                            2.0f + 4.0f * std::sqrt(share), IM_COL32(255, 60, 40, 255));
+                ImGui::GetWindowDrawList()->AddCircleFilled(
+                    ImVec2(origin.x + float(uv.x) * w, origin.y + float(uv.y) * h), 2.0f + 4.0f * std::sqrt(share),
+                    IM_COL32(255, 60, 40, 255));
             }
             ImGui::Text("%zu lights sampled on the GPU this frame (dots)", fs_lights_.size());
         }
@@ -629,8 +646,8 @@ private:
         screenshot_requested_ = false;
         try {
             fs::create_directories("screenshots");
-            const std::string stem = "screenshots/view_" + scene_.file.stem().string() + "_" +
-                                     method_name() + "_N" + std::to_string(lights_) + "_" + timestamp();
+            const std::string stem = "screenshots/view_" + scene_.file.stem().string() + "_" + method_name() + "_N" +
+                                     std::to_string(lights_) + "_" + timestamp();
             const Image linear = renderer_->read_back();
             write_exr(stem + ".exr", linear);
             write_png(stem + ".png", tonemap_to_srgb8(linear, exposure_));
@@ -644,9 +661,10 @@ private:
                 {"time", time_},
                 {"exposure", exposure_},
                 {"rotation_degrees", rotation_},
-                {"camera", {{"position", {camera.position.x, camera.position.y, camera.position.z}},
-                            {"target", {camera.target.x, camera.target.y, camera.target.z}},
-                            {"fov_y_degrees", camera.fov_y_degrees}}},
+                {"camera",
+                 {{"position", {camera.position.x, camera.position.y, camera.position.z}},
+                  {"target", {camera.target.x, camera.target.y, camera.target.z}},
+                  {"fov_y_degrees", camera.fov_y_degrees}}},
                 {"tile", settings_.tile_size},
                 {"depth_bits", settings_.depth_bits},
                 {"pcf", render::to_string(settings_.pcf)},

@@ -16,8 +16,8 @@ void write_atomically(const std::filesystem::path& target,
     std::filesystem::path temporary = target;
     // Keep the extension last: some writers (OpenEXR, stb) do not care, but people looking at a
     // folder mid-run should see what the file is.
-    temporary.replace_filename("." + target.filename().string() + ".tmp" + std::to_string(::getpid()) +
-                               "-" + std::to_string(counter++));
+    temporary.replace_filename("." + target.filename().string() + ".tmp" + std::to_string(::getpid()) + "-" +
+                               std::to_string(counter++));
     try {
         write_to(temporary);
         std::error_code ec;

@@ -110,8 +110,8 @@ void check_exr_header(const std::filesystem::path& path, const std::string& name
                       " texels, larger than the " + std::to_string(width) + "x" + std::to_string(height) +
                       " picture and than 1 M texels");
     if (tiled) {
-        const std::uint64_t tiles = ((std::uint64_t(width) + tile[0] - 1) / tile[0]) *
-                                    ((std::uint64_t(height) + tile[1] - 1) / tile[1]);
+        const std::uint64_t tiles =
+            ((std::uint64_t(width) + tile[0] - 1) / tile[0]) * ((std::uint64_t(height) + tile[1] - 1) / tile[1]);
         if (8 * tiles > file_size)
             throw corrupt("the offset table of " + std::to_string(tiles) + " tiles is larger than the file");
     }
@@ -135,7 +135,8 @@ ExrContents read_exr(const std::filesystem::path& path, const ImageSizeCheck& ch
                              std::to_string(kMaxImageHeight));
         const Imf::ChannelList& channels = file.header().channels();
         for (const char* c : {"R", "G", "B"})
-            if (!channels.findChannel(c)) throw InputError(name + ": no " + std::string(c) + " channel (RGB or RGBA expected)");
+            if (!channels.findChannel(c))
+                throw InputError(name + ": no " + std::string(c) + " channel (RGB or RGBA expected)");
 
         ExrContents result;
         result.had_alpha = channels.findChannel("A") != nullptr;
@@ -179,7 +180,8 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
 
 void write_png(const std::filesystem::path& path, const Image8& image) {
     write_atomically(path, [&](const std::filesystem::path& temporary) {
-        if (!stbi_write_png(temporary.string().c_str(), image.width, image.height, 4, image.rgba.data(), image.width * 4))
+        if (!stbi_write_png(temporary.string().c_str(), image.width, image.height, 4, image.rgba.data(),
+                            image.width * 4))
             throw InputError(path.string() + ": cannot write PNG (check the folder exists and is writable)");
     });
 }

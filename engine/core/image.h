@@ -40,7 +40,7 @@ inline constexpr int kMaxImageWidth = 16384;
 inline constexpr int kMaxImageHeight = 16384;
 
 struct ExrContents {
-    Image image;          // missing A reads as 1
+    Image image;  // missing A reads as 1
     bool had_alpha = false;
 };
 

@@ -79,7 +79,8 @@ HdrDifference compare_hdr(const Image& a, const Image& reference, const std::vec
     }
     if (d.pixels == 0) return d;
     const double n = 3.0 * double(d.pixels);
-    d.relative_rmse = ref > 0.0 ? std::sqrt(err / n) / std::sqrt(ref / n) : (err > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+    d.relative_rmse = ref > 0.0 ? std::sqrt(err / n) / std::sqrt(ref / n)
+                                : (err > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
     d.psnr = err > 0.0 ? 10.0 * std::log10(peak * peak / (err / n)) : std::numeric_limits<double>::infinity();
     return d;
 }

@@ -12,17 +12,17 @@
 namespace envshadow {
 
 struct Tolerance {
-    double max_mean = 1.0;             // mean |a - b| over all channels, in 8-bit levels
-    int pixel_threshold = 24;          // a pixel "differs" when any channel differs by more than this
+    double max_mean = 1.0;               // mean |a - b| over all channels, in 8-bit levels
+    int pixel_threshold = 24;            // a pixel "differs" when any channel differs by more than this
     double max_differing_share = 0.002;  // share of pixels allowed to differ
 };
 
 struct ImageDifference {
-    double mean = 0.0;        // mean |a - b| over RGB, 8-bit levels
-    int max = 0;              // largest channel difference
-    long differing = 0;       // pixels over Tolerance::pixel_threshold
+    double mean = 0.0;   // mean |a - b| over RGB, 8-bit levels
+    int max = 0;         // largest channel difference
+    long differing = 0;  // pixels over Tolerance::pixel_threshold
     long pixels = 0;
-    double psnr = 0.0;        // dB, RGB; infinity for identical images
+    double psnr = 0.0;  // dB, RGB; infinity for identical images
 
     bool within(const Tolerance& t) const {
         return mean <= t.max_mean && double(differing) <= t.max_differing_share * double(pixels);

@@ -15,8 +15,12 @@ void write(const char* prefix, std::string_view message) {
 }
 }  // namespace
 
-void set_level(Level level_) { g_level = level_; }
-Level level() { return g_level; }
+void set_level(Level level_) {
+    g_level = level_;
+}
+Level level() {
+    return g_level;
+}
 
 void info(std::string_view message) {
     if (g_level >= Level::info) write("", message);
@@ -24,6 +28,8 @@ void info(std::string_view message) {
 void debug(std::string_view message) {
     if (g_level >= Level::debug) write("debug: ", message);
 }
-void warn(std::string_view message) { write("warning: ", message); }
+void warn(std::string_view message) {
+    write("warning: ", message);
+}
 
 }  // namespace envshadow::log

@@ -4,8 +4,8 @@
 //   f_r cos theta' = k_d cos theta' + k_s cos^n psi,   k_d = rho_d / pi,  k_s = rho_s (n + 2) / (2 pi)
 namespace envshadow::brdf {
 
-float diffuse_coefficient(float rho_d);                   // k_d
-float specular_coefficient(float rho_s, float shininess); // k_s
+float diffuse_coefficient(float rho_d);                    // k_d
+float specular_coefficient(float rho_s, float shininess);  // k_s
 
 // Average of cos^n psi over a cap of cosine radius `cos_r` whose centre is at cos psi_c = `cos_psi_c`
 // from the mirror direction: Barsi et al.'s blended formula (exact cap average at psi_c = 0, the

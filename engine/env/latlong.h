@@ -42,6 +42,8 @@ inline double texel_solid_angle(int j, int width, int height) {
 }
 
 // Rec. 709 luminance.
-inline double luminance(const glm::dvec3& rgb) { return 0.2126 * rgb.r + 0.7152 * rgb.g + 0.0722 * rgb.b; }
+inline double luminance(const glm::dvec3& rgb) {
+    return 0.2126 * rgb.r + 0.7152 * rgb.g + 0.0722 * rgb.b;
+}
 
 }  // namespace envshadow::latlong

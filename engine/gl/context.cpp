@@ -10,9 +10,12 @@ namespace envshadow::gl {
 
 std::string_view to_string(Backend backend) {
     switch (backend) {
-    case Backend::window: return "window";
-    case Backend::egl: return "egl";
-    case Backend::osmesa: return "osmesa";
+        case Backend::window:
+            return "window";
+        case Backend::egl:
+            return "egl";
+        case Backend::osmesa:
+            return "osmesa";
     }
     return "?";
 }
@@ -67,9 +70,15 @@ std::string Context::version() const {
 std::unique_ptr<Context> create_context(Backend backend, const ContextOptions& options) {
     std::unique_ptr<Context> context;
     switch (backend) {
-    case Backend::window: context = detail::create_glfw_context(options); break;
-    case Backend::egl: context = detail::create_egl_context(options); break;
-    case Backend::osmesa: context = detail::create_osmesa_context(options); break;
+        case Backend::window:
+            context = detail::create_glfw_context(options);
+            break;
+        case Backend::egl:
+            context = detail::create_egl_context(options);
+            break;
+        case Backend::osmesa:
+            context = detail::create_osmesa_context(options);
+            break;
     }
     GLint major = 0, minor = 0;
     glGetIntegerv(GL_MAJOR_VERSION, &major);

@@ -21,11 +21,11 @@ Backend parse_backend(std::string_view name);
 bool display_available();
 
 struct ContextOptions {
-    int width = 1280;        // window size; headless contexts render into FBOs of any size
+    int width = 1280;  // window size; headless contexts render into FBOs of any size
     int height = 720;
-    bool debug = false;      // KHR_debug output; GL errors are counted (see gl/debug.h)
-    bool visible = true;     // window backend only
-    bool vsync = false;      // window backend only
+    bool debug = false;   // KHR_debug output; GL errors are counted (see gl/debug.h)
+    bool visible = true;  // window backend only
+    bool vsync = false;   // window backend only
     std::string title = "envshadow";
 };
 

@@ -18,17 +18,28 @@ namespace {
 
 std::string egl_error_string(EGLint error) {
     switch (error) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    default: return "EGL error 0x" + std::to_string(error);
+        case EGL_SUCCESS:
+            return "EGL_SUCCESS";
+        case EGL_NOT_INITIALIZED:
+            return "EGL_NOT_INITIALIZED";
+        case EGL_BAD_ACCESS:
+            return "EGL_BAD_ACCESS";
+        case EGL_BAD_ALLOC:
+            return "EGL_BAD_ALLOC";
+        case EGL_BAD_ATTRIBUTE:
+            return "EGL_BAD_ATTRIBUTE";
+        case EGL_BAD_CONFIG:
+            return "EGL_BAD_CONFIG";
+        case EGL_BAD_CONTEXT:
+            return "EGL_BAD_CONTEXT";
+        case EGL_BAD_DISPLAY:
+            return "EGL_BAD_DISPLAY";
+        case EGL_BAD_MATCH:
+            return "EGL_BAD_MATCH";
+        case EGL_BAD_PARAMETER:
+            return "EGL_BAD_PARAMETER";
+        default:
+            return "EGL error 0x" + std::to_string(error);
     }
 }
 
@@ -44,7 +55,9 @@ bool has_extension(const char* list, const char* name) {
     return false;
 }
 
-void* egl_get_proc(const char* name) { return reinterpret_cast<void*>(eglGetProcAddress(name)); }
+void* egl_get_proc(const char* name) {
+    return reinterpret_cast<void*>(eglGetProcAddress(name));
+}
 
 class EglContext final : public Context {
 public:
@@ -115,8 +128,9 @@ Display open_surfaceless_display(std::string& why) {
     }
     auto get_platform_display =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    EGLDisplay display = get_platform_display ? get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr)
-                                              : EGL_NO_DISPLAY;
+    EGLDisplay display = get_platform_display
+                             ? get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr)
+                             : EGL_NO_DISPLAY;
     if (display == EGL_NO_DISPLAY) why += "surfaceless display unavailable; ";
     return {display, "EGL surfaceless"};
 }
@@ -145,12 +159,17 @@ std::unique_ptr<Context> create_egl_context(const ContextOptions& options) {
         EGLConfig config = nullptr;
         EGLint configs = 0;
         eglChooseConfig(d.display, config_attribs, &config, 1, &configs);
-        const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
-                                          EGL_CONTEXT_MINOR_VERSION, 5,
-                                          EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                          EGL_CONTEXT_OPENGL_DEBUG, options.debug ? EGL_TRUE : EGL_FALSE,
+        const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                          4,
+                                          EGL_CONTEXT_MINOR_VERSION,
+                                          5,
+                                          EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                          EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                          EGL_CONTEXT_OPENGL_DEBUG,
+                                          options.debug ? EGL_TRUE : EGL_FALSE,
                                           EGL_NONE};
-        EGLContext context = eglCreateContext(d.display, configs ? config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, context_attribs);
+        EGLContext context =
+            eglCreateContext(d.display, configs ? config : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, context_attribs);
         if (context == EGL_NO_CONTEXT) {
             why += d.platform + ": no OpenGL 4.5 core context (" + egl_error_string(eglGetError()) + "); ";
             eglTerminate(d.display);

@@ -12,9 +12,13 @@ namespace envshadow::gl::detail {
 namespace {
 
 std::string g_last_glfw_error;
-void on_glfw_error(int, const char* description) { g_last_glfw_error = description; }
+void on_glfw_error(int, const char* description) {
+    g_last_glfw_error = description;
+}
 
-void* glfw_get_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
+void* glfw_get_proc(const char* name) {
+    return reinterpret_cast<void*>(glfwGetProcAddress(name));
+}
 
 class GlfwContext final : public Context {
 public:
@@ -39,8 +43,9 @@ private:
 std::unique_ptr<Context> create_glfw_context(const ContextOptions& options) {
     glfwSetErrorCallback(&on_glfw_error);
     if (!display_available())
-        throw PlatformError("window: no display (DISPLAY and WAYLAND_DISPLAY are unset); use --backend egl or osmesa "
-                            "for off-screen rendering, or run under xvfb-run");
+        throw PlatformError(
+            "window: no display (DISPLAY and WAYLAND_DISPLAY are unset); use --backend egl or osmesa "
+            "for off-screen rendering, or run under xvfb-run");
     if (!glfwInit()) throw PlatformError("window: glfwInit failed (" + g_last_glfw_error + "); try --backend egl");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);

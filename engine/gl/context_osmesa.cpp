@@ -10,7 +10,9 @@
 namespace envshadow::gl::detail {
 namespace {
 
-void* osmesa_get_proc(const char* name) { return reinterpret_cast<void*>(OSMesaGetProcAddress(name)); }
+void* osmesa_get_proc(const char* name) {
+    return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
+}
 
 class OsmesaContext final : public Context {
 public:
@@ -30,16 +32,22 @@ private:
 }  // namespace
 
 std::unique_ptr<Context> create_osmesa_context(const ContextOptions&) {
-    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA,
-                           OSMESA_DEPTH_BITS, 24,
-                           OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                           OSMESA_CONTEXT_MAJOR_VERSION, 4,
-                           OSMESA_CONTEXT_MINOR_VERSION, 5,
+    const int attribs[] = {OSMESA_FORMAT,
+                           OSMESA_RGBA,
+                           OSMESA_DEPTH_BITS,
+                           24,
+                           OSMESA_PROFILE,
+                           OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION,
+                           4,
+                           OSMESA_CONTEXT_MINOR_VERSION,
+                           5,
                            0};
     OSMesaContext context = OSMesaCreateContextAttribs(attribs, nullptr);
     if (!context)
-        throw PlatformError("osmesa: OSMesaCreateContextAttribs could not make an OpenGL 4.5 core context "
-                            "(is libosmesa6 a gallium/llvmpipe build?); try --backend egl instead");
+        throw PlatformError(
+            "osmesa: OSMesaCreateContextAttribs could not make an OpenGL 4.5 core context "
+            "(is libosmesa6 a gallium/llvmpipe build?); try --backend egl instead");
     auto result = std::make_unique<OsmesaContext>(context);
     result->make_current();
     return result;

@@ -7,15 +7,33 @@
 namespace envshadow::gl {
 
 namespace detail {
-void destroy_buffer(GLuint id) { glDeleteBuffers(1, &id); }
-void destroy_texture(GLuint id) { glDeleteTextures(1, &id); }
-void destroy_framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
-void destroy_vertex_array(GLuint id) { glDeleteVertexArrays(1, &id); }
-void destroy_program(GLuint id) { glDeleteProgram(id); }
-void destroy_shader(GLuint id) { glDeleteShader(id); }
-void destroy_query(GLuint id) { glDeleteQueries(1, &id); }
-void destroy_sampler(GLuint id) { glDeleteSamplers(1, &id); }
-void destroy_transform_feedback(GLuint id) { glDeleteTransformFeedbacks(1, &id); }
+void destroy_buffer(GLuint id) {
+    glDeleteBuffers(1, &id);
+}
+void destroy_texture(GLuint id) {
+    glDeleteTextures(1, &id);
+}
+void destroy_framebuffer(GLuint id) {
+    glDeleteFramebuffers(1, &id);
+}
+void destroy_vertex_array(GLuint id) {
+    glDeleteVertexArrays(1, &id);
+}
+void destroy_program(GLuint id) {
+    glDeleteProgram(id);
+}
+void destroy_shader(GLuint id) {
+    glDeleteShader(id);
+}
+void destroy_query(GLuint id) {
+    glDeleteQueries(1, &id);
+}
+void destroy_sampler(GLuint id) {
+    glDeleteSamplers(1, &id);
+}
+void destroy_transform_feedback(GLuint id) {
+    glDeleteTransformFeedbacks(1, &id);
+}
 }  // namespace detail
 
 Buffer Buffer::create(std::size_t bytes, const void* data, GLbitfield flags) {
@@ -33,8 +51,10 @@ void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
 }
 
 void Buffer::upload_resizing(const void* data, std::size_t bytes) {
-    if (!*this || bytes > size_) *this = create(bytes, data);
-    else upload(data, bytes);
+    if (!*this || bytes > size_)
+        *this = create(bytes, data);
+    else
+        upload(data, bytes);
 }
 
 Texture Texture::create_2d(GLenum internal_format, int width, int height, int levels) {

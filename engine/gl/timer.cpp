@@ -51,8 +51,10 @@ std::vector<PassTime> GpuTimer::resolve() {
         }
         // The same pass may be measured in pieces; report their sum.
         auto it = std::find_if(times.begin(), times.end(), [&](const PassTime& t) { return t.pass == e.pass; });
-        if (it == times.end()) times.push_back({e.pass, milliseconds});
-        else it->milliseconds += milliseconds;
+        if (it == times.end())
+            times.push_back({e.pass, milliseconds});
+        else
+            it->milliseconds += milliseconds;
     }
     entries_.clear();
     return times;

@@ -45,8 +45,7 @@ Comparison compare_images(const Image& a, const Image& b, const Image8* mask, co
     const HdrDifference d = compare_hdr(b, a, selected);  // a is the reference
     if (d.pixels == 0)
         throw InputError(prefix(what) + "no pixels to compare (no alpha > 0.5 in the first image, or an empty mask)");
-    if (std::isnan(d.relative_rmse) || std::isnan(d.psnr))
-        throw InputError(prefix(what) + "non-finite pixel values");
+    if (std::isnan(d.relative_rmse) || std::isnan(d.psnr)) throw InputError(prefix(what) + "non-finite pixel values");
     return {d.relative_rmse, d.psnr, d.pixels};
 }
 

@@ -5,10 +5,10 @@
 #include <numbers>
 #include <unordered_map>
 
+#include <meshoptimizer.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
-#include <meshoptimizer.h>
 
 namespace envshadow::render {
 
@@ -29,7 +29,8 @@ glm::vec3 closest_on_triangle(const glm::vec3& p, const glm::vec3& a, const glm:
     const float vb = d5 * d2 - d1 * d6;
     if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + ac * (d2 / (d2 - d6));
     const float va = d3 * d6 - d5 * d4;
-    if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
     const float denom = va + vb + vc;
     if (!(std::abs(denom) > 0.0f)) return a;  // degenerate triangle
     return a + ab * (vb / denom) + ac * (vc / denom);
@@ -70,8 +71,8 @@ public:
 private:
     glm::ivec3 cell(const glm::vec3& p) const { return glm::ivec3(glm::floor(p / h_)); }
     static std::uint64_t key(const glm::ivec3& c) {
-        return (std::uint64_t(std::uint32_t(c.x) & 0x1fffffu) << 42) | (std::uint64_t(std::uint32_t(c.y) & 0x1fffffu) << 21) |
-               std::uint64_t(std::uint32_t(c.z) & 0x1fffffu);
+        return (std::uint64_t(std::uint32_t(c.x) & 0x1fffffu) << 42) |
+               (std::uint64_t(std::uint32_t(c.y) & 0x1fffffu) << 21) | std::uint64_t(std::uint32_t(c.z) & 0x1fffffu);
     }
     std::span<const glm::vec3> positions_;
     std::span<const std::uint32_t> indices_;
@@ -93,7 +94,8 @@ float measured_error(std::span<const glm::vec3> positions, std::span<const std::
         worst = std::max(worst, simplified_grid.distance(positions[v], worst));
     }
     for (std::size_t t = 0; t + 2 < simplified.size(); t += 3) {
-        const glm::vec3 a = positions[simplified[t]], b = positions[simplified[t + 1]], c = positions[simplified[t + 2]];
+        const glm::vec3 a = positions[simplified[t]], b = positions[simplified[t + 1]],
+                        c = positions[simplified[t + 2]];
         for (const glm::vec3& sample : {(a + b + c) / 3.0f, 0.5f * (a + b), 0.5f * (b + c), 0.5f * (c + a)})
             worst = std::max(worst, original_grid.distance(sample, worst));
     }
@@ -172,9 +174,9 @@ int choose_caster_level(const CasterLod& lod, float max_error) {
 
 float caster_error_budget(const glm::mat4& world_from_object, float min_texel_world, float fraction) {
     if (!(fraction > 0.0f) || !(min_texel_world > 0.0f)) return 0.0f;
-    const float max_scale = std::max({glm::length(glm::vec3(world_from_object[0])),
-                                      glm::length(glm::vec3(world_from_object[1])),
-                                      glm::length(glm::vec3(world_from_object[2]))});
+    const float max_scale =
+        std::max({glm::length(glm::vec3(world_from_object[0])), glm::length(glm::vec3(world_from_object[1])),
+                  glm::length(glm::vec3(world_from_object[2]))});
     if (!(max_scale > 0.0f) || !std::isfinite(max_scale)) return 0.0f;
     return fraction * min_texel_world / max_scale;
 }

@@ -19,7 +19,7 @@ namespace envshadow::render {
 struct CasterLevel {
     std::uint32_t first_index = 0;  // into CasterLod::indices
     std::uint32_t index_count = 0;
-    float error = 0.0f;  // bound on the distance (object space) of the simplified surface from the original
+    float error = 0.0f;   // bound on the distance (object space) of the simplified surface from the original
     bool closed = false;  // welded by position, every edge is shared by exactly two oppositely wound triangles
 };
 

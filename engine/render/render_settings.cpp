@@ -141,7 +141,8 @@ RenderSettings apply_variant(RenderSettings settings, std::string_view variant, 
             throw UsageError(std::string(option) + ": '" + std::string(item) +
                              "' is neither baseline, optimised nor key=value");
         const std::string_view key = trim(item.substr(0, eq)), value = trim(item.substr(eq + 1));
-        const auto on_off = std::find_if(kSwitches.begin(), kSwitches.end(), [&](const auto& s) { return s.first == key; });
+        const auto on_off =
+            std::find_if(kSwitches.begin(), kSwitches.end(), [&](const auto& s) { return s.first == key; });
         if (on_off != kSwitches.end()) {
             settings.*(on_off->second) = parse_on_off(value, option);
         } else if (key == "caster-lod") {

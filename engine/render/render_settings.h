@@ -67,8 +67,8 @@ RenderSettings baseline(RenderSettings settings);
 
 // `settings` changed by a variant of `bench --variants`: comma-separated items, each a preset
 // ("baseline": baseline(); "optimised" or "default": nothing changed) or key=value, with keys
-// caster-lod (texels; "off" = 0), prepass, ubo, cull, specialise, tiles, flat (on/off), depth-bits, tile, atlas, pcf. Applied left
-// to right; validated. UsageError naming `option` for anything else.
+// caster-lod (texels; "off" = 0), prepass, ubo, cull, specialise, tiles, flat (on/off), depth-bits, tile, atlas, pcf.
+// Applied left to right; validated. UsageError naming `option` for anything else.
 RenderSettings apply_variant(RenderSettings settings, std::string_view variant, std::string_view option);
 
 std::string_view to_string(AtlasMode mode);

@@ -25,9 +25,9 @@ namespace {
 constexpr GLuint kAtlasUnit = 0;
 constexpr GLuint kEnvironmentUnit = 1;
 constexpr GLuint kLightsBinding = 0;
-constexpr GLuint kDepthUnit = 2;          // glsl/shadow_tiles.comp
-constexpr GLuint kTileListsBinding = 1;   // shadow_tiles.comp writes, shade.frag (SHADOW_TILE_LISTS) reads
-constexpr int kScreenTile = 16;           // pixels; shadow_tiles.comp's work group, shade.frag's tile
+constexpr GLuint kDepthUnit = 2;           // glsl/shadow_tiles.comp
+constexpr GLuint kTileListsBinding = 1;    // shadow_tiles.comp writes, shade.frag (SHADOW_TILE_LISTS) reads
+constexpr int kScreenTile = 16;            // pixels; shadow_tiles.comp's work group, shade.frag's tile
 constexpr GLuint kCasterRectsBinding = 3;  // shadow_tiles.comp
 constexpr int kMaxCasterRects = 16;        // per light; more casters share one rectangle (the tile)
 
@@ -328,7 +328,8 @@ void Renderer::draw_atlas() {
             const CasterLod& lod = instance.mesh->caster_lod();
             const int level = choose_caster_level(
                 lod, caster_error_budget(instance.world_from_object, min_texel_world_, settings_.caster_lod));
-            atlas_triangles_ += std::size_t(lod.levels[std::size_t(level)].index_count / 3) * std::size_t(tiles_per_draw);
+            atlas_triangles_ +=
+                std::size_t(lod.levels[std::size_t(level)].index_count / 3) * std::size_t(tiles_per_draw);
             glProgramUniformMatrix4fv(atlas_program_.id(), loc::world_from_object, 1, GL_FALSE,
                                       &instance.world_from_object[0][0]);
             // Closed casters: front faces only (the light frame keeps the winding: right x up = toward,
@@ -350,7 +351,8 @@ void Renderer::draw_atlas() {
             for (GLenum plane = 0; plane < 4; ++plane) glEnable(GL_CLIP_DISTANCE0 + plane);
             glViewport(0, 0, layout_.width(), layout_.height());
             glProgramUniform1i(atlas_program_.id(), loc::first_tile, 0);
-            for_each_caster(tiles, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, tiles); });  // one draw per mesh
+            for_each_caster(
+                tiles, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, tiles); });  // one draw per mesh
             for (GLenum plane = 0; plane < 4; ++plane) glDisable(GL_CLIP_DISTANCE0 + plane);
             break;
         case AtlasMode::viewport_array:
@@ -455,8 +457,8 @@ void Renderer::draw_objects(const CameraView& view) {
         // eye as shade.frag turns it, gives every a_i once for all its pixels.
         glm::vec3 flat_normal(0.0f);
         bool flat = false;
-        if (diffuse_only && settings_.flat_receivers && tile_lists_active() && settings_.diffuse == DiffuseMode::center &&
-            instance.mesh->flat_normal()) {
+        if (diffuse_only && settings_.flat_receivers && tile_lists_active() &&
+            settings_.diffuse == DiffuseMode::center && instance.mesh->flat_normal()) {
             const glm::vec3 n = glm::normalize(instance.world_normal_from_object * *instance.mesh->flat_normal());
             const glm::vec3 point(instance.world_from_object * glm::vec4(instance.mesh->bounds_min(), 1.0f));
             const float side = glm::dot(n, view.eye - point);
@@ -471,7 +473,8 @@ void Renderer::draw_objects(const CameraView& view) {
         if (flat) {
             glm::dvec3 sum(0.0);
             for (const LightRecord& record : records_)
-                sum += glm::dvec3(record.radiance) * (glm::dvec3(k_d) * double(std::max(glm::dot(flat_normal, glm::vec3(record.direction)), 0.0f)));
+                sum += glm::dvec3(record.radiance) *
+                       (glm::dvec3(k_d) * double(std::max(glm::dot(flat_normal, glm::vec3(record.direction)), 0.0f)));
             glProgramUniform3f(program, loc::unshadowed, float(sum.x), float(sum.y), float(sum.z));
         }
         glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE, &instance.world_from_object[0][0]);

@@ -159,8 +159,8 @@ private:
     gl::Texture environment_;
     gl::Texture color_, depth_;
     gl::Framebuffer target_;
-    glm::ivec2 screen_tiles_{0, 0};  // 16x16-pixel tiles of the target
-    gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
+    glm::ivec2 screen_tiles_{0, 0};        // 16x16-pixel tiles of the target
+    gl::Buffer tile_lists_;                // per screen tile: light count, light indices (shadow_tiles.comp)
     std::vector<glm::vec4> caster_rects_;  // per light, per caster: its box in the light's clip space
     int caster_rect_count_ = 1;
     gl::Buffer caster_rect_buffer_;

@@ -360,7 +360,7 @@ private:
                     fail(path_, what + " POSITION " + std::to_string(source[v]) + " is not finite");
                 // Beyond the limit, sums and extents downstream (bounds, fitting, cameras) overflow.
                 if (std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) > kMaxCoordinate)
-                    fail(path_, what + " POSITION " + std::to_string(source[v]) + 
+                    fail(path_, what + " POSITION " + std::to_string(source[v]) +
                                     " lies beyond 1e12 after its node transforms (coordinate limit)");
                 part.positions[v] = glm::vec3(w);
             }
@@ -424,7 +424,9 @@ bool regular_file_exists(const std::string& path, void*) {
     return std::filesystem::is_regular_file(path, ec);
 }
 
-std::string path_unchanged(const std::string& path, void*) { return path; }
+std::string path_unchanged(const std::string& path, void*) {
+    return path;
+}
 
 bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
     try {

@@ -34,8 +34,8 @@ TEST_P(BenchCli, SweepTableAndJsonAgree) {
     fs::remove(json);
     const std::string command = std::string(ENVSHADOW_EXE) + " bench --scene " + ENVSHADOW_SOURCE_DIR +
                                 "/assets/scenes/flyover.json --sweep lights=8,16 --frames 3 --warmup 1 "
-                                "--width 160 --height 96 --tile 128 --backend " + GetParam() + " --json " + json.string() +
-                                " 2>/dev/null";
+                                "--width 160 --height 96 --tile 128 --backend " +
+                                GetParam() + " --json " + json.string() + " 2>/dev/null";
     int status = 0;
     const std::string table = run(command, status);
     ASSERT_EQ(status, 0) << command << "\n" << table;
@@ -76,11 +76,13 @@ TEST_P(BenchCli, SweepTableAndJsonAgree) {
 // for, and its wall time is a column of its own, inside the frame's.
 TEST_P(BenchCli, GpuSamplingIsTimedEveryFrameAtEachImportanceSize) {
     for (const std::string size : {"256x128", "1024x512"}) {
-        const fs::path json = fs::path(ENVSHADOW_BINARY_DIR) / "bench" / ("bench_fs_" + size + "_" + GetParam() + ".json");
+        const fs::path json =
+            fs::path(ENVSHADOW_BINARY_DIR) / "bench" / ("bench_fs_" + size + "_" + GetParam() + ".json");
         fs::create_directories(json.parent_path());
         fs::remove(json);
         const std::string command = std::string(ENVSHADOW_EXE) + " bench --scene " + ENVSHADOW_SOURCE_DIR +
-                                    "/assets/scenes/flyover.json --env builtin:sky --method fs-gpu --fs-importance " + size +
+                                    "/assets/scenes/flyover.json --env builtin:sky --method fs-gpu --fs-importance " +
+                                    size +
                                     " --lights 32 --frames 2 --warmup 1 --width 160 --height 96 --tile 128 --backend " +
                                     GetParam() + " --json " + json.string() + " 2>&1";
         int status = 0;
@@ -97,9 +99,10 @@ TEST_P(BenchCli, GpuSamplingIsTimedEveryFrameAtEachImportanceSize) {
         EXPECT_LT(sampling, row["frame_ms"]["median"].get<double>());
     }
     int status = 0;
-    const std::string bad = run(std::string(ENVSHADOW_EXE) + " bench --scene " + ENVSHADOW_SOURCE_DIR +
-                                    "/assets/scenes/flyover.json --method fs-gpu --fs-importance 100x50 --frames 1 2>&1",
-                                status);
+    const std::string bad =
+        run(std::string(ENVSHADOW_EXE) + " bench --scene " + ENVSHADOW_SOURCE_DIR +
+                "/assets/scenes/flyover.json --method fs-gpu --fs-importance 100x50 --frames 1 2>&1",
+            status);
     EXPECT_EQ(WEXITSTATUS(status), 2) << bad;
     EXPECT_NE(bad.find("--fs-importance"), std::string::npos) << bad;
 }

@@ -10,8 +10,8 @@
 #include <set>
 #include <string>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "common/test_files.h"
 #include "core/image.h"
@@ -24,7 +24,8 @@ namespace fs = std::filesystem;
 
 // Runs `envshadow view ARGUMENTS --screenshot OUT` under Xvfb; returns its log.
 std::string run_viewer(const std::string& arguments, const fs::path& out) {
-    EXPECT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run missing: scripts/install-deps.sh installs it";
+    EXPECT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run missing: scripts/install-deps.sh installs it";
     fs::create_directories(out.parent_path());
     fs::remove(out);
     const std::string log = out.string() + ".log";
@@ -40,7 +41,8 @@ std::string run_viewer(const std::string& arguments, const fs::path& out) {
 }
 
 TEST(Viewer, RunsUnderXvfbAndShowsTheSceneAndTheUi) {
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run missing: scripts/install-deps.sh installs it";
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run missing: scripts/install-deps.sh installs it";
     const fs::path out = fs::path(ENVSHADOW_BINARY_DIR) / "viewer" / "viewer_xvfb.png";
     run_viewer("--scene " + std::string(ENVSHADOW_SOURCE_DIR) +
                    "/assets/scenes/spheres.json --lights 32 --width 1024 --height 576 --frames 12",

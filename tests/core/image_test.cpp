@@ -10,7 +10,8 @@ namespace envshadow {
 namespace {
 
 std::filesystem::path temp_dir() {
-    auto dir = std::filesystem::temp_directory_path() / ("envshadow_core_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    auto dir = std::filesystem::temp_directory_path() /
+               ("envshadow_core_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
     std::filesystem::create_directories(dir);
     return dir;
 }
@@ -63,8 +64,8 @@ TEST(Image, TonemapIsMonotonicAndMapsZeroToBlack) {
 TEST(Image, SrgbEncodeMatchesTheStandardAtKnownPoints) {
     EXPECT_FLOAT_EQ(srgb_encode(0.0f), 0.0f);
     EXPECT_FLOAT_EQ(srgb_encode(1.0f), 1.0f);
-    EXPECT_NEAR(srgb_encode(0.18f), 0.4613f, 1e-3f);  // mid grey
-    EXPECT_NEAR(srgb_encode(0.002f), 0.02584f, 1e-5f); // linear segment
+    EXPECT_NEAR(srgb_encode(0.18f), 0.4613f, 1e-3f);    // mid grey
+    EXPECT_NEAR(srgb_encode(0.002f), 0.02584f, 1e-5f);  // linear segment
 }
 
 TEST(Image, PngRoundTrip) {

@@ -226,7 +226,8 @@ ImportanceMap synthetic_importance(int width, int height, std::vector<float> wei
 std::vector<std::uint16_t> column_cells(int width, int height, const std::vector<int>& column_cell) {
     std::vector<std::uint16_t> cells(size_t(width) * size_t(height));
     for (int j = 0; j < height; ++j)
-        for (int i = 0; i < width; ++i) cells[size_t(j) * size_t(width) + size_t(i)] = std::uint16_t(column_cell[size_t(i)]);
+        for (int i = 0; i < width; ++i)
+            cells[size_t(j) * size_t(width) + size_t(i)] = std::uint16_t(column_cell[size_t(i)]);
     return cells;
 }
 

@@ -2,8 +2,8 @@
 // {1, 16, 64, 128, 256} conserves the integral and the sphere, and every cell is what DESIGN.md §3 says
 // (contract_helpers.h: expect_cells_contract). One test per map and method, the five N inside it.
 #include <cctype>
-#include <string>
 #include <ostream>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -49,7 +49,8 @@ TEST_P(EnvContractConservation, EveryNConservesAndCellsMatchTheirTexels) {
         const std::string context = describe(spec, method, lights);
         EXPECT_EQ(d.method, method) << context;
         EXPECT_TRUE(count_as_promised(method, lights, d.cells.size()))
-            << context << ": " << d.cells.size() << " cells (lloyd, ccvt, random: N; mediancut: 2^floor(log2 N); fs: N or N - 1)";
+            << context << ": " << d.cells.size()
+            << " cells (lloyd, ccvt, random: N; mediancut: 2^floor(log2 N); fs: N or N - 1)";
         EXPECT_LE(std::abs(long(d.cells.size()) - lights), method == Method::mediancut ? lights : 2)
             << context << ": the issue allows N ± 2 for fs";
         EXPECT_FALSE(d.uniform_importance) << context << ": the map is not black";
@@ -65,13 +66,13 @@ std::string map_and_method_name(const ::testing::TestParamInfo<MapAndMethod>& in
     return name + "_" + std::string(to_string(info.param.method));
 }
 
-INSTANTIATE_TEST_SUITE_P(MapsAndMethods, EnvContractConservation,
-                         ::testing::ValuesIn(conservation_cases()),
+INSTANTIATE_TEST_SUITE_P(MapsAndMethods, EnvContractConservation, ::testing::ValuesIn(conservation_cases()),
                          map_and_method_name);
 
 // White furnace: a uniform sphere of radiance R carries 4πR in every channel, whatever the cutting.
 TEST(EnvContractWhiteFurnace, ConstantMapSumsToFourPiPerChannel) {
-    for (const auto& [spec, radiance] : {std::pair<std::string, double>{"builtin:constant", 1.0}, {"builtin:constant:2.5", 2.5}}) {
+    for (const auto& [spec, radiance] :
+         {std::pair<std::string, double>{"builtin:constant", 1.0}, {"builtin:constant:2.5", 2.5}}) {
         const EnvironmentMap& map = cached_map(spec);
         for (Method method : kAllMethods)
             for (int lights : kIssueCounts) {

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
-#include <gtest/gtest.h>
 
 #include "env/cells.h"
 #include "env/environment.h"
@@ -40,7 +40,9 @@ inline const EnvironmentMap& cached_map(const std::string& spec) {
     return *slot;
 }
 
-inline std::size_t texel_index(int i, int j, int width) { return std::size_t(j) * std::size_t(width) + std::size_t(i); }
+inline std::size_t texel_index(int i, int j, int width) {
+    return std::size_t(j) * std::size_t(width) + std::size_t(i);
+}
 
 // ∫ L dω, texel by texel, with the exact texel solid angle.
 inline glm::dvec3 direct_integral(const EnvironmentMap& map) {
@@ -71,11 +73,11 @@ inline std::vector<double> texel_importance(const EnvironmentMap& map) {
 
 // Per-cell sums recomputed from the texel -> cell assignment alone.
 struct CellSums {
-    std::vector<glm::dvec3> radiance;             // Σ L dω
-    std::vector<double> solid_angle;              // Σ dω
-    std::vector<double> importance;               // Σ I
-    std::vector<glm::dvec3> importance_direction;  // Σ I ω
-    std::vector<glm::dvec3> solid_angle_direction; // Σ dω ω
+    std::vector<glm::dvec3> radiance;               // Σ L dω
+    std::vector<double> solid_angle;                // Σ dω
+    std::vector<double> importance;                 // Σ I
+    std::vector<glm::dvec3> importance_direction;   // Σ I ω
+    std::vector<glm::dvec3> solid_angle_direction;  // Σ dω ω
     std::vector<long> texels;
 };
 
@@ -117,8 +119,10 @@ inline bool count_as_promised(Method method, int lights, std::size_t cells) {
             while (power * 2 <= lights) power *= 2;
             return n == power;
         }
-        case Method::fs: return n == lights || n == lights - 1;
-        default: return n == lights;
+        case Method::fs:
+            return n == lights || n == lights - 1;
+        default:
+            return n == lights;
     }
 }
 
@@ -173,34 +177,46 @@ inline void expect_cells_contract(const EnvironmentMap& map, const Decomposition
         // Each cell's solid angle and radiance are the sums over exactly its texels.
         if (std::abs(cell.solid_angle - sums.solid_angle[k]) > 1e-5 * sums.solid_angle[k] + 1e-9) {
             ++bad_solid_angle;
-            if (show()) ADD_FAILURE() << "cell " << k << ": " << "solid_angle " << cell.solid_angle << " but its texels sum to " << sums.solid_angle[k];
+            if (show())
+                ADD_FAILURE() << "cell " << k << ": "
+                              << "solid_angle " << cell.solid_angle << " but its texels sum to " << sums.solid_angle[k];
         }
         for (int c = 0; c < 3; ++c)
             if (std::abs(cell.radiance[c] - sums.radiance[k][c]) > 1e-5 * sums.radiance[k][c] + 1e-7 * scale + 1e-12) {
                 ++bad_radiance;
-                if (show()) ADD_FAILURE() << "cell " << k << ": " << "radiance[" << c << "] " << cell.radiance[c] << " but its texels sum to "
-                              << sums.radiance[k][c];
+                if (show())
+                    ADD_FAILURE() << "cell " << k << ": "
+                                  << "radiance[" << c << "] " << cell.radiance[c] << " but its texels sum to "
+                                  << sums.radiance[k][c];
             }
         const double length = glm::length(glm::dvec3(cell.direction));
         if (!(std::abs(length - 1.0) <= 1e-5)) {
             ++bad_direction;
-            if (show()) ADD_FAILURE() << "cell " << k << ": " << "direction length " << length;
+            if (show())
+                ADD_FAILURE() << "cell " << k << ": "
+                              << "direction length " << length;
         }
         const double expected_cap = 1.0 - sums.solid_angle[k] / (2.0 * std::numbers::pi);
         if (!(cell.cos_radius >= -1.0f && cell.cos_radius <= 1.0f) || std::abs(cell.cos_radius - expected_cap) > 1e-5) {
             ++bad_cap;
-            if (show()) ADD_FAILURE() << "cell " << k << ": " << "cos_radius " << cell.cos_radius << ", 1 - Δω/(2π) = " << expected_cap;
+            if (show())
+                ADD_FAILURE() << "cell " << k << ": "
+                              << "cos_radius " << cell.cos_radius << ", 1 - Δω/(2π) = " << expected_cap;
         }
         // DESIGN.md §3: cos r^w = 2 (Σ I (ω·c) / Σ I) - 1; cells.h: solid-angle weights where Σ I = 0,
         // and 1 for an empty cell.
         double expected_weighted = 1.0;
-        if (sums.importance[k] > 0.0) expected_weighted = 2.0 * weighted_cos[k] / sums.importance[k] - 1.0;
-        else if (sums.solid_angle[k] > 0.0) expected_weighted = 2.0 * solid_cos[k] / sums.solid_angle[k] - 1.0;
+        if (sums.importance[k] > 0.0)
+            expected_weighted = 2.0 * weighted_cos[k] / sums.importance[k] - 1.0;
+        else if (sums.solid_angle[k] > 0.0)
+            expected_weighted = 2.0 * solid_cos[k] / sums.solid_angle[k] - 1.0;
         if (!(cell.cos_radius_weighted >= -1.0f && cell.cos_radius_weighted <= 1.0f) ||
             std::abs(cell.cos_radius_weighted - std::clamp(expected_weighted, -1.0, 1.0)) > 2e-5) {
             ++bad_weighted;
-            if (show()) ADD_FAILURE() << "cell " << k << ": " << "cos_radius_weighted " << cell.cos_radius_weighted << ", recomputed "
-                          << expected_weighted;
+            if (show())
+                ADD_FAILURE() << "cell " << k << ": "
+                              << "cos_radius_weighted " << cell.cos_radius_weighted << ", recomputed "
+                              << expected_weighted;
         }
         // cells.h: the centre is the normalised Σ I ω (where that is well defined).
         const glm::dvec3 mean_direction = sums.importance_direction[k];
@@ -208,7 +224,9 @@ inline void expect_cells_contract(const EnvironmentMap& map, const Decomposition
             const double error = glm::length(glm::normalize(mean_direction) - glm::dvec3(cell.direction));
             if (error > 1e-4) {
                 ++bad_centre;
-                if (show()) ADD_FAILURE() << "cell " << k << ": " << "direction is " << error << " from the normalised Σ I ω";
+                if (show())
+                    ADD_FAILURE() << "cell " << k << ": "
+                                  << "direction is " << error << " from the normalised Σ I ω";
             }
         }
     }

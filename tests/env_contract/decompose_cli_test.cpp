@@ -3,6 +3,7 @@
 // is checked against the map's texels read with core's read_exr, not with the code under test.
 #include <sys/wait.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -10,7 +11,6 @@
 #include <numbers>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -40,7 +40,8 @@ class EnvContractCli : public ::testing::Test {
 protected:
     void SetUp() override {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::path(ENVSHADOW_BINARY_DIR) / "env_contract_cli" / (std::string(info->name()) + "_" + std::to_string(::getpid()));
+        dir_ = fs::path(ENVSHADOW_BINARY_DIR) / "env_contract_cli" /
+               (std::string(info->name()) + "_" + std::to_string(::getpid()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -68,7 +69,9 @@ protected:
 
 const std::string kCourtyard = "/usr/share/blender/datafiles/studiolights/world/courtyard.exr";
 
-std::string shell_quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string shell_quoted(const fs::path& p) {
+    return "'" + p.string() + "'";
+}
 
 TEST_F(EnvContractCli, JsonHasTheKeysOfDesignAndConservesTheIntegral) {
     // ∫ L dω of the map, from its texels (DESIGN.md §2's exact texel solid angle).
@@ -83,8 +86,9 @@ TEST_F(EnvContractCli, JsonHasTheKeysOfDesignAndConservesTheIntegral) {
     for (const std::string method : {"lloyd", "ccvt", "mediancut", "random", "fs"}) {
         SCOPED_TRACE(method);
         const fs::path json_file = file(method + ".json"), png_file = file(method + ".png");
-        const CommandRun run = decompose("--env " + shell_quoted(kCourtyard) + " --lights 16 --method " + method + " --seed 3 --json " +
-                                  shell_quoted(json_file) + " --png " + shell_quoted(png_file));
+        const CommandRun run =
+            decompose("--env " + shell_quoted(kCourtyard) + " --lights 16 --method " + method + " --seed 3 --json " +
+                      shell_quoted(json_file) + " --png " + shell_quoted(png_file));
         ASSERT_EQ(run.status, 0) << run.out << run.err;
         nlohmann::json j;
         ASSERT_NO_THROW(j = nlohmann::json::parse(slurp(json_file))) << slurp(json_file);
@@ -126,9 +130,10 @@ TEST_F(EnvContractCli, JsonHasTheKeysOfDesignAndConservesTheIntegral) {
 }
 
 TEST_F(EnvContractCli, BadUsageExitsTwoAndWritesNothing) {
-    for (const std::string bad : std::initializer_list<const char*>{"--lights 0 --method lloyd", "--lights 1000 --method lloyd", "--lights 16 --method bogus"}) {
-        const CommandRun run = decompose("--env builtin:constant " + bad + " --json " + shell_quoted(file("out.json")) + " --png " +
-                                  shell_quoted(file("out.png")));
+    for (const std::string bad : std::initializer_list<const char*>{
+             "--lights 0 --method lloyd", "--lights 1000 --method lloyd", "--lights 16 --method bogus"}) {
+        const CommandRun run = decompose("--env builtin:constant " + bad + " --json " + shell_quoted(file("out.json")) +
+                                         " --png " + shell_quoted(file("out.png")));
         EXPECT_EQ(run.status, 2) << bad << "\n" << run.out << run.err;
         EXPECT_FALSE(run.err.empty()) << bad << ": no message";
         EXPECT_EQ(outputs_left(), 0) << bad << ": an output file was left";
@@ -146,9 +151,8 @@ TEST_F(EnvContractCli, BadInputExitsThreeWithOneLineNamingTheFile) {
         std::ofstream(truncated, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 3));
     }
     for (const fs::path& bad : {missing, truncated}) {
-        const CommandRun run =
-            decompose("--env " + shell_quoted(bad) + " --lights 16 --method lloyd --json " + shell_quoted(file("out.json")) + " --png " +
-                      shell_quoted(file("out.png")));
+        const CommandRun run = decompose("--env " + shell_quoted(bad) + " --lights 16 --method lloyd --json " +
+                                         shell_quoted(file("out.json")) + " --png " + shell_quoted(file("out.png")));
         EXPECT_EQ(run.status, 3) << bad << "\n" << run.out << run.err;
         EXPECT_NE(run.err.find(bad.string()), std::string::npos) << "stderr does not name the file: " << run.err;
         const auto lines = std::count(run.err.begin(), run.err.end(), '\n');

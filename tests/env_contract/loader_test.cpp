@@ -16,9 +16,9 @@
 #include <ImfRgbaFile.h>
 #include <ImfTiledRgbaFile.h>
 #include <gtest/gtest.h>
-#include <stb_image_write.h>
 #include <poll.h>
 #include <signal.h>
+#include <stb_image_write.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -54,7 +54,8 @@ Image test_image(int width, int height, std::uint32_t seed = 1) {
     Image image(width, height);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
-            image.at(x, y) = glm::vec4(std::exp2(exponent(rng)), std::exp2(exponent(rng)), std::exp2(exponent(rng)), 1.0f);
+            image.at(x, y) =
+                glm::vec4(std::exp2(exponent(rng)), std::exp2(exponent(rng)), std::exp2(exponent(rng)), 1.0f);
     for (int x = 0; x < width; ++x) image.at(x, 0) = glm::vec4(1000.0f, 2000.0f, 3000.0f, 1.0f);
     return image;
 }
@@ -81,7 +82,8 @@ Outcome load_in_child(const std::string& file) {
                 out = "Wloaded a " + std::to_string(map.width) + "x" + std::to_string(map.height) + " map";
             for (const glm::vec3& t : map.texels)
                 for (int c = 0; c < 3; ++c)
-                    if (!(std::isfinite(t[c]) && t[c] >= 0.0f)) out = "Wloaded a texel component " + std::to_string(t[c]);
+                    if (!(std::isfinite(t[c]) && t[c] >= 0.0f))
+                        out = "Wloaded a texel component " + std::to_string(t[c]);
         } catch (const InputError& e) {
             out = std::string(std::string(e.what()).find(file) != std::string::npos ? "E" : "W") +
                   "InputError not naming the file: " + e.what();
@@ -99,7 +101,8 @@ Outcome load_in_child(const std::string& file) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(3);  // a load takes milliseconds
     bool hung = false;
     for (;;) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        const auto left =
+            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
         if (left.count() <= 0 || ::poll(&poll_fd, 1, int(left.count())) == 0) {
             hung = true;
             break;
@@ -126,7 +129,8 @@ void expect_input_error_naming(const std::string& file, F&& load, const std::str
         load();
         ADD_FAILURE() << what << ": loaded without an error";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << what << ": message does not name the file: " << e.what();
+        EXPECT_NE(std::string(e.what()).find(file), std::string::npos)
+            << what << ": message does not name the file: " << e.what();
     } catch (const std::exception& e) {
         ADD_FAILURE() << what << ": threw something other than InputError: " << e.what();
     }
@@ -175,7 +179,8 @@ TEST_F(EnvContractLoader, HalfExrWrittenByOpenExrLoadsExactly) {
     ASSERT_EQ(map.height, 32);
     for (int j = 0; j < 32; ++j)
         for (int i = 0; i < 64; ++i)
-            ASSERT_EQ(map.at(i, j), glm::vec3(float(pixels[j][i].r), float(pixels[j][i].g), float(pixels[j][i].b))) << i << "," << j;
+            ASSERT_EQ(map.at(i, j), glm::vec3(float(pixels[j][i].r), float(pixels[j][i].g), float(pixels[j][i].b)))
+                << i << "," << j;
 }
 
 TEST_F(EnvContractLoader, TiledExrLoadsExactly) {
@@ -188,7 +193,8 @@ TEST_F(EnvContractLoader, TiledExrLoadsExactly) {
         }
     {
         // 48 x 24 tiles: partial tiles at the right and bottom edges too.
-        Imf::TiledRgbaOutputFile file(path("tiled.exr").c_str(), 128, 64, 48, 24, Imf::ONE_LEVEL, Imf::ROUND_DOWN, Imf::WRITE_RGB);
+        Imf::TiledRgbaOutputFile file(path("tiled.exr").c_str(), 128, 64, 48, 24, Imf::ONE_LEVEL, Imf::ROUND_DOWN,
+                                      Imf::WRITE_RGB);
         file.setFrameBuffer(&pixels[0][0], 1, 128);
         file.writeTiles(0, file.numXTiles() - 1, 0, file.numYTiles() - 1);
     }
@@ -197,7 +203,8 @@ TEST_F(EnvContractLoader, TiledExrLoadsExactly) {
     ASSERT_EQ(map.height, 64);
     for (int j = 0; j < 64; ++j)
         for (int i = 0; i < 128; ++i)
-            ASSERT_EQ(map.at(i, j), glm::vec3(float(pixels[j][i].r), float(pixels[j][i].g), float(pixels[j][i].b))) << i << "," << j;
+            ASSERT_EQ(map.at(i, j), glm::vec3(float(pixels[j][i].r), float(pixels[j][i].g), float(pixels[j][i].b)))
+                << i << "," << j;
 }
 
 // RGBE keeps 8 bits of mantissa for the largest component of a texel (stb truncates when writing and
@@ -214,7 +221,8 @@ TEST_F(EnvContractLoader, RadianceHdrLoadsWithinRgbePrecision) {
         for (int i = 0; i < 64; ++i) {
             const glm::vec4 p = image.at(i, j);
             const float largest = std::max({p.r, p.g, p.b});
-            for (int c = 0; c < 3; ++c) ASSERT_NEAR(map.at(i, j)[c], p[c], largest / 64.0f) << i << "," << j << " channel " << c;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(map.at(i, j)[c], p[c], largest / 64.0f) << i << "," << j << " channel " << c;
         }
 }
 
@@ -256,7 +264,8 @@ TEST_F(EnvContractLoader, NonFiniteValuesAreAnInputErrorNamingTheFileUnlessClamp
     image.pixels[301].b = 1e35f;  // environment.h: above 1e30 counts as invalid
     image.pixels[400].r = -1.0f;  // negative: clamped and counted separately
     write_exr(path("nan.exr"), image);
-    expect_input_error_naming(path("nan.exr"), [&] { load_environment(path("nan.exr")); }, "NaN/Inf without clamp_invalid");
+    expect_input_error_naming(
+        path("nan.exr"), [&] { load_environment(path("nan.exr")); }, "NaN/Inf without clamp_invalid");
 
     EnvironmentLoadReport report;
     const EnvironmentMap map = load_environment(path("nan.exr"), {.clamp_invalid = true}, &report);
@@ -277,26 +286,32 @@ TEST_F(EnvContractLoader, WrongAspectRatioIsAnInputErrorNamingTheFile) {
     write_exr(path("wide.exr"), Image(64, 16, glm::vec4(1.0f)));
     write_exr(path("one_by_two.exr"), Image(1, 2, glm::vec4(1.0f)));
     for (const char* name : {"square.exr", "wide.exr", "one_by_two.exr"})
-        expect_input_error_naming(path(name), [&] { load_environment(path(name)); }, name);
+        expect_input_error_naming(
+            path(name), [&] { load_environment(path(name)); }, name);
     std::vector<float> rgb(40 * 30 * 3, 1.0f);
     ASSERT_NE(stbi_write_hdr(path("odd.hdr").c_str(), 40, 30, 3, rgb.data()), 0);
-    expect_input_error_naming(path("odd.hdr"), [&] { load_environment(path("odd.hdr")); }, "40x30 .hdr");
+    expect_input_error_naming(
+        path("odd.hdr"), [&] { load_environment(path("odd.hdr")); }, "40x30 .hdr");
 }
 
 // A header claiming 32768 x 16384 (over the 16384 x 8192 limit) and no pixels: refused, without
 // allocating the 6 GiB it claims.
 TEST_F(EnvContractLoader, OversizedHeaderIsAnInputError) {
     std::ofstream(path("huge.hdr"), std::ios::binary) << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16384 +X 32768\n";
-    expect_input_error_naming(path("huge.hdr"), [&] { load_environment(path("huge.hdr")); }, "32768x16384 .hdr");
+    expect_input_error_naming(
+        path("huge.hdr"), [&] { load_environment(path("huge.hdr")); }, "32768x16384 .hdr");
 }
 
 TEST_F(EnvContractLoader, MissingAndForeignFilesAreInputErrorsNamingThem) {
     const std::string missing = path("no_such_map.exr");
-    expect_input_error_naming(missing, [&] { load_environment(missing); }, "missing file");
+    expect_input_error_naming(
+        missing, [&] { load_environment(missing); }, "missing file");
     std::ofstream(path("text.exr")) << "this is not an image\n";
-    expect_input_error_naming(path("text.exr"), [&] { load_environment(path("text.exr")); }, "a text file");
+    expect_input_error_naming(
+        path("text.exr"), [&] { load_environment(path("text.exr")); }, "a text file");
     std::ofstream(path("empty.hdr")) << "";
-    expect_input_error_naming(path("empty.hdr"), [&] { load_environment(path("empty.hdr")); }, "an empty file");
+    expect_input_error_naming(
+        path("empty.hdr"), [&] { load_environment(path("empty.hdr")); }, "an empty file");
 }
 
 // Every truncation of valid files fails cleanly, and no single bit flip crashes or hangs the loader or
@@ -331,8 +346,9 @@ TEST_F(EnvContractLoader, TruncatedAndBitFlippedFilesAreInputErrorsNotCrashes) {
                               << (outcome.kind == Outcome::loaded ? std::string("loaded") : outcome.message);
             return outcome.kind;
         };
-        for (std::size_t length : {std::size_t(0), std::size_t(1), std::size_t(3), std::size_t(4), std::size_t(8), std::size_t(40),
-                                   bytes.size() / 4, bytes.size() / 2, bytes.size() - 16, bytes.size() - 1}) {
+        for (std::size_t length :
+             {std::size_t(0), std::size_t(1), std::size_t(3), std::size_t(4), std::size_t(8), std::size_t(40),
+              bytes.size() / 4, bytes.size() / 2, bytes.size() - 16, bytes.size() - 1}) {
             write_bytes(file, bytes, length);
             check("cut to " + std::to_string(length) + " of " + std::to_string(bytes.size()) + " bytes", false);
         }
@@ -346,8 +362,8 @@ TEST_F(EnvContractLoader, TruncatedAndBitFlippedFilesAreInputErrorsNotCrashes) {
                 flipped[at] = char(flipped[at] ^ (1 << bit));
                 write_bytes(file, flipped, flipped.size());
                 ++flips;
-                refused += check("with bit " + std::to_string(bit) + " of byte " + std::to_string(at) + " flipped", true) ==
-                           Outcome::input_error;
+                refused += check("with bit " + std::to_string(bit) + " of byte " + std::to_string(at) + " flipped",
+                                 true) == Outcome::input_error;
             }
         EXPECT_EQ(failures, 0) << name << ": " << failures << " truncations and flips crashed, hung or threw wrongly";
         EXPECT_GT(refused, 0) << name << ": none of " << flips << " flips was noticed";
@@ -367,8 +383,9 @@ TEST(EnvContractBuiltins, ConstantIsUniform) {
 // environment.h: the sun's disc carries about two thirds of ∫ L dω (here in luminance) and sits at
 // sun_direction(); the sun rises at 6 h on the horizon at azimuth - 90 and culminates at 12 h.
 TEST(EnvContractBuiltins, SkySunIsWhereAndAsBrightAsDocumented) {
-    for (const auto& [spec, sky] : {std::pair<std::string, SkyParameters>{"builtin:sky", SkyParameters{}},
-                                    {"builtin:sky:elevation=50,azimuth=200,time=10", SkyParameters{50, 200, 1.5, 25000, 10}}}) {
+    for (const auto& [spec, sky] :
+         {std::pair<std::string, SkyParameters>{"builtin:sky", SkyParameters{}},
+          {"builtin:sky:elevation=50,azimuth=200,time=10", SkyParameters{50, 200, 1.5, 25000, 10}}}) {
         const EnvironmentMap& map = cached_map(spec);
         EXPECT_EQ(map.width, 1024) << spec;
         EXPECT_EQ(map.height, 512) << spec;
@@ -404,9 +421,11 @@ TEST(EnvContractBuiltins, SkySunIsWhereAndAsBrightAsDocumented) {
 }
 
 TEST(EnvContractBuiltins, BadSpecsAreInputErrorsNamingTheSpec) {
-    for (const char* spec : {"builtin:nothing", "builtin:constant:abc", "builtin:constant:-1", "builtin:sky:elevation=91",
-                             "builtin:sky:colour=3", "builtin:sky:elevation", "builtin:sky:width=63"})
-        expect_input_error_naming(spec, [&] { load_environment(spec); }, spec);
+    for (const char* spec :
+         {"builtin:nothing", "builtin:constant:abc", "builtin:constant:-1", "builtin:sky:elevation=91",
+          "builtin:sky:colour=3", "builtin:sky:elevation", "builtin:sky:width=63"})
+        expect_input_error_naming(
+            spec, [&] { load_environment(spec); }, spec);
 }
 
 // --- degenerate maps through decompose() -----------------------------------------------------------
@@ -421,12 +440,14 @@ TEST_F(EnvContractLoader, BlackMapGivesWellDefinedCells) {
             const std::string context = describe("black", method, lights);
             const Decomposition d = decompose(map, {.method = method, .lights = lights});
             EXPECT_TRUE(d.uniform_importance) << context;
-            EXPECT_TRUE(count_as_promised(method, lights, d.cells.size())) << context << ": " << d.cells.size() << " cells";
+            EXPECT_TRUE(count_as_promised(method, lights, d.cells.size()))
+                << context << ": " << d.cells.size() << " cells";
             expect_cells_contract(map, d, context);
             for (const Cell& cell : d.cells) EXPECT_EQ(cell.radiance, glm::vec3(0.0f)) << context;
             if (method == Method::ccvt) {
                 const std::vector<double> importance = texel_importance(map);
-                EXPECT_LT(coefficient_of_variation(cell_sums(map, importance, d.texel_cell, d.cells.size()).solid_angle), 0.1)
+                EXPECT_LT(
+                    coefficient_of_variation(cell_sums(map, importance, d.texel_cell, d.cells.size()).solid_angle), 0.1)
                     << context << ": equal importance is equal solid angle here";
             }
         }

@@ -52,17 +52,18 @@ INSTANTIATE_TEST_SUITE_P(NoSun, EnvContractCcvtEqualImportance, ::testing::Value
 class EnvContractCcvtSunCell : public ::testing::TestWithParam<const char*> {};
 
 // City and sunrise hold texels worth more than an equal share (sunrise: four of about 13% each, and at
-// N = 64 smaller ones above the share of what is left). Such a texel cannot be split, so the cells holding one may carry more (sites.h, sites_ccvt); every other
-// cell carries an equal share of the rest. "More" is the unsplittable texels: a sun cell carries them and
-// at most two ordinary shares besides (DESIGN.md §3: every cell ≈ 1/N where it can be; the texels
-// around the disc, partly covered by it, are what a tight power cell cannot avoid).
+// N = 64 smaller ones above the share of what is left). Such a texel cannot be split, so the cells holding one may
+// carry more (sites.h, sites_ccvt); every other cell carries an equal share of the rest. "More" is the unsplittable
+// texels: a sun cell carries them and at most two ordinary shares besides (DESIGN.md §3: every cell ≈ 1/N where it can
+// be; the texels around the disc, partly covered by it, are what a tight power cell cannot avoid).
 TEST_P(EnvContractCcvtSunCell, SunCellsHoldLittleBesidesTheSunAndTheOthersShareTheRest) {
     const std::string spec = blender_map(GetParam());
     const EnvironmentMap& map = cached_map(spec);
     const std::vector<double> importance = texel_importance(map);
     double total = 0.0;
     for (double v : importance) total += v;
-    const std::size_t brightest = std::size_t(std::max_element(importance.begin(), importance.end()) - importance.begin());
+    const std::size_t brightest =
+        std::size_t(std::max_element(importance.begin(), importance.end()) - importance.begin());
     for (int lights : {16, 64, 128}) {
         const std::string context = describe(spec, Method::ccvt, lights);
         const Decomposition d = decompose(map, {.method = Method::ccvt, .lights = lights});
@@ -90,12 +91,14 @@ TEST_P(EnvContractCcvtSunCell, SunCellsHoldLittleBesidesTheSunAndTheOthersShareT
         const auto [lo, hi] = std::minmax_element(rest.begin(), rest.end());
         EXPECT_LT(coefficient_of_variation(rest), 0.10)
             << context << ": " << d.cells.size() - rest.size() << " sun cells; the other cells' importance ranges from "
-            << *lo / mean(rest) << " to " << *hi / mean(rest) << " of their mean; " << empty << " of them without texels";
+            << *lo / mean(rest) << " to " << *hi / mean(rest) << " of their mean; " << empty
+            << " of them without texels";
         for (std::size_t k = 0; k < sums.importance.size(); ++k)
             if (sun[k]) {
                 EXPECT_LE(sums.importance[k], heavy_in_cell[k] + 2.0 * mean(rest))
-                    << context << ": sun cell " << k << " carries " << sums.importance[k] / total << " of the importance, its unsplittable texels "
-                    << heavy_in_cell[k] / total << ", an ordinary cell " << mean(rest) / total;
+                    << context << ": sun cell " << k << " carries " << sums.importance[k] / total
+                    << " of the importance, its unsplittable texels " << heavy_in_cell[k] / total
+                    << ", an ordinary cell " << mean(rest) / total;
             }
     }
 }
@@ -156,7 +159,8 @@ TEST_P(EnvContractLloydDensity, CellDensityFollowsTheSquareRootOfImportance) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Maps, EnvContractLloydDensity,
-                         ::testing::Values("city", "courtyard", "forest", "interior", "night", "studio", "sunrise", "sunset"));
+                         ::testing::Values("city", "courtyard", "forest", "interior", "night", "studio", "sunrise",
+                                           "sunset"));
 
 // Lloyd minimises E = Σ I (1 - ω·c) over the cells (sites.h): its cells must beat independent samples'.
 TEST(EnvContractLloyd, LowerEnergyThanRandomSites) {
@@ -246,7 +250,8 @@ TEST(EnvContractRandom, UpperHemisphereShareMatchesImportanceAtEveryN) {
             int upper = 0;
             for (const glm::dvec3& s : d.sites) upper += s.y > 0.0;
             const double n = double(d.sites.size());
-            EXPECT_NEAR(upper / n, p, 4.0 * std::sqrt(p * (1.0 - p) / n) + 0.5 / n) << describe(spec, Method::random, lights);
+            EXPECT_NEAR(upper / n, p, 4.0 * std::sqrt(p * (1.0 - p) / n) + 0.5 / n)
+                << describe(spec, Method::random, lights);
         }
     }
 }
@@ -259,13 +264,14 @@ TEST(EnvContractCounts, FsGivesNSamplesAndMedianCutAPowerOfTwo) {
         for (int lights : kIssueCounts) {
             const Decomposition fs = decompose(map, {.method = Method::fs, .lights = lights});
             const long n = long(fs.cells.size());
-            EXPECT_LE(std::abs(n - lights), 2) << describe(spec, Method::fs, lights) << ": " << n << " samples (issue: N ± 2)";
+            EXPECT_LE(std::abs(n - lights), 2)
+                << describe(spec, Method::fs, lights) << ": " << n << " samples (issue: N ± 2)";
             EXPECT_TRUE(count_as_promised(Method::fs, lights, fs.cells.size()))
                 << describe(spec, Method::fs, lights) << ": " << n << " samples (cells.h: N or N - 1)";
             const Decomposition mc = decompose(map, {.method = Method::mediancut, .lights = lights});
             EXPECT_TRUE(count_as_promised(Method::mediancut, lights, mc.cells.size()))
-                << describe(spec, Method::mediancut, lights) << ": " << mc.cells.size() << " cells; 2^floor(log2 N) = "
-                << (1 << int(std::floor(std::log2(double(lights)))));
+                << describe(spec, Method::mediancut, lights) << ": " << mc.cells.size()
+                << " cells; 2^floor(log2 N) = " << (1 << int(std::floor(std::log2(double(lights)))));
         }
     }
 }
@@ -284,7 +290,9 @@ bool same_cells(const Decomposition& a, const Decomposition& b) {
 }
 
 // ccvt runs on courtyard (seconds elsewhere); the others on city, which has a sun.
-std::string determinism_map(Method method) { return blender_map(method == Method::ccvt ? "courtyard" : "city"); }
+std::string determinism_map(Method method) {
+    return blender_map(method == Method::ccvt ? "courtyard" : "city");
+}
 
 TEST(EnvContractDeterminism, SameSeedGivesIdenticalCells) {
     for (Method method : kAllMethods) {

@@ -12,8 +12,12 @@
 namespace envshadow::contract {
 namespace {
 
-bool white(const std::uint8_t* p) { return p[0] == 255 && p[1] == 255 && p[2] == 255; }
-bool red(const std::uint8_t* p) { return p[0] > 200 && p[1] < 100 && p[2] < 100; }
+bool white(const std::uint8_t* p) {
+    return p[0] == 255 && p[1] == 255 && p[2] == 255;
+}
+bool red(const std::uint8_t* p) {
+    return p[0] > 200 && p[1] < 100 && p[2] < 100;
+}
 
 TEST(EnvContractOverlay, BordersOnlyBetweenCellsAndADotOnEveryCentre) {
     const EnvironmentMap& map = cached_map("builtin:constant");
@@ -28,7 +32,8 @@ TEST(EnvContractOverlay, BordersOnlyBetweenCellsAndADotOnEveryCentre) {
         for (int j = 0; j < map.height; ++j)
             for (int i = 0; i < map.width; ++i) {
                 const bool border = cell(i, j) != cell(i + 1, j) || cell(i, j) != cell(i - 1, j) ||
-                                    (j + 1 < map.height && cell(i, j) != cell(i, j + 1)) || (j > 0 && cell(i, j) != cell(i, j - 1));
+                                    (j + 1 < map.height && cell(i, j) != cell(i, j + 1)) ||
+                                    (j > 0 && cell(i, j) != cell(i, j - 1));
                 border_texels += border;
                 if (white(picture.at(i, j))) {
                     ++whites;
@@ -42,8 +47,10 @@ TEST(EnvContractOverlay, BordersOnlyBetweenCellsAndADotOnEveryCentre) {
         }
         for (const Cell& c : d.cells) {
             const glm::dvec2 uv = latlong::uv(glm::dvec3(c.direction));
-            const int i = std::min(map.width - 1, int(uv.x * map.width)), j = std::min(map.height - 1, int(uv.y * map.height));
-            EXPECT_TRUE(red(picture.at(i, j))) << "N=" << lights << ": no red dot at the centre texel " << i << "," << j;
+            const int i = std::min(map.width - 1, int(uv.x * map.width)),
+                      j = std::min(map.height - 1, int(uv.y * map.height));
+            EXPECT_TRUE(red(picture.at(i, j)))
+                << "N=" << lights << ": no red dot at the centre texel " << i << "," << j;
         }
     }
 }

@@ -82,7 +82,8 @@ TEST(EnvContractSeam, SunOnTheWrapIsNotSplitThere) {
             exercised += whole_in_middle;
             if (whole_in_middle) {
                 EXPECT_TRUE(sun_whole(decompose(wrap_map, options), w - 1, 0))
-                    << to_string(method) << " seed " << seed << ": the sun is one cell in the middle of the map but split at the wrap";
+                    << to_string(method) << " seed " << seed
+                    << ": the sun is one cell in the middle of the map but split at the wrap";
             }
         }
     EXPECT_GE(exercised, 4) << "the sun should be one cell in the middle for Lloyd's four seeds at least";
@@ -115,7 +116,7 @@ double distribution_distance(const Decomposition& a, const Decomposition& b) {
 // initial sites fall, as the seed does) plus 5% of the energy: a sun split at the wrap moves a third.
 TEST(EnvContractSeam, RolledMapHasTheSameCellRadianceDistribution) {
     for (const std::string& spec : {blender_map("courtyard"), blender_map("city"), blender_map("sunrise"),
-                                   std::string("builtin:sky:azimuth=0,elevation=20")}) {
+                                    std::string("builtin:sky:azimuth=0,elevation=20")}) {
         const EnvironmentMap& map = cached_map(spec);
         const EnvironmentMap rolled = rolled_half_turn(map);
         for (Method method : {Method::lloyd, Method::ccvt}) {
@@ -129,7 +130,8 @@ TEST(EnvContractSeam, RolledMapHasTheSameCellRadianceDistribution) {
             if (method == Method::lloyd) {
                 const Decomposition b = decompose(map, {.method = method, .lights = lights, .seed = 2});
                 const Decomposition c = decompose(map, {.method = method, .lights = lights, .seed = 3});
-                seed_spread = std::max({distribution_distance(a, b), distribution_distance(a, c), distribution_distance(b, c)});
+                seed_spread =
+                    std::max({distribution_distance(a, b), distribution_distance(a, c), distribution_distance(b, c)});
             }
             EXPECT_LE(distribution_distance(a, r), seed_spread + 0.05)
                 << describe(spec, method, lights) << ": seeds differ by " << seed_spread;
@@ -151,8 +153,8 @@ TEST(EnvContractPoles, UniformSphereGivesCellsOfEqualSolidAngle) {
             const double m = mean(area);
             EXPECT_LT(coefficient_of_variation(area), 0.1) << context;
             for (std::size_t k = 0; k < area.size(); ++k)
-                EXPECT_TRUE(area[k] > 0.75 * m && area[k] < 1.33 * m) << context << ": cell " << k << " has " << area[k] / m
-                                                                      << " of the mean solid angle";
+                EXPECT_TRUE(area[k] > 0.75 * m && area[k] < 1.33 * m)
+                    << context << ": cell " << k << " has " << area[k] / m << " of the mean solid angle";
             const std::size_t north = d.texel_cell[0], south = d.texel_cell[texel_index(0, map.height - 1, map.width)];
             EXPECT_GT(area[north], 0.75 * m) << context << ": the cell at the zenith";
             EXPECT_GT(area[south], 0.75 * m) << context << ": the cell at the nadir";

@@ -57,7 +57,9 @@ inline void check_error_message(const InputError& error, const std::filesystem::
     if (message.size() <= file.string().size() + 2) finding("message gives no reason: " + message);
 }
 
-inline bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // What every consumer of a Mesh relies on (scene/scene.h).
 inline void check_mesh(const Mesh& mesh) {

@@ -31,8 +31,8 @@ TEST_P(ContextTest, RendersADepthTestedTriangleIntoAnFbo) {
     fbo.attach(GL_COLOR_ATTACHMENT0, color);
     fbo.attach(GL_DEPTH_ATTACHMENT, depth);
     fbo.check_complete("test");
-    gl::Program program = project_shaders().build({{GL_VERTEX_SHADER, "test_triangle.vert"},
-                                                   {GL_FRAGMENT_SHADER, "test_triangle.frag"}});
+    gl::Program program =
+        project_shaders().build({{GL_VERTEX_SHADER, "test_triangle.vert"}, {GL_FRAGMENT_SHADER, "test_triangle.frag"}});
     gl::VertexArray vao = gl::VertexArray::create();
 
     fbo.bind();
@@ -56,7 +56,10 @@ TEST_P(ContextTest, RendersADepthTestedTriangleIntoAnFbo) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
     const Image image = gl::read_color(fbo, size, size);
-    auto sum = [&](int x, int y) { const glm::vec4 p = image.at(x, y); return p.r + p.g + p.b; };
+    auto sum = [&](int x, int y) {
+        const glm::vec4 p = image.at(x, y);
+        return p.r + p.g + p.b;
+    };
     // Barycentric colours sum to 1 inside a triangle, times its tint.
     EXPECT_NEAR(sum(32, 34), 1.0f, 0.02f);   // centre: the near triangle
     EXPECT_NEAR(sum(10, 56), 0.25f, 0.02f);  // bottom left, outside the small triangle: the far one
@@ -73,7 +76,8 @@ TEST_P(ContextTest, CompileErrorsNameTheFileAndLine) {
     gl::ShaderLibrary library = project_shaders();
     library.add("broken_part.glsl", "float fine() { return 1.0; }\nfloat broken() { return undefined_name; }\n");
     library.add("broken.frag",
-                "#version 450 core\n// comment\n#include \"broken_part.glsl\"\nout vec4 c;\nvoid main() { c = vec4(fine()); }\n");
+                "#version 450 core\n// comment\n#include \"broken_part.glsl\"\nout vec4 c;\nvoid main() { c = "
+                "vec4(fine()); }\n");
     library.add("broken_main.frag", "#version 450 core\nout vec4 c;\n\nvoid main() { c = vec4(nope); }\n");
     try {
         library.build({{GL_VERTEX_SHADER, "test_triangle.vert"}, {GL_FRAGMENT_SHADER, "broken.frag"}});
@@ -92,8 +96,8 @@ TEST_P(ContextTest, CompileErrorsNameTheFileAndLine) {
 
 TEST_P(ContextTest, IncludedFunctionsLinkAndRun) {
     // test_triangle.vert takes test_color() and its uniforms from test_common.glsl.
-    gl::Program program = project_shaders().build({{GL_VERTEX_SHADER, "test_triangle.vert"},
-                                                   {GL_FRAGMENT_SHADER, "test_triangle.frag"}});
+    gl::Program program =
+        project_shaders().build({{GL_VERTEX_SHADER, "test_triangle.vert"}, {GL_FRAGMENT_SHADER, "test_triangle.frag"}});
     EXPECT_NE(program.id(), 0u);
     EXPECT_EQ(program.uniform_location("u_tint"), 2);
 }

@@ -26,10 +26,10 @@ void run(const std::string& arguments, const fs::path& log) {
 }
 
 struct Agreement {
-    double relative_rmse = 0.0;   // sqrt(sum |raster - reference|^2 / sum |reference|^2), RGB
-    double mean_ratio = 0.0;      // sum raster / sum reference
-    int object_pixels = 0;        // alpha 1 in both
-    int mask_disagreements = 0;   // object in one picture, background in the other
+    double relative_rmse = 0.0;  // sqrt(sum |raster - reference|^2 / sum |reference|^2), RGB
+    double mean_ratio = 0.0;     // sum raster / sum reference
+    int object_pixels = 0;       // alpha 1 in both
+    int mask_disagreements = 0;  // object in one picture, background in the other
 };
 
 // Renders `scene_json` (written to NAME.json) with both renderers and compares the linear EXRs.

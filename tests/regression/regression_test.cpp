@@ -71,7 +71,9 @@ struct Case {
 };
 
 // Keeps ctest's test names readable (gtest would print the struct's bytes).
-void PrintTo(const Case& c, std::ostream* out) { *out << c.scene << "/" << c.backend; }
+void PrintTo(const Case& c, std::ostream* out) {
+    *out << c.scene << "/" << c.backend;
+}
 
 class Regression : public ::testing::TestWithParam<Case> {};
 
@@ -130,7 +132,8 @@ TEST(RegressionSuite, DetectsAMovedCamera) {
     // The failure is reported as a person needs it: numbers, and the three pictures side by side.
     const fs::path sheet = kOutput / "moved_camera_egl_failure.png";
     fs::remove(sheet);
-    const ::testing::AssertionResult result = matches(rendered, kSource / "screenshots/golden/spheres.png", "moved_camera_egl");
+    const ::testing::AssertionResult result =
+        matches(rendered, kSource / "screenshots/golden/spheres.png", "moved_camera_egl");
     EXPECT_FALSE(result) << "a moved camera went unnoticed: " << result.message();
     EXPECT_NE(std::string(result.message()).find(sheet.string()), std::string::npos) << result.message();
     ASSERT_TRUE(fs::exists(sheet));

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <gtest/gtest.h>
 #include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
-#include <gtest/gtest.h>
 
 #include "render/caster_lod.h"
 #include "scene/meshes.h"
@@ -38,7 +38,8 @@ TEST(CasterLod, ErrorBoundsTheDistanceFromTheSurface) {
         float worst = 0.0f;
         for (std::uint32_t i = level.first_index; i < level.first_index + level.index_count; i += 3) {
             const glm::vec3 centroid = (sphere.positions[lod.indices[i]] + sphere.positions[lod.indices[i + 1]] +
-                                        sphere.positions[lod.indices[i + 2]]) / 3.0f;
+                                        sphere.positions[lod.indices[i + 2]]) /
+                                       3.0f;
             worst = std::max(worst, 1.0f - glm::length(centroid));
         }
         return worst;
@@ -71,7 +72,8 @@ TEST(CasterLod, ErrorBudgetIsAFractionOfATexelInObjectSpace) {
     const float texel = 4.0f / 256.0f;
     EXPECT_FLOAT_EQ(caster_error_budget(glm::mat4(1.0f), texel, 0.5f), texel / 2.0f);
     // An object scaled by 2 (and by 0.5 on another axis): its object-space error counts twice.
-    const glm::mat4 scaled = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(3, 1, 2)), glm::vec3(2.0f, 0.5f, 1.0f));
+    const glm::mat4 scaled =
+        glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(3, 1, 2)), glm::vec3(2.0f, 0.5f, 1.0f));
     EXPECT_FLOAT_EQ(caster_error_budget(scaled, texel, 0.5f), texel / 4.0f);
     // A rotation does not change it.
     const glm::mat4 turned = glm::rotate(glm::mat4(1.0f), 0.7f, glm::normalize(glm::vec3(1, 2, 3)));

@@ -25,7 +25,8 @@ struct CommandResult {
 CommandResult render(const std::string& arguments) {
     fs::create_directories(kOutput);
     // One log per test: ctest runs this file's tests in parallel processes.
-    const fs::path log = kOutput / (std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".log");
+    const fs::path log =
+        kOutput / (std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".log");
     const std::string command = std::string(ENVSHADOW_EXE) + " render " + arguments + " > '" + log.string() + "' 2>&1";
     const int raw = std::system(command.c_str());
     CommandResult run;

@@ -32,9 +32,9 @@ TEST(CliRender, WritesBothOutputsWholeAndNoTemporary) {
     const fs::path dir = scene_folder();
     auto expected = files_in(dir);
     for (const char* backend : {"egl", "osmesa"}) {
-        const std::vector<std::string> args = {"render", "--scene", "scene.json", "--backend", backend, "--width", "64",
-                                               "--height", "32", "--lights", "8", "--tile", "128",
-                                               "--out", "out.png", "--exr", "out.exr"};
+        const std::vector<std::string> args = {"render", "--scene",  "scene.json", "--backend", backend,  "--width",
+                                               "64",     "--height", "32",         "--lights",  "8",      "--tile",
+                                               "128",    "--out",    "out.png",    "--exr",     "out.exr"};
         const test::CliRun run = run_envshadow(args, dir, 120);
         ASSERT_EQ(run.exit_code, 0) << test::describe(args, run);
         expected.insert({"out.png", "out.exr"});
@@ -50,8 +50,9 @@ TEST(CliRender, WritesBothOutputsWholeAndNoTemporary) {
 TEST(CliRender, AnOutputIntoAMissingFolderFailsCleanly) {
     const fs::path dir = scene_folder();
     const auto before = files_in(dir);
-    const std::vector<std::string> args = {"render", "--scene", "scene.json", "--width", "32", "--height", "32",
-                                           "--lights", "4", "--tile", "128", "--out", "missing/out.png"};
+    const std::vector<std::string> args = {"render",   "--scene", "scene.json",     "--width", "32",
+                                           "--height", "32",      "--lights",       "4",       "--tile",
+                                           "128",      "--out",   "missing/out.png"};
     const test::CliRun run = run_envshadow(args, dir, 120);
     EXPECT_TRUE(test::fails_with(run, 3, {"missing/out.png"})) << test::describe(args, run);
     EXPECT_EQ(files_in(dir), before) << test::describe(args, run);
@@ -61,8 +62,8 @@ TEST(CliRender, AnAtlasOverTheGlTextureLimitShrinksItsTilesAndSaysSo) {
     // 128 cells, about 80 above the ground: 16 columns of 2048 texels = 32768, over llvmpipe's (and
     // most GPUs') 16384. The renderer asks GL for GL_MAX_TEXTURE_SIZE and halves the tile size.
     const fs::path dir = scene_folder();
-    const std::vector<std::string> args = {"render", "--scene", "scene.json", "--width", "32", "--height", "32",
-                                           "--lights", "128", "--tile", "2048", "--out", "out.png"};
+    const std::vector<std::string> args = {"render",   "--scene", "scene.json", "--width", "32",    "--height", "32",
+                                           "--lights", "128",     "--tile",     "2048",    "--out", "out.png"};
     const test::CliRun run = run_envshadow(args, dir, 120);
     ASSERT_EQ(run.exit_code, 0) << test::describe(args, run);
     EXPECT_NE(run.err.find("exceed the GL limit; using 1024^2 tiles"), std::string::npos) << run.err;

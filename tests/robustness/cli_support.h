@@ -5,8 +5,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <fcntl.h>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -64,7 +64,8 @@ inline std::string describe(const std::vector<std::string>& args, const CliRun& 
 
 // Exit code `code`, and stderr one line that contains every string in `named`.
 inline ::testing::AssertionResult fails_with(const CliRun& run, int code, const std::vector<std::string>& named) {
-    if (run.exit_code != code) return ::testing::AssertionFailure() << "exit code " << run.exit_code << ", not " << code;
+    if (run.exit_code != code)
+        return ::testing::AssertionFailure() << "exit code " << run.exit_code << ", not " << code;
     if (run.err.empty() || run.err.back() != '\n' || std::count(run.err.begin(), run.err.end(), '\n') != 1)
         return ::testing::AssertionFailure() << "stderr is not exactly one line: [" << run.err << "]";
     for (const std::string& n : named)

@@ -151,8 +151,8 @@ TEST(CliInput, BrokenMapsAreInputErrors) {
     write_text(dir / "text.hdr", "just some text\n");
     ASSERT_EQ(::mkfifo((dir / "pipe.exr").c_str(), 0600), 0);
     auto decompose = [](const std::string& map) {
-        return std::vector<std::string>{"decompose", "--env", map, "--lights", "8", "--json", "cells.json",
-                                        "--png", "cells.png"};
+        return std::vector<std::string>{"decompose", "--env",      map,     "--lights", "8",
+                                        "--json",    "cells.json", "--png", "cells.png"};
     };
     expect_each_fails(dir,
                       {
@@ -181,8 +181,8 @@ TEST(CliInput, TinyAndBlackMapsGiveWellDefinedLightsOrAClearError) {
     test::write_exr_texels(dir / "black.exr", 8, 4, std::vector<glm::vec3>(32, glm::vec3(0.0f)));
     for (const char* map : {"tiny.exr", "black.exr"})
         for (const char* method : {"lloyd", "ccvt", "mediancut", "random", "fs"}) {
-            const std::vector<std::string> args = {"decompose", "--env", map, "--lights", "16",
-                                                   "--method", method, "--json", "cells.json"};
+            const std::vector<std::string> args = {"decompose", "--env", map,      "--lights",  "16",
+                                                   "--method",  method,  "--json", "cells.json"};
             const test::CliRun run = run_envshadow(args, dir);
             if (run.exit_code == 3) {
                 EXPECT_TRUE(fails_with(run, 3, {map})) << test::describe(args, run);
@@ -219,8 +219,8 @@ TEST(CliOutput, AFailedRunKeepsTheEarlierOutputAndLeavesNoTemporary) {
 TEST(CliOutput, OutputsIntoAMissingFolderFailCleanly) {
     const fs::path dir = inputs_folder();
     const auto before = files_in(dir);
-    const std::vector<std::string> args = {"decompose", "--env", "sky.hdr", "--lights", "4",
-                                           "--json", "no/such/folder/cells.json"};
+    const std::vector<std::string> args = {
+        "decompose", "--env", "sky.hdr", "--lights", "4", "--json", "no/such/folder/cells.json"};
     const test::CliRun run = run_envshadow(args, dir);
     EXPECT_TRUE(fails_with(run, 3, {"no/such/folder/cells.json"})) << test::describe(args, run);
     EXPECT_EQ(files_in(dir), before) << test::describe(args, run);
@@ -229,8 +229,8 @@ TEST(CliOutput, OutputsIntoAMissingFolderFailCleanly) {
 TEST(CliOutput, DecomposeWritesItsOutputsAndNoTemporary) {
     const fs::path dir = inputs_folder();
     auto expected = files_in(dir);
-    const std::vector<std::string> args = {"decompose", "--env", "sky.exr", "--lights", "8",
-                                           "--json", "cells.json", "--png", "cells.png"};
+    const std::vector<std::string> args = {"decompose", "--env",      "sky.exr", "--lights", "8",
+                                           "--json",    "cells.json", "--png",   "cells.png"};
     const test::CliRun run = run_envshadow(args, dir);
     ASSERT_EQ(run.exit_code, 0) << test::describe(args, run);
     expected.insert({"cells.json", "cells.png"});

@@ -56,7 +56,8 @@ TEST(FuzzFindings, GltfInputsLoadSoundlyOrFailCleanly) {
         const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
         const fs::path file = dir / (binary ? "input.glb" : "input.gltf");
         test::write_bytes(file, bytes);
-        test::loads_or_fails_cleanly(file, [&] { expect_sound_mesh(*load_gltf(file).mesh); }, finding.string());
+        test::loads_or_fails_cleanly(
+            file, [&] { expect_sound_mesh(*load_gltf(file).mesh); }, finding.string());
     }
 }
 
@@ -92,8 +93,8 @@ TEST(FuzzFindings, MapInputsLoadSoundlyOrFailCleanly) {
         for (const fs::path& finding : findings(format)) {
             const fs::path file = dir / (std::string("input.") + format);
             test::write_bytes(file, test::read_bytes(finding));
-            test::loads_or_fails_cleanly(file, [&] { expect_sound_map(load_environment(file.string())); },
-                                         finding.string());
+            test::loads_or_fails_cleanly(
+                file, [&] { expect_sound_map(load_environment(file.string())); }, finding.string());
         }
 }
 

@@ -3,13 +3,13 @@
 // exhaust the stack, broken GLB chunk lengths, non-finite transforms.
 #include <sys/stat.h>
 
+#include <fcntl.h>
+#include <unistd.h>
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <fcntl.h>
 #include <string>
 #include <thread>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -85,7 +85,8 @@ TEST(RobustGltf, EveryTruncatedGlbIsRefused) {
     const fs::path file = dir / "cut.glb";
     for (const std::size_t n : test::truncation_lengths(whole.size(), whole.size(), 0)) {
         test::write_bytes(file, std::vector<std::uint8_t>(whole.begin(), whole.begin() + std::ptrdiff_t(n)));
-        EXPECT_FALSE(loads_or_fails_cleanly(file, [&] { load_gltf(file); }, "first " + std::to_string(n) + " bytes"))
+        EXPECT_FALSE(loads_or_fails_cleanly(
+            file, [&] { load_gltf(file); }, "first " + std::to_string(n) + " bytes"))
             << "a .glb cut to " << n << " of " << whole.size() << " bytes loaded";
     }
 }
@@ -97,7 +98,8 @@ TEST(RobustGltf, EveryTruncatedGltfIsRefused) {
     const fs::path file = dir / "cut.gltf";
     for (const std::size_t n : test::truncation_lengths(whole.size(), 600, 200)) {
         test::write_bytes(file, std::vector<std::uint8_t>(whole.begin(), whole.begin() + std::ptrdiff_t(n)));
-        EXPECT_FALSE(loads_or_fails_cleanly(file, [&] { load_gltf(file); }, "first " + std::to_string(n) + " bytes"))
+        EXPECT_FALSE(loads_or_fails_cleanly(
+            file, [&] { load_gltf(file); }, "first " + std::to_string(n) + " bytes"))
             << "a .gltf cut to " << n << " of " << whole.size() << " bytes loaded";
     }
 }
@@ -109,7 +111,8 @@ TEST(RobustGltf, BitFlippedGlbLoadsSoundlyOrIsRefused) {
     for (const auto& bytes : test::bit_flipped(test::sample_glb_bytes(), 1500, 20240601)) {
         test::write_bytes(file, bytes);
         const std::string what = "mutant " + std::to_string(index++);
-        loads_or_fails_cleanly(file, [&] { expect_sound_mesh(*load_gltf(file).mesh, what); }, what);
+        loads_or_fails_cleanly(
+            file, [&] { expect_sound_mesh(*load_gltf(file).mesh, what); }, what);
     }
 }
 
@@ -121,7 +124,8 @@ TEST(RobustGltf, BitFlippedEmbeddedGltfLoadsSoundlyOrIsRefused) {
     for (const auto& bytes : test::bit_flipped(test::read_bytes(dir / "whole.gltf"), 1500, 7)) {
         test::write_bytes(file, bytes);
         const std::string what = "mutant " + std::to_string(index++);
-        loads_or_fails_cleanly(file, [&] { expect_sound_mesh(*load_gltf(file).mesh, what); }, what);
+        loads_or_fails_cleanly(
+            file, [&] { expect_sound_mesh(*load_gltf(file).mesh, what); }, what);
     }
 }
 
@@ -142,7 +146,9 @@ TEST(RobustGltf, BufferUrisOnSpecialFilesAreRefused) {
         doc["buffers"][0]["uri"] = uri;
         write_text(dir / "special.gltf", doc.dump());
         const fs::path file = dir / "special.gltf";
-        EXPECT_FALSE(loads_or_fails_cleanly(file, [&] { load_gltf(file); }, uri)) << uri;
+        EXPECT_FALSE(loads_or_fails_cleanly(
+            file, [&] { load_gltf(file); }, uri))
+            << uri;
     }
 }
 
@@ -160,7 +166,8 @@ TEST(RobustGltf, AnImageUriOnAFifoDoesNotHang) {
 
     std::atomic<bool> finished{false};
     std::thread loader([&] {
-        loads_or_fails_cleanly(dir / "fifo.gltf", [&] { load_gltf(dir / "fifo.gltf"); }, "image on a FIFO");
+        loads_or_fails_cleanly(
+            dir / "fifo.gltf", [&] { load_gltf(dir / "fifo.gltf"); }, "image on a FIFO");
         finished = true;
     });
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
@@ -221,7 +228,9 @@ TEST(RobustGltf, GlbChunkLengthsThatLieAreRefused) {
     for (const auto& c : cases) {
         const fs::path file = dir / (std::string(c.name) + ".glb");
         test::write_bytes(file, c.bytes);
-        EXPECT_FALSE(loads_or_fails_cleanly(file, [&] { load_gltf(file); }, c.name)) << c.name << " loaded";
+        EXPECT_FALSE(loads_or_fails_cleanly(
+            file, [&] { load_gltf(file); }, c.name))
+            << c.name << " loaded";
     }
 }
 
@@ -249,7 +258,8 @@ TEST(RobustGltf, AZeroScaleNodeGivesASoundMesh) {
     doc["nodes"][1]["scale"] = {1, 0, 1};
     write_text(dir / "flat.gltf", doc.dump());
     const fs::path file = dir / "flat.gltf";
-    EXPECT_TRUE(loads_or_fails_cleanly(file, [&] { expect_sound_mesh(*load_gltf(file).mesh, "flat"); }, "flat"));
+    EXPECT_TRUE(loads_or_fails_cleanly(
+        file, [&] { expect_sound_mesh(*load_gltf(file).mesh, "flat"); }, "flat"));
 }
 
 }  // namespace

@@ -96,7 +96,8 @@ TEST(RobustHdr, EveryTruncatedFileIsRefused) {
         const fs::path file = dir / "cut.hdr";
         for (const std::size_t n : test::truncation_lengths(whole.size(), 200, 400)) {
             test::write_bytes(file, std::vector<std::uint8_t>(whole.begin(), whole.begin() + std::ptrdiff_t(n)));
-            EXPECT_FALSE(loads_or_fails_cleanly(file, [&] { read_radiance_hdr(file); }, std::to_string(n)))
+            EXPECT_FALSE(loads_or_fails_cleanly(
+                file, [&] { read_radiance_hdr(file); }, std::to_string(n)))
                 << "cut to " << n << " of " << whole.size() << " bytes, " << (run_length ? "RLE" : "flat");
         }
     }
@@ -107,11 +108,12 @@ TEST(RobustHdr, BitFlippedFilesLoadSoundlyOrAreRefused) {
     const fs::path file = dir / "flipped.hdr";
     int index = 0;
     for (const bool run_length : {true, false})
-        for (const auto& bytes : test::bit_flipped(test::hdr_bytes(32, 16, sample_texels(32, 16), run_length), 800,
-                                                   run_length ? 11 : 12)) {
+        for (const auto& bytes :
+             test::bit_flipped(test::hdr_bytes(32, 16, sample_texels(32, 16), run_length), 800, run_length ? 11 : 12)) {
             test::write_bytes(file, bytes);
             const std::string what = "mutant " + std::to_string(index++);
-            loads_or_fails_cleanly(file, [&] { expect_sound_image(read_radiance_hdr(file)); }, what);
+            loads_or_fails_cleanly(
+                file, [&] { expect_sound_image(read_radiance_hdr(file)); }, what);
         }
 }
 
@@ -129,14 +131,16 @@ TEST(RobustHdr, ARunLengthScanlineCutShortFailsAtOnce) {
     bytes.insert(bytes.end(), {2, 2, 0, 16, 128 + 16, 100});  // scanline 1: one channel of four
     test::write_bytes(dir / "cut.hdr", bytes);
     const auto start = std::chrono::steady_clock::now();
-    expect_input_error(dir / "cut.hdr", [&] { read_radiance_hdr(dir / "cut.hdr"); }, "truncated in scanline 1");
+    expect_input_error(
+        dir / "cut.hdr", [&] { read_radiance_hdr(dir / "cut.hdr"); }, "truncated in scanline 1");
     EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
 
     // A zero count inside a scanline is refused too (it would never advance).
     bytes = first_scanline;
     bytes.insert(bytes.end(), {2, 2, 0, 16, 0, 0, 0, 0, 0, 0, 0, 0});
     test::write_bytes(dir / "zero.hdr", bytes);
-    expect_input_error(dir / "zero.hdr", [&] { read_radiance_hdr(dir / "zero.hdr"); }, "bad run length 0");
+    expect_input_error(
+        dir / "zero.hdr", [&] { read_radiance_hdr(dir / "zero.hdr"); }, "bad run length 0");
 }
 
 TEST(RobustHdr, HeadersThatCannotBeReadAreRefused) {
@@ -161,11 +165,14 @@ TEST(RobustHdr, HeadersThatCannotBeReadAreRefused) {
     for (const auto& c : cases) {
         const fs::path file = dir / (std::string(c.name) + ".hdr");
         write_text(file, c.text);
-        expect_input_error(file, [&] { read_radiance_hdr(file); }, c.expected);
+        expect_input_error(
+            file, [&] { read_radiance_hdr(file); }, c.expected);
     }
-    expect_input_error(dir / "absent.hdr", [&] { read_radiance_hdr(dir / "absent.hdr"); }, "file not found");
+    expect_input_error(
+        dir / "absent.hdr", [&] { read_radiance_hdr(dir / "absent.hdr"); }, "file not found");
     ASSERT_EQ(::mkfifo((dir / "pipe.hdr").c_str(), 0600), 0);
-    expect_input_error(dir / "pipe.hdr", [&] { read_radiance_hdr(dir / "pipe.hdr"); }, "file not found");
+    expect_input_error(
+        dir / "pipe.hdr", [&] { read_radiance_hdr(dir / "pipe.hdr"); }, "file not found");
 }
 
 // --- OpenEXR ------------------------------------------------------------------------------------
@@ -199,7 +206,8 @@ TEST(RobustExr, EveryTruncatedFileIsRefused) {
         const fs::path file = dir / "cut.exr";
         for (const std::size_t n : test::truncation_lengths(whole.size(), 400, 200)) {
             test::write_bytes(file, std::vector<std::uint8_t>(whole.begin(), whole.begin() + std::ptrdiff_t(n)));
-            EXPECT_FALSE(loads_or_fails_cleanly(file, [&] { read_exr(file); }, std::to_string(n)))
+            EXPECT_FALSE(loads_or_fails_cleanly(
+                file, [&] { read_exr(file); }, std::to_string(n)))
                 << "compression " << compression << " cut to " << n << " of " << whole.size() << " bytes";
         }
     }
@@ -214,7 +222,8 @@ TEST(RobustExr, BitFlippedFilesLoadSoundlyOrAreRefused) {
         for (const auto& bytes : test::bit_flipped(test::read_bytes(dir / "whole.exr"), 300, 100 + compression)) {
             test::write_bytes(file, bytes);
             const std::string what = "mutant " + std::to_string(index++);
-            loads_or_fails_cleanly(file, [&] { expect_sound_image(read_exr(file).image); }, what);
+            loads_or_fails_cleanly(
+                file, [&] { expect_sound_image(read_exr(file).image); }, what);
         }
     }
 }
@@ -250,8 +259,9 @@ TEST(RobustExr, HeaderSizesAreCheckedBeforeOpenExrAllocates) {
     const std::uint32_t huge = 0x7ffffff0u;
     std::memcpy(&bytes[channels], &huge, 4);
     test::write_bytes(dir / "attribute.exr", bytes);
-    expect_input_error(dir / "attribute.exr", [&] { read_exr(dir / "attribute.exr"); },
-                       "header attribute 'channels' claims 2147483632 bytes, more than the file holds");
+    expect_input_error(
+        dir / "attribute.exr", [&] { read_exr(dir / "attribute.exr"); },
+        "header attribute 'channels' claims 2147483632 bytes, more than the file holds");
 
     // A data window of 2^31 - 1 rows (OpenEXR would read a line offset table for them).
     bytes = whole;
@@ -259,8 +269,9 @@ TEST(RobustExr, HeaderSizesAreCheckedBeforeOpenExrAllocates) {
     const std::int32_t box[4] = {0, 0, 15, 2147483646};
     std::memcpy(&bytes[window], box, 16);
     test::write_bytes(dir / "window.exr", bytes);
-    expect_input_error(dir / "window.exr", [&] { read_exr(dir / "window.exr"); },
-                       "image size 16x2147483647 is outside the accepted 1x1..16384x16384");
+    expect_input_error(
+        dir / "window.exr", [&] { read_exr(dir / "window.exr"); },
+        "image size 16x2147483647 is outside the accepted 1x1..16384x16384");
 
     // Tiles of 16 x 15.5 million texels (OpenEXR would allocate a 1.5 GB tile buffer).
     test::write_sample_exr(dir / "tiled.exr", 40, 20, 0, test::ExrLayout::tiled);
@@ -269,16 +280,17 @@ TEST(RobustExr, HeaderSizesAreCheckedBeforeOpenExrAllocates) {
     const std::uint32_t tile_size[2] = {16, 0x00ed105e};
     std::memcpy(&bytes[tiles], tile_size, 8);
     test::write_bytes(dir / "tile.exr", bytes);
-    expect_input_error(dir / "tile.exr", [&] { read_exr(dir / "tile.exr"); },
-                       "OpenEXR chunks (tiles or line blocks) over 1 GiB");
+    expect_input_error(
+        dir / "tile.exr", [&] { read_exr(dir / "tile.exr"); }, "OpenEXR chunks (tiles or line blocks) over 1 GiB");
 
     // One flipped bit (7 of byte 337 in tests/env_contract's 64x32 file) turns 16x16 tiles into
     // 16 x 8,388,624: under 1 GiB, but 800 MB for OpenEXR to allocate for a 40x20 picture.
     const std::uint32_t long_tile[2] = {16, 0x00800010};
     std::memcpy(&bytes[tiles], long_tile, 8);
     test::write_bytes(dir / "long_tile.exr", bytes);
-    expect_input_error(dir / "long_tile.exr", [&] { read_exr(dir / "long_tile.exr"); },
-                       "OpenEXR tiles of 16x8388624 texels, larger than the 40x20 picture and than 1 M texels");
+    expect_input_error(
+        dir / "long_tile.exr", [&] { read_exr(dir / "long_tile.exr"); },
+        "OpenEXR tiles of 16x8388624 texels, larger than the 40x20 picture and than 1 M texels");
     // Tiles overhanging a small picture (16x16 over 8x4) stay readable.
     test::write_sample_exr(dir / "overhang.exr", 8, 4, 0, test::ExrLayout::tiled);
     EXPECT_EQ(read_exr(dir / "overhang.exr").image.width, 8);
@@ -344,18 +356,21 @@ TEST(RobustEnvironment, AWronglyShapedMapIsRefusedBeforeItsPixelsAreAllocated) {
         test::write_bytes(file, exr_declaring(dir, c.width, c.height));
         ASSERT_LT(fs::file_size(file), 16u * 1024);
         const long before = peak_rss_mib();
-        expect_input_error(file, [&] { load_environment(file.string()); }, c.expected);
+        expect_input_error(
+            file, [&] { load_environment(file.string()); }, c.expected);
         EXPECT_LT(peak_rss_mib() - before, 256) << c.name << ": MiB allocated before the shape was checked";
     }
 
     // Radiance HDR: the shape is checked before the length of the file (which bounds the picture
     // only to what run-length encoding can reach: ~250 bytes of texels per byte of file).
     write_text(dir / "tall.hdr", "#?RADIANCE\n\n-Y 16383 +X 16384\n" + std::string("\2\2\x40\0", 4));
-    expect_input_error(dir / "tall.hdr", [&] { load_environment((dir / "tall.hdr").string()); },
-                       "map size 16384x16383 is outside the accepted 2x1..16384x8192");
+    expect_input_error(
+        dir / "tall.hdr", [&] { load_environment((dir / "tall.hdr").string()); },
+        "map size 16384x16383 is outside the accepted 2x1..16384x8192");
 
     // The readers alone still take any picture within their limits (compare reads such EXRs).
-    expect_input_error(dir / "tall.hdr", [&] { read_radiance_hdr(dir / "tall.hdr"); }, "file too short");
+    expect_input_error(
+        dir / "tall.hdr", [&] { read_radiance_hdr(dir / "tall.hdr"); }, "file too short");
 }
 
 TEST(RobustExr, NonFiniteAndNegativeTexelsAreReadAsTheyAre) {
@@ -373,10 +388,13 @@ TEST(RobustExr, NonFiniteAndNegativeTexelsAreReadAsTheyAre) {
 TEST(RobustExr, SpecialFilesAreRefused) {
     const fs::path dir = fresh_folder();
     ASSERT_EQ(::mkfifo((dir / "pipe.exr").c_str(), 0600), 0);
-    expect_input_error(dir / "pipe.exr", [&] { read_exr(dir / "pipe.exr"); }, "");
+    expect_input_error(
+        dir / "pipe.exr", [&] { read_exr(dir / "pipe.exr"); }, "");
     fs::create_directory(dir / "folder.exr");
-    expect_input_error(dir / "folder.exr", [&] { read_exr(dir / "folder.exr"); }, "");
-    expect_input_error("/dev/zero", [&] { read_exr("/dev/zero"); }, "");
+    expect_input_error(
+        dir / "folder.exr", [&] { read_exr(dir / "folder.exr"); }, "");
+    expect_input_error(
+        "/dev/zero", [&] { read_exr("/dev/zero"); }, "");
 }
 
 }  // namespace

@@ -15,7 +15,9 @@
 
 namespace envshadow::test {
 
-inline std::filesystem::path fresh_folder() { return fresh_test_folder("envshadow_robustness"); }
+inline std::filesystem::path fresh_folder() {
+    return fresh_test_folder("envshadow_robustness");
+}
 
 // "<file>: <reason>" on one line, the reason not empty.
 inline ::testing::AssertionResult is_one_line_naming(const std::string& message, const std::filesystem::path& file) {

@@ -85,10 +85,10 @@ json box_document(std::vector<std::uint8_t>& bin) {
     doc["scenes"] = json::array({{{"nodes", {0}}}});
     doc["nodes"] = json::array({{{"children", {1}}, {"translation", {0.0, 0.5, 0.0}}},
                                 {{"mesh", 0}, {"rotation", {0.0, 0.3826834, 0.0, 0.9238795}}, {"scale", {1, 1, 1}}}});
-    doc["meshes"] = json::array({{{"primitives", json::array({{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}},
-                                                                {"indices", 2},
-                                                                {"material", 0},
-                                                                {"mode", 4}}})}}});
+    doc["meshes"] = json::array(
+        {{{"primitives",
+           json::array(
+               {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}, {"material", 0}, {"mode", 4}}})}}});
     doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.2, 0.2, 1.0}}}}}});
     doc["buffers"] = json::array({{{"byteLength", bin.size()}}});
     doc["bufferViews"] = json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 288}, {"target", 34962}},
@@ -180,8 +180,8 @@ void write_sample_exr(const std::filesystem::path& path, int width, int height, 
     const std::size_t element = type == Imf::HALF ? sizeof(half) : sizeof(float);
     char* base = type == Imf::HALF ? reinterpret_cast<char*>(halves.data()) : reinterpret_cast<char*>(floats.data());
     for (int c = 0; c < channels; ++c)
-        frame.insert(names[c], Imf::Slice(type, base + std::size_t(c) * element, 4 * element,
-                                          4 * element * std::size_t(width)));
+        frame.insert(names[c],
+                     Imf::Slice(type, base + std::size_t(c) * element, 4 * element, 4 * element * std::size_t(width)));
     if (layout == ExrLayout::tiled) {
         header.setTileDescription(Imf::TileDescription(16, 16, Imf::ONE_LEVEL));
         Imf::TiledOutputFile file(path.c_str(), header);
@@ -256,7 +256,9 @@ std::vector<std::uint8_t> sample_glb_bytes() {
     return out;
 }
 
-void write_sample_glb(const std::filesystem::path& path) { write_bytes(path, sample_glb_bytes()); }
+void write_sample_glb(const std::filesystem::path& path) {
+    write_bytes(path, sample_glb_bytes());
+}
 
 void write_sample_gltf_embedded(const std::filesystem::path& path) {
     std::vector<std::uint8_t> bin;
@@ -276,20 +278,20 @@ void write_sample_gltf_external(const std::filesystem::path& path) {
 
 void write_sample_gltf_interleaved_strip(const std::filesystem::path& path) {
     // A quad as a 4-vertex strip; position and normal interleaved with a 24-byte stride; no indices.
-    const float interleaved[4][6] = {
-        {0, 0, 0, 0, 0, 1}, {1, 0, 0, 0, 0, 1}, {0, 1, 0, 0, 0, 1}, {1, 1, 0, 0, 0, 1}};
+    const float interleaved[4][6] = {{0, 0, 0, 0, 0, 1}, {1, 0, 0, 0, 0, 1}, {0, 1, 0, 0, 0, 1}, {1, 1, 0, 0, 0, 1}};
     std::vector<std::uint8_t> bin;
     append(bin, interleaved, sizeof interleaved);
     json doc;
     doc["asset"] = {{"version", "2.0"}};
     doc["nodes"] = json::array({{{"mesh", 0}, {"matrix", {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 1, 0, 0, 1}}}});
-    doc["meshes"] = json::array(
-        {{{"primitives", json::array({{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"mode", 5}}})}}});
-    doc["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
+    doc["meshes"] =
+        json::array({{{"primitives", json::array({{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"mode", 5}}})}}});
+    doc["buffers"] =
+        json::array({{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
     doc["bufferViews"] = json::array({{{"buffer", 0}, {"byteLength", bin.size()}, {"byteStride", 24}}});
-    doc["accessors"] = json::array(
-        {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
-         {{"bufferView", 0}, {"byteOffset", 12}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}}});
+    doc["accessors"] =
+        json::array({{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
+                     {{"bufferView", 0}, {"byteOffset", 12}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}}});
     write_text(path, doc.dump(1));
 }
 
@@ -310,8 +312,10 @@ std::string sample_scene_json(const std::string& model, const std::string& envir
                {"animation", {{"type", "orbit"}, {"center", {0, 0, 0}}, {"radius", 2}, {"height", 1}, {"period", 8}}}},
               {{"mesh", {{"type", "box"}, {"size", {0.5, 0.2, 0.3}}}},
                {"casts_shadows", false},
-               {"animation", {{"type", "path"}, {"points", {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}}}, {"face_motion", false}}}},
-              {{"mesh", {{"type", "torus"}, {"major_radius", 0.5}, {"minor_radius", 0.1}, {"segments", 12}, {"sides", 6}}}},
+               {"animation",
+                {{"type", "path"}, {"points", {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}}}, {"face_motion", false}}}},
+              {{"mesh",
+                {{"type", "torus"}, {"major_radius", 0.5}, {"minor_radius", 0.1}, {"segments", 12}, {"sides", 6}}}},
               {{"mesh", {{"type", "blob"}, {"radius", 0.3}, {"triangles", 80}, {"lumpiness", 0.3}, {"seed", 3}}}},
               {{"mesh", {{"type", "figure"}, {"height", 1.7}, {"triangles", 2000}}}},
               {{"mesh", {{"type", "virus"}, {"radius", 0.2}, {"spikes", 6}, {"spike_length", 0.1}, {"detail", 2}}}}})}};

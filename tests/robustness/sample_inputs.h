@@ -41,5 +41,4 @@ void write_sample_gltf_interleaved_strip(const std::filesystem::path& path);
 // A scene JSON using every kind of key, with a model and an environment at the given (relative) paths.
 std::string sample_scene_json(const std::string& model, const std::string& environment);
 
-
 }  // namespace envshadow::test

@@ -22,7 +22,9 @@ using test::fresh_folder;
 using test::loads_or_fails_cleanly;
 using test::write_text;
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // What the renderer relies on in a loaded scene.
 void expect_sound_scene(const Scene& scene, const std::string& what) {
@@ -74,7 +76,8 @@ TEST(RobustScene, EveryTruncatedSceneIsRefused) {
     const fs::path file = dir / "cut.json";
     for (const std::size_t n : test::truncation_lengths(whole.size(), 400, 300)) {
         test::write_bytes(file, std::vector<std::uint8_t>(whole.begin(), whole.begin() + std::ptrdiff_t(n)));
-        EXPECT_FALSE(loads_or_fails_cleanly(file, [&] { load_scene(file); }, "first " + std::to_string(n) + " bytes"))
+        EXPECT_FALSE(loads_or_fails_cleanly(
+            file, [&] { load_scene(file); }, "first " + std::to_string(n) + " bytes"))
             << "a scene cut to " << n << " of " << whole.size() << " bytes loaded";
     }
 }
@@ -87,7 +90,8 @@ TEST(RobustScene, BitFlippedScenesLoadSoundlyOrAreRefused) {
     for (const auto& bytes : test::bit_flipped(whole, 600, 99)) {
         test::write_bytes(file, bytes);
         const std::string what = "mutant " + std::to_string(index++);
-        loads_or_fails_cleanly(file, [&] { expect_sound_scene(load_scene(file), what); }, what);
+        loads_or_fails_cleanly(
+            file, [&] { expect_sound_scene(load_scene(file), what); }, what);
     }
 }
 

@@ -17,7 +17,9 @@
 namespace envshadow::test {
 
 // A fresh folder per test.
-inline std::filesystem::path test_folder() { return fresh_test_folder("envshadow_scene"); }
+inline std::filesystem::path test_folder() {
+    return fresh_test_folder("envshadow_scene");
+}
 
 class GltfWriter {
 public:
