@@ -1,6 +1,6 @@
 #pragma once
 // Floyd-Steinberg sampling of an environment texture on the GPU (seed 000 §1.3, Listing 1.1;
-// DESIGN.md §5): lights regenerated from the texture every frame, without a CPU round trip, so the
+// docs/DESIGN.md §5): lights regenerated from the texture every frame, without a CPU round trip, so the
 // environment may rotate, change exposure, be swapped or animate. docs/FS_GPU.md has the design.
 //
 //   1. fs_importance.comp  environment texture -> importance map I = lum(sum L dw) at the chosen
