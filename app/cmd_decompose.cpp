@@ -1,5 +1,5 @@
-// envshadow decompose: cut an environment map into N directional cells (DESIGN.md §3) and write them
-// as JSON (DESIGN.md §6) and/or as a picture of the cells over the map.
+// envshadow decompose: cut an environment map into N directional cells (docs/DESIGN.md §3) and write them
+// as JSON (docs/DESIGN.md §6) and/or as a picture of the cells over the map.
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -24,7 +24,7 @@ struct DecomposeArguments {
     bool clamp_invalid = false;
 };
 
-// Keys in the order of DESIGN.md §6.
+// Keys in the order of docs/DESIGN.md §6.
 nlohmann::ordered_json to_json(const Decomposition& d) {
     nlohmann::ordered_json lights = nlohmann::ordered_json::array();
     for (const Cell& c : d.cells)

@@ -1,5 +1,5 @@
 // Average reflectivity of the paper's modified Phong BRDF over a cell (Barsi et al. §2.3,
-// DESIGN.md §4). The C++ twin is engine/env/brdf.cpp; a GL test keeps the two equal. Multiply the
+// docs/DESIGN.md §4). The C++ twin is engine/env/brdf.cpp; a GL test keeps the two equal. Multiply the
 // specular averages by k_s = rho_s (n + 2) / (2 pi) and the cosine average by k_d = rho_d / pi.
 #include "constants.glsl"
 

@@ -38,7 +38,7 @@ void main() {
             const float texel_solid_angle = fs_texel_solid_angle(y, env_size);
             vec3 row_radiance = vec3(0.0), row_direction = vec3(0.0);
             for (int x = env_column_begin; x < env_column_end; ++x) {
-                const vec3 texel = max(texelFetch(u_environment, ivec2(x, y), 0).rgb, vec3(0.0));  // DESIGN §2: clamp negatives
+                const vec3 texel = max(texelFetch(u_environment, ivec2(x, y), 0).rgb, vec3(0.0));  // docs/DESIGN.md §2: clamp negatives
                 row_radiance += texel;
                 row_direction += fs_luminance(texel) * fs_texel_direction(ivec2(x, y), env_size);
             }

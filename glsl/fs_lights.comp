@@ -1,6 +1,6 @@
 #version 450 core
 // Turns the Floyd-Steinberg samples (fs_sampler.geom) into lights once their number K is known
-// (DESIGN.md §5). A light of multiplicity m (m of the K samples on one texel) gets the texel's
+// (docs/DESIGN.md §5). A light of multiplicity m (m of the K samples on one texel) gets the texel's
 // importance-weighted mean direction (its centre where it has no importance: as the CPU's
 // centroid_direction does, falling back on the centre rather than the solid-angle mean); radiance of luminance m S / K in the texel's colour (the estimator L / p of seed 000 §1.2
 // for a texel chosen with p = I / S, over K samples); a cap of solid angle m 4 pi / K (cos_radius);

@@ -74,7 +74,7 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror) {
 #else
     float diffuse = max(cos_theta, 0.0);  // the paper's centre sample, a_d = k_d cos theta_c
 #endif
-    float specular = 0.0;  // the BRDF is zero under the tangent plane (DESIGN.md §2)
+    float specular = 0.0;  // the BRDF is zero under the tangent plane (docs/DESIGN.md §2)
 #if !defined(DIFFUSE_ONLY)
     if (u_k_s > 0.0 && cos_theta > 0.0) {
 #if defined(SPECULAR_SINGLE)

@@ -277,7 +277,7 @@ def cap_average_numeric(cos_psi_c, r, n, nt=200, nphi=200):
 
 
 def blended(c, R, n):
-    """DESIGN.md §4, written again here only to label the check (the plots use the C++ twin's output)."""
+    """docs/DESIGN.md §4, written again here only to label the check (the plots use the C++ twin's output)."""
     if c <= R:
         return c ** n
     return (1 - R ** (n + 1)) * (c - R) / ((n + 1) * (1 - R) ** 2) + c ** n * (1 - c) / (1 - R)
@@ -412,7 +412,7 @@ def write_accuracy(ctx, path):
     w("")
     w("## What is measured")
     w("")
-    w("- **Error**: `envshadow compare REF.exr TEST.exr` (relative RMSE over object pixels, DESIGN.md §6) of the")
+    w("- **Error**: `envshadow compare REF.exr TEST.exr` (relative RMSE over object pixels, docs/DESIGN.md §6) of the")
     w("  real-time image (`envshadow render`, OpenGL through llvmpipe) against `envshadow reference` (Embree,")
     w(f"  importance sampling with MIS, every pixel stopped at a relative standard error of {a.error * 100:g}%).")
     w("  The reference noise alone contributes roughly that much to every number (it is a floor, not an error of")
@@ -429,7 +429,7 @@ def write_accuracy(ctx, path):
     w("  is the bottleneck (one to several minutes each here).")
     w("- **Defaults** unless a row says otherwise: N = 128 cells, method `lloyd`, shadow tiles 256², 16-bit depth,")
     w("  2×2 PCF, blended specular with the radiance-weighted cap (`--cap weighted`), diffuse at the cell centre.")
-    w("- **Methods**: the five load-time decompositions of DESIGN.md §3, and `fs-gpu`: the same Floyd–Steinberg halftoning")
+    w("- **Methods**: the five load-time decompositions of docs/DESIGN.md §3, and `fs-gpu`: the same Floyd–Steinberg halftoning")
     w("  run every frame on the GPU (geometry shader, docs/FS_GPU.md) over a 256×128 importance map, so it is what the")
     w("  dynamic-environment mode costs in accuracy against `fs` on the full 1024×512 map.")
     w("")
@@ -632,7 +632,7 @@ def write_paper(ctx, path):
     w("**Check against numerical integration.** The `exact` column is the C++ ring quadrature")
     w("(`tests/brdf/cap_quadrature.h`); this script integrates again independently (midpoint rule, 200 × 200 in")
     w("θ and φ about the cap centre) and, at ψ_c = 0, evaluates the closed form k_s(1 − R^{n+1})/((n+1)(1 − R)).")
-    w("It also re-evaluates the blended formula of DESIGN.md §4 in double precision against the C++ twin (float).")
+    w("It also re-evaluates the blended formula of docs/DESIGN.md §4 in double precision against the C++ twin (float).")
     w("")
     w("| figure | n | r | ψ_c | C++ quadrature | Python quadrature | closed form / blended (Python) | blended (C++) |")
     w("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")

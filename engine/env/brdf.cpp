@@ -1,4 +1,4 @@
-// The C++ twin of glsl/brdf.glsl (DESIGN.md §2, §4; Barsi et al. 2005, §2.3). Computed in double and
+// The C++ twin of glsl/brdf.glsl (docs/DESIGN.md §2, §4; Barsi et al. 2005, §2.3). Computed in double and
 // returned as float: this is the side the tests trust, the GLSL is held equal to it.
 #include "env/brdf.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// The paper's modified Phong BRDF and its averages over a cell (DESIGN.md §2, §4). The C++ twin of
+// The paper's modified Phong BRDF and its averages over a cell (docs/DESIGN.md §2, §4). The C++ twin of
 // glsl/brdf.glsl: tests check it against numerical integration, and a GL test keeps the GLSL equal.
 //   f_r cos theta' = k_d cos theta' + k_s cos^n psi,   k_d = rho_d / pi,  k_s = rho_s (n + 2) / (2 pi)
 namespace envshadow::brdf {

@@ -1,5 +1,5 @@
 #pragma once
-// Directional cells of an environment map (DESIGN.md §3): the output of every decomposition method,
+// Directional cells of an environment map (docs/DESIGN.md §3): the output of every decomposition method,
 // and what the renderer turns into lights.
 #include <cstdint>
 #include <glm/vec3.hpp>
@@ -55,7 +55,7 @@ struct Decomposition {
 // lights. Deterministic for a given seed, whatever the number of threads.
 Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& options);
 
-// The per-cell integration every method ends with (DESIGN.md §3), from the texel -> cell assignment:
+// The per-cell integration every method ends with (docs/DESIGN.md §3), from the texel -> cell assignment:
 // radiance = sum L dw (RGB), solid_angle = sum dw, direction = normalised sum I w (sum dw w where the
 // cell has no importance), cos_radius = 1 - dw_i / (2 pi), cos_radius_weighted = 2 (sum I (w . c) / sum I) - 1
 // (solid-angle weighted where the cell has no importance). A cell whose mean direction vanishes (one

@@ -1,5 +1,5 @@
 #pragma once
-// Importance of an environment map's texels (DESIGN.md §2): I = lum(L) * dw, dw the exact texel solid
+// Importance of an environment map's texels (docs/DESIGN.md §2): I = lum(L) * dw, dw the exact texel solid
 // angle. The sampling and decomposition methods read only this; the map's RGB is read again by the
 // per-cell integration.
 #include <glm/vec3.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// Nearest-site assignment of texels on the sphere (DESIGN.md §3), the inner loop of every method.
+// Nearest-site assignment of texels on the sphere (docs/DESIGN.md §3), the inner loop of every method.
 // Site k's score at direction p is  p . s_k + bias_k;  a texel belongs to the site of highest score,
 // the lowest index on ties. With zero biases that is the nearest site by angle; with bias_k = w_k / 2
 // it is the nearest in the power distance |p - s_k|^2 - w_k = 2 - 2 p . s_k - w_k (CCVT's power diagram).

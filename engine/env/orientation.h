@@ -1,6 +1,6 @@
 #pragma once
 // How the environment map sits in the world: the one place the scene's rotation is applied
-// (DESIGN.md §2). Cells and lat-long texels are in map space; world = R_y(rotation) * map, a
+// (docs/DESIGN.md §2). Cells and lat-long texels are in map space; world = R_y(rotation) * map, a
 // right-handed rotation about +Y (positive degrees turn +X towards -Z, as seen from above). The
 // renderer's lights and background and the reference renderer all go through these.
 #include <glm/ext/matrix_transform.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// The five ways of placing sites on the sphere (DESIGN.md §3). Each returns sites (and, for CCVT, the
+// The five ways of placing sites on the sphere (docs/DESIGN.md §3). Each returns sites (and, for CCVT, the
 // power-diagram biases); decompose() then assigns texels to the nearest site and integrates the cells.
 #include <cstdint>
 #include <glm/vec3.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// `envshadow compare` (DESIGN.md §6): how far an image B is from a reference A over the pixels covered
+// `envshadow compare` (docs/DESIGN.md §6): how far an image B is from a reference A over the pixels covered
 // by objects. Over those pixels and the three colour channels:
 //   rel_rmse = sqrt(sum (B - A)^2 / sum A^2)    (RMS error relative to the reference's RMS value)
 //   psnr     = 10 log10(peak^2 / mean (B - A)^2), peak = the largest channel value of A there

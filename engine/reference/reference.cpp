@@ -76,7 +76,7 @@ struct SurfacePoint {
 };
 
 // Sample counts of the strategies per round: the map's light (EnvironmentSampler), the cosine lobe and
-// the Phong lobe (DESIGN.md §2's two terms).
+// the Phong lobe (docs/DESIGN.md §2's two terms).
 struct Allocation {
     int grid = kGrid;  // each strategy in use draws grid x grid jittered samples
     int light = 0, cosine = 0, phong = 0;

@@ -1,7 +1,7 @@
 #pragma once
-// Ground truth for the renderer (DESIGN.md §6 `envshadow reference`): per pixel, the full integral
+// Ground truth for the renderer (docs/DESIGN.md §6 `envshadow reference`): per pixel, the full integral
 //   L = integral over the sphere of L_env(w) (k_d cos theta' + k_s cos^n psi) V(x, w) dw   (cos theta' > 0)
-// with the renderer's camera, geometry, shading normals, BRDF (DESIGN.md §2) and environment rotation.
+// with the renderer's camera, geometry, shading normals, BRDF (docs/DESIGN.md §2) and environment rotation.
 // The renderer's conventions, held here too: camera rays through pixel centres (row 0 at the top); the
 // interpolated shading normal, turned towards the viewer; the environment alone lights (no
 // interreflection: V = 0 where an object blocks); only objects with casts_shadows block; a scene with a

@@ -1,6 +1,6 @@
 #pragma once
 // Floyd-Steinberg sampling of an environment texture on the GPU (seed 000 §1.3, Listing 1.1;
-// DESIGN.md §5): lights regenerated from the texture every frame, without a CPU round trip, so the
+// docs/DESIGN.md §5): lights regenerated from the texture every frame, without a CPU round trip, so the
 // environment may rotate, change exposure, be swapped or animate. docs/FS_GPU.md has the design.
 //
 //   1. fs_importance.comp  environment texture -> importance map I = lum(sum L dw) at the chosen
@@ -114,7 +114,7 @@ inline constexpr const char* kFsSamplingPass = "fs-gpu sampling (wall)";
 
 struct FsSampleRequest {
     int samples = 128;               // M, the number of samples wanted (1 .. 2047)
-    glm::mat3 world_from_map{1.0f};  // the scene's environment rotation
+    glm::mat3 world_from_map{1.0f};  // applied to the lights; the default identity keeps map space
     float radiance_scale = 1.0f;     // exposure
 };
 
@@ -144,7 +144,9 @@ public:
 
     // Read back; these wait for the GPU.
     FsCounts read_counts() const;
-    std::vector<Cell> read_lights() const;  // world-space cells, scan order
+    // The lights as cells in scan order, turned by the request's world_from_map. render, bench and view
+    // keep the identity: map-space cells, which Renderer::set_lights rotates by the scene's rotation.
+    std::vector<Cell> read_lights() const;
     struct Sample {
         glm::ivec2 texel;  // importance map texel (i, j)
         int multiplicity;  // samples on it

@@ -13,7 +13,7 @@ enum class AtlasMode {
 };
 enum class PcfKernel { hardware_2x2, wide };
 enum class SpecularMode { blended, single };   // Barsi et al.'s blended average, or k_s cos^n psi_c
-enum class CapKind { solid_angle, weighted };  // DESIGN.md §3: cos_radius or cos_radius_weighted
+enum class CapKind { solid_angle, weighted };  // docs/DESIGN.md §3: cos_radius or cos_radius_weighted
 enum class DiffuseMode { center, cap };        // k_d cos theta_c, or its exact average over the cap
 
 struct RenderSettings {

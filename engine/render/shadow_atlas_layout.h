@@ -1,6 +1,6 @@
 #pragma once
 // Where each cell's depth map lives in the shadow atlas, and the orthographic projection that fills
-// it (DESIGN.md §5). Plain C++, no GL: tested headless.
+// it (docs/DESIGN.md §5). Plain C++, no GL: tested headless.
 #include <cstddef>
 #include <span>
 #include <string>

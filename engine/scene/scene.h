@@ -1,5 +1,5 @@
 #pragma once
-// Scenes (DESIGN.md §6): an environment, a camera and objects with materials and optional
+// Scenes (docs/DESIGN.md §6): an environment, a camera and objects with materials and optional
 // animation. Loaded from the JSON files in assets/scenes/ or from a bare .gltf/.glb. No GL here.
 #include <cstddef>
 #include <cstdint>
@@ -13,7 +13,7 @@
 
 namespace envshadow {
 
-// Albedos (DESIGN.md §2): k_d = rho_d / pi, k_s = rho_s (n + 2) / (2 pi).
+// Albedos (docs/DESIGN.md §2): k_d = rho_d / pi, k_s = rho_s (n + 2) / (2 pi).
 struct Material {
     glm::vec3 rho_d{0.8f};
     float rho_s = 0.0f;

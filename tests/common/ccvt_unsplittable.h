@@ -1,5 +1,5 @@
 #pragma once
-// The tests' own statement of which texels CCVT may leave out of its equal shares (DESIGN.md §3,
+// The tests' own statement of which texels CCVT may leave out of its equal shares (docs/DESIGN.md §3,
 // sites_ccvt): a texel heavier than an equal share of what the cells share, the importance outside
 // such texels. A fixed point: total / N where one sun is small, lower where several suns take much.
 #include <span>

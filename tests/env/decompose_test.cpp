@@ -37,7 +37,7 @@ int expected_cells(Method method, int lights) {
     return power;
 }
 
-// The properties every decomposition has (DESIGN.md §3), checked against values computed here.
+// The properties every decomposition has (docs/DESIGN.md §3), checked against values computed here.
 void expect_valid(const EnvironmentMap& map, const Decomposition& d, const glm::dvec3& integral, Method method,
                   int lights, const std::string& label) {
     SCOPED_TRACE(label);

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by the env tests: the eight HDR photographs of blender-data (DESIGN.md §7), loaded once per
+// Shared by the env tests: the eight HDR photographs of blender-data (docs/DESIGN.md §7), loaded once per
 // test program, and a scratch folder.
 #include <gtest/gtest.h>
 #include <unistd.h>

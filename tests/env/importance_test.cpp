@@ -29,7 +29,7 @@ TEST(Importance, IsLuminanceTimesSolidAngle) {
 }
 
 TEST(Importance, BrightestTexelSharesMatchTheDesignFigures) {
-    // DESIGN.md §7: the brightest texel holds 6.7% of the importance in city, 13.9% in sunrise, and
+    // docs/DESIGN.md §7: the brightest texel holds 6.7% of the importance in city, 13.9% in sunrise, and
     // under 0.1% in courtyard and studio.
     for (const auto& [name, share, tolerance] :
          {std::tuple{"city", 0.067, 0.001}, std::tuple{"sunrise", 0.139, 0.001},

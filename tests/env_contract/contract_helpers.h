@@ -1,6 +1,6 @@
 #pragma once
 // Shared by the environment-decomposition acceptance tests: the maps (loaded once per process), and
-// every reference quantity recomputed here from the map's texels with the convention of DESIGN.md §2
+// every reference quantity recomputed here from the map's texels with the convention of docs/DESIGN.md §2
 // (latlong.h), never with the integration code under test.
 #include <algorithm>
 #include <cmath>
@@ -55,7 +55,7 @@ inline glm::dvec3 direct_integral(const EnvironmentMap& map) {
     return total;
 }
 
-// I = lum(L) dω per texel (DESIGN.md §2); where the whole map is black, dω (the documented fallback).
+// I = lum(L) dω per texel (docs/DESIGN.md §2); where the whole map is black, dω (the documented fallback).
 inline std::vector<double> texel_importance(const EnvironmentMap& map) {
     std::vector<double> importance(map.texels.size());
     double total = 0.0;
@@ -108,7 +108,7 @@ inline CellSums cell_sums(const EnvironmentMap& map, const std::vector<double>& 
     return s;
 }
 
-// How many cells a method promises for N lights (DESIGN.md §3, cells.h, sites.h): exactly N; fs N or
+// How many cells a method promises for N lights (docs/DESIGN.md §3, cells.h, sites.h): exactly N; fs N or
 // N - 1 (the issue allows N ± 2); mediancut 2^k, k = floor(log2 N) (equal_importance_regions always
 // gives as many sites as asked for).
 inline bool count_as_promised(Method method, int lights, std::size_t cells) {
@@ -126,7 +126,7 @@ inline bool count_as_promised(Method method, int lights, std::size_t cells) {
     }
 }
 
-// Every promise DESIGN.md §3 makes about any decomposition, checked against sums recomputed here from
+// Every promise docs/DESIGN.md §3 makes about any decomposition, checked against sums recomputed here from
 // map.texels and texel_cell. Failures name `context`; at most a few per kind are printed.
 inline void expect_cells_contract(const EnvironmentMap& map, const Decomposition& d, const std::string& context) {
     SCOPED_TRACE(context);
@@ -203,7 +203,7 @@ inline void expect_cells_contract(const EnvironmentMap& map, const Decomposition
                 ADD_FAILURE() << "cell " << k << ": "
                               << "cos_radius " << cell.cos_radius << ", 1 - Δω/(2π) = " << expected_cap;
         }
-        // DESIGN.md §3: cos r^w = 2 (Σ I (ω·c) / Σ I) - 1; cells.h: solid-angle weights where Σ I = 0,
+        // docs/DESIGN.md §3: cos r^w = 2 (Σ I (ω·c) / Σ I) - 1; cells.h: solid-angle weights where Σ I = 0,
         // and 1 for an empty cell.
         double expected_weighted = 1.0;
         if (sums.importance[k] > 0.0)

@@ -1,4 +1,4 @@
-// `envshadow decompose` through the real executable (DESIGN.md §6): its JSON, its picture, and its exit
+// `envshadow decompose` through the real executable (docs/DESIGN.md §6): its JSON, its picture, and its exit
 // codes (2 for bad usage, 3 for bad input, one line on stderr, no output file left behind). The integral
 // is checked against the map's texels read with core's read_exr, not with the code under test.
 #include <sys/wait.h>
@@ -74,7 +74,7 @@ std::string shell_quoted(const fs::path& p) {
 }
 
 TEST_F(EnvContractCli, JsonHasTheKeysOfDesignAndConservesTheIntegral) {
-    // ∫ L dω of the map, from its texels (DESIGN.md §2's exact texel solid angle).
+    // ∫ L dω of the map, from its texels (docs/DESIGN.md §2's exact texel solid angle).
     const ExrContents exr = read_exr(kCourtyard);
     double integral[3] = {0.0, 0.0, 0.0};
     for (int j = 0; j < exr.image.height; ++j)
@@ -140,7 +140,7 @@ TEST_F(EnvContractCli, BadUsageExitsTwoAndWritesNothing) {
     }
 }
 
-// DESIGN.md §6: a clear one-line message naming the file, exit code 3, no partial output.
+// docs/DESIGN.md §6: a clear one-line message naming the file, exit code 3, no partial output.
 TEST_F(EnvContractCli, BadInputExitsThreeWithOneLineNamingTheFile) {
     const fs::path missing = file("no_such_map.exr");
     // A truncated copy of a real map.

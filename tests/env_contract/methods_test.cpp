@@ -1,4 +1,4 @@
-// Each method does what DESIGN.md §3 says it does, measured on the cells with quantities recomputed
+// Each method does what docs/DESIGN.md §3 says it does, measured on the cells with quantities recomputed
 // here from the map: CCVT equalises importance, Lloyd's site density follows the importance as quantisation
 // theory predicts, random sites are distributed as the importance, fs and mediancut give their counts,
 // and everything is deterministic.
@@ -54,8 +54,8 @@ class EnvContractCcvtSunCell : public ::testing::TestWithParam<const char*> {};
 // City and sunrise hold texels worth more than an equal share (sunrise: four of about 13% each, and at
 // N = 64 smaller ones above the share of what is left). Such a texel cannot be split, so the cells holding one may
 // carry more (sites.h, sites_ccvt); every other cell carries an equal share of the rest. "More" is the unsplittable
-// texels: a sun cell carries them and at most two ordinary shares besides (DESIGN.md §3: every cell ≈ 1/N where it can
-// be; the texels around the disc, partly covered by it, are what a tight power cell cannot avoid).
+// texels: a sun cell carries them and at most two ordinary shares besides (docs/DESIGN.md §3: every cell ≈ 1/N where it
+// can be; the texels around the disc, partly covered by it, are what a tight power cell cannot avoid).
 TEST_P(EnvContractCcvtSunCell, SunCellsHoldLittleBesidesTheSunAndTheOthersShareTheRest) {
     const std::string spec = blender_map(GetParam());
     const EnvironmentMap& map = cached_map(spec);

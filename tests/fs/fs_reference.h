@@ -1,5 +1,5 @@
 #pragma once
-// Test-side references for the Floyd-Steinberg GPU sampler, written from the papers and DESIGN.md,
+// Test-side references for the Floyd-Steinberg GPU sampler, written from the papers and docs/DESIGN.md,
 // independent of engine/render: importance maps in double, a serpentine Floyd-Steinberg scan in
 // double (seed 000 §1.3.1), maps to scan, and the upload of a map as a GL texture.
 #include <algorithm>
@@ -20,7 +20,7 @@ namespace envshadow::testing {
 
 inline const char* kCityExr = "/usr/share/blender/datafiles/studiolights/world/city.exr";
 
-// I = lum(L) dw per texel (DESIGN.md §2), row-major.
+// I = lum(L) dw per texel (docs/DESIGN.md §2), row-major.
 inline std::vector<double> importance_map(const EnvironmentMap& map) {
     std::vector<double> importance(map.texels.size());
     for (int j = 0; j < map.height; ++j) {
@@ -205,7 +205,7 @@ inline glm::dvec3 sun_at(double elevation, double azimuth) {
     return {std::cos(elevation) * std::cos(azimuth), std::sin(elevation), std::cos(elevation) * std::sin(azimuth)};
 }
 
-// The blender-data city photograph through the project's loader (negatives clamped, DESIGN.md §2).
+// The blender-data city photograph through the project's loader (negatives clamped, docs/DESIGN.md §2).
 inline EnvironmentMap city_map() {
     return load_environment(kCityExr);
 }

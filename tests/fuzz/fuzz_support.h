@@ -1,6 +1,6 @@
 #pragma once
 // Shared by the libFuzzer targets: every loader takes a path, so each input is written to a file in
-// a private folder; the error contract (DESIGN.md §6) is checked on every input, so a multi-line
+// a private folder; the error contract (docs/DESIGN.md §6) is checked on every input, so a multi-line
 // message, one that does not name the file, or any exception other than InputError is a finding.
 #include <cmath>
 #include <cstddef>

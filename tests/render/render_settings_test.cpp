@@ -11,7 +11,7 @@ TEST(RenderSettings, DefaultsAreTheDocumentedOnes) {
     const RenderSettings s;
     EXPECT_EQ(s.tile_size, 256);
     EXPECT_EQ(s.depth_bits, 16);
-    EXPECT_EQ(s.cap, CapKind::weighted);  // the better cap (DESIGN.md §3)
+    EXPECT_EQ(s.cap, CapKind::weighted);  // the better cap (docs/DESIGN.md §3)
     EXPECT_EQ(s.specular, SpecularMode::blended);
     EXPECT_EQ(s.diffuse, DiffuseMode::center);
     EXPECT_EQ(s.atlas, AtlasMode::clip_distances);

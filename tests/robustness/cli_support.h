@@ -1,6 +1,6 @@
 #pragma once
 // Runs the envshadow executable (ENVSHADOW_EXE) in a folder and checks the error contract of
-// DESIGN.md §6: exit code 2 (usage) or 3 (input), exactly one line on stderr naming the file or
+// docs/DESIGN.md §6: exit code 2 (usage) or 3 (input), exactly one line on stderr naming the file or
 // option, and nothing left behind in the folder: no output file, no temporary.
 #include <sys/wait.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-// The envshadow executable on bad flags and bad inputs (DESIGN.md §6): exit code 2 for usage and 3
+// The envshadow executable on bad flags and bad inputs (docs/DESIGN.md §6): exit code 2 for usage and 3
 // for input, one line on stderr naming the option or the file, and nothing left in the folder, no
 // output and no temporary; a failed run keeps an earlier output. Every case here fails before a GL
 // context is made (cli_gl_test.cpp has the ones that render).

@@ -229,7 +229,7 @@ TEST(RobustExr, BitFlippedFilesLoadSoundlyOrAreRefused) {
 }
 
 TEST(RobustExr, TheBlenderPhotographsRead) {
-    // DESIGN.md §7: eight 1024x512 maps.
+    // docs/DESIGN.md §7: eight 1024x512 maps.
     int count = 0;
     for (const auto& entry : fs::directory_iterator("/usr/share/blender/datafiles/studiolights/world")) {
         if (entry.path().extension() != ".exr") continue;
