@@ -6,11 +6,9 @@
 // each, interleaved frame by frame), so their ratios are measured under the same machine load.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,26 +18,26 @@
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image.h"
 #include "core/log.h"
 #include "env/cells.h"
 #include "env/environment.h"
 #include "gl/context.h"
-#include "render/embedded_shaders.h"
-#include "render/fs_sampler.h"
+#include "inputs.h"
+#include "render/light_source.h"
 #include "render/renderer.h"
-#include "scene/scene.h"
+#include "variants.h"
 
 namespace envshadow::app {
 namespace {
 
 struct BenchOptions {
-    std::string scene, env, method = "lloyd", backend = "egl", json, sweep, atlas = "clip-distances", variants,
-                            pass_timing = "auto";
-    std::string fs_importance = "256x128";  // fs-gpu: the importance map, WxH or "full" (the environment's)
+    CommonOptions common;  // --scene, --env, --lights, --method, --seed, --width, --height, --backend
+    std::string json, sweep, atlas = "clip-distances", variants, pass_timing = "auto";
+    std::string fs_importance = "256x128";  // GPU sampler: the importance map, WxH or "full" (the environment's)
     OptimisationFlags optimisations;
-    int lights = 128, frames = 100, warmup = 10, width = 1280, height = 720, tile = 256, depth_bits = 16;
+    int frames = 100, warmup = 10, tile = 256, depth_bits = 16;
     double time_step = 1.0 / 60.0;  // animation seconds per frame
-    std::uint64_t seed = 1;
 };
 
 struct Row {
@@ -56,32 +54,22 @@ struct Row {
     std::size_t gpu_frames = 0;                 // frames whose every pass had a valid reading (gpu_ms's samples)
 };
 
-struct Variant {
-    std::string label;
-    render::RenderSettings settings;
+struct RendererVariant {
+    Variant variant;
     std::unique_ptr<render::Renderer> renderer;
 };
 
 // One row per variant for this sweep point; the variants' frames are interleaved.
-// With `sampler` (fs-gpu) the lights are sampled on the GPU before every frame; the sampling is part of
-// the frame's wall time and reported as its own column (wall time, up to the lights' read-back).
-std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const Scene& scene, const EnvironmentMap& map,
-                         std::vector<Variant>& variants, std::map<int, Decomposition>& decompositions,
-                         render::FsSampler* sampler) {
+// A per-frame light source samples the GPU before every frame; the sampling is part of the frame's
+// wall time and reported as its own column (wall time, up to the lights' read-back).
+std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const Scene& scene,
+                         std::vector<RendererVariant>& variants, render::LightSource& lights) {
     Row common;
     common.point = point;
-    common.lights = point.lights ? point.lights : o.lights;
-    common.width = point.width ? point.width : o.width;
-    common.height = point.height ? point.height : o.height;
-
-    auto found = decompositions.find(common.lights);
-    if (found == decompositions.end())
-        found = decompositions
-                    .emplace(common.lights,
-                             sampler ? Decomposition{}
-                                     : decompose(map, DecomposeOptions{parse_method(o.method), common.lights, o.seed}))
-                    .first;
-    common.decompose_ms = found->second.seconds * 1000.0;
+    common.lights = point.lights ? point.lights : o.common.lights;
+    common.width = point.width ? point.width : o.common.width;
+    common.height = point.height ? point.height : o.common.height;
+    common.decompose_ms = lights.decomposition().seconds * 1000.0;
 
     std::vector<Row> rows(variants.size(), common);
     struct Samples {
@@ -90,11 +78,11 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
     };
     std::vector<Samples> samples(variants.size());
     for (std::size_t v = 0; v < variants.size(); ++v) {
-        render::RenderSettings settings = variants[v].settings;
+        render::RenderSettings settings = variants[v].variant.settings;
         if (point.tile) settings.tile_size = point.tile;
         variants[v].renderer->set_settings(settings);
-        variants[v].renderer->set_lights(found->second.cells);
-        rows[v].variant = variants[v].label;
+        lights.attach(*variants[v].renderer);
+        rows[v].variant = variants[v].variant.label;
         rows[v].tile = settings.tile_size;
     }
     double time = 0.0;
@@ -103,14 +91,10 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
         for (std::size_t v = 0; v < variants.size(); ++v) {
             const auto start = std::chrono::steady_clock::now();
             std::vector<gl::PassTime> sampling;
-            if (sampler) {  // wall time: GL_TIME_ELAPSED around the sampler's compute and transform feedback is
-                            // unreliable on llvmpipe and spoils the renderer's next query (docs/PERFORMANCE.md)
-                sampler->sample(variants[v].renderer->environment_texture(), render::FsSampleRequest{common.lights});
-                variants[v].renderer->set_lights(sampler->read_lights());  // waits for the sampler
-                sampling.push_back(
-                    {render::kFsSamplingPass,
-                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
-            }
+            lights.update(*variants[v].renderer);  // per frame: waits for the sampler
+            // Wall time: GL_TIME_ELAPSED around the sampler's compute and transform feedback is unreliable
+            // on llvmpipe and spoils the renderer's next query (docs/PERFORMANCE.md).
+            if (lights.per_frame()) sampling.push_back({render::kFsSamplingPass, lights.sampling_ms()});
             render::FrameStats stats = variants[v].renderer->render(time, view);  // waits for the GPU's timer results
             const double wall =
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -157,7 +141,7 @@ void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std:
                  std::size_t triangles, gl::PassTiming timing) {
     std::printf(
         "envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s\n",
-        o.scene.c_str(), renderer_name.c_str(), o.backend.c_str(), triangles, o.frames, o.warmup,
+        o.common.scene.c_str(), renderer_name.c_str(), o.common.backend.c_str(), triangles, o.frames, o.warmup,
         timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries");
     std::vector<std::string> pass_names;  // union over the rows, in pipeline order
     for (const Row& r : rows)
@@ -198,13 +182,14 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
     auto summary = [](const TimeSummary& s) {
         return nlohmann::json{{"median", s.median}, {"p95", s.p95}, {"mean", s.mean}, {"min", s.min}, {"max", s.max}};
     };
-    nlohmann::json out = {{"scene", o.scene},
+    const bool gpu_sampler = render::light_method(o.common.method).kind == render::LightSourceKind::gpu_fs;
+    nlohmann::json out = {{"scene", o.common.scene},
                           {"renderer", renderer_name},
-                          {"backend", o.backend},
-                          {"method", o.method},
+                          {"backend", o.common.backend},
+                          {"method", o.common.method},
                           {"frames", o.frames},
                           {"warmup", o.warmup},
-                          {"fs_importance", o.method == "fs-gpu" ? o.fs_importance : ""},
+                          {"fs_importance", gpu_sampler ? o.fs_importance : ""},
                           {"triangles", triangles},
                           {"atlas_mode", o.atlas},
                           {"variants", o.variants},
@@ -249,62 +234,57 @@ glm::ivec2 fs_importance_size(const std::string& text, const EnvironmentMap& map
 }
 
 int run_bench(const BenchOptions& o) {
-    // CLI::Range lets NaN through (every comparison with it is false).
-    if (!std::isfinite(o.time_step)) throw UsageError("--time-step must be a finite number of seconds");
+    const CommonOptions& c = o.common;
     const std::vector<SweepPoint> points =
         o.sweep.empty() ? std::vector<SweepPoint>{SweepPoint{0, 0, 0, 0, "default"}} : parse_sweep(o.sweep);
     for (const SweepPoint& p : points) {
         if (p.lights > kMaxLights)
             throw UsageError("--sweep " + p.label + ": N must be 1.." + std::to_string(kMaxLights));
-        if (p.width > 16384 || p.height > 16384) throw UsageError("--sweep " + p.label + ": resolution too large");
+        if (p.width > kMaxImageWidth || p.height > kMaxImageHeight)
+            throw UsageError("--sweep " + p.label + ": resolution too large");
     }
     render::RenderSettings settings;
     settings.depth_bits = o.depth_bits;
     settings.tile_size = o.tile;
-    settings.atlas = render::parse_atlas_mode(o.atlas, "--atlas");
+    settings.atlas = naming_flag("--atlas", [&] { return render::parse_atlas_mode(o.atlas); });
     settings = apply(o.optimisations, settings);
     render::validate(settings);
     // One renderer per variant (each with its own atlas), all in one context.
-    std::vector<std::string> labels;
-    for (std::size_t start = 0; start <= o.variants.size() && !o.variants.empty();) {
-        const std::size_t semicolon = std::min(o.variants.find(';', start), o.variants.size());
-        labels.push_back(o.variants.substr(start, semicolon - start));
-        start = semicolon + 1;
+    std::vector<RendererVariant> variants;
+    for (Variant& variant : parse_variants(o.variants, settings)) variants.push_back({std::move(variant), nullptr});
+
+    const Inputs inputs = load_inputs(c.scene, c.env, 0.0);
+    const Scene& scene = inputs.scene;
+    const EnvironmentMap& map = inputs.map;
+    const render::LightMethod& method = render::light_method(c.method);
+    render::FsSamplerOptions fs_options;
+    if (method.kind == render::LightSourceKind::gpu_fs) {
+        const glm::ivec2 size = fs_importance_size(o.fs_importance, map);
+        fs_options.importance_width = size.x;
+        fs_options.importance_height = size.y;
     }
-    if (labels.empty()) labels.push_back("");
-    std::vector<Variant> variants;
-    for (const std::string& label : labels)
-        variants.push_back({label, render::apply_variant(settings, label, "--variants"), nullptr});
 
-    Scene scene = load_scene(o.scene);
-    if (!o.env.empty()) scene.environment.source = o.env;
-    const EnvironmentMap map = load_environment(scene.environment.source);
-    const glm::ivec2 importance_size = o.method == "fs-gpu" ? fs_importance_size(o.fs_importance, map) : glm::ivec2(0);
-
-    auto context = gl::create_context(gl::parse_backend(o.backend));
+    auto context = gl::create_context(gl::parse_backend(c.backend));
     const std::string renderer_name = context->renderer();
-    const gl::PassTiming timing = gl::parse_pass_timing(o.pass_timing, context->is_software(), "--pass-timing");
-    for (Variant& variant : variants) {
-        variant.renderer = std::make_unique<render::Renderer>(variant.settings);
+    const gl::PassTiming timing = pass_timing(o.pass_timing, context->is_software());
+    for (RendererVariant& variant : variants) {
+        variant.renderer = std::make_unique<render::Renderer>(variant.variant.settings);
         variant.renderer->set_pass_timing(timing);
         variant.renderer->set_scene(scene);
         variant.renderer->set_environment(map);
     }
 
-    std::optional<render::FsSampler> sampler;
-    if (o.method == "fs-gpu") {
-        render::FsSamplerOptions options;
-        options.importance_width = importance_size.x;
-        options.importance_height = importance_size.y;
-        sampler.emplace(render::embedded_shaders(), options);
-    }
-
-    std::map<int, Decomposition> decompositions;
+    // The lights of each N of the sweep, made once.
+    std::map<int, render::LightSource> light_sources;
     std::vector<Row> rows;
     for (const SweepPoint& point : points) {
         log::info("bench: " + point.label);
-        for (Row& row : measure(o, point, scene, map, variants, decompositions, sampler ? &*sampler : nullptr))
-            rows.push_back(std::move(row));
+        const int lights = point.lights ? point.lights : c.lights;
+        auto found = light_sources.find(lights);
+        if (found == light_sources.end())
+            found =
+                light_sources.emplace(lights, render::make_light_source(method, map, lights, c.seed, fs_options)).first;
+        for (Row& row : measure(o, point, scene, variants, found->second)) rows.push_back(std::move(row));
     }
     print_table(rows, o, renderer_name, scene.triangle_count(), timing);
     if (!o.json.empty())
@@ -317,24 +297,18 @@ int run_bench(const BenchOptions& o) {
 Command add_bench_command(CLI::App& parent) {
     auto o = std::make_shared<BenchOptions>();
     CLI::App* app = parent.add_subcommand("bench", "Measure frame times headless (GPU timer queries per pass)");
-    app->add_option("--scene", o->scene, "Scene JSON or .gltf/.glb")->required();
-    app->add_option("--env", o->env, "Environment (.exr, .hdr, builtin:…), overrides the scene's");
-    app->add_option("--lights", o->lights, "Number of cells N")->check(CLI::Range(1, kMaxLights));
-    app->add_option(
-           "--method", o->method,
-           "Decomposition: lloyd, ccvt, mediancut, random, fs; or fs-gpu (lights sampled on the GPU every frame)")
-        ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs", "fs-gpu"}));
-    app->add_option("--fs-importance", o->fs_importance, "fs-gpu: importance map size, WxH or full (default 256x128)");
-    app->add_option("--seed", o->seed, "Seed of the decomposition");
+    o->common.width = 1280;
+    o->common.height = 720;
+    add_common_options(app, &o->common, CommonOptionSet{});
+    app->add_option("--fs-importance", o->fs_importance,
+                    "GPU sampler: importance map size, WxH or full (default 256x128)");
     app->add_option("--frames", o->frames, "Timed frames")->check(CLI::Range(1, 100000));
     app->add_option("--warmup", o->warmup, "Untimed frames first")->check(CLI::Range(0, 100000));
-    app->add_option("--width", o->width, "Image width")->check(CLI::Range(16, 16384));
-    app->add_option("--height", o->height, "Image height")->check(CLI::Range(16, 16384));
-    app->add_option("--tile", o->tile, "Shadow tile resolution")->check(CLI::Range(128, 2048));
-    app->add_option("--depth-bits", o->depth_bits, "Shadow depth format")->check(CLI::IsMember({16, 32}));
+    add_atlas_options(app, &o->tile, &o->depth_bits);
     app->add_option("--atlas", o->atlas, "clip-distances (one draw), viewport-array, per-tile (baseline)");
-    app->add_option("--time-step", o->time_step, "Animation seconds per frame")->check(CLI::Range(0.0, 10.0));
-    app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
+    app->add_option("--time-step", o->time_step, "Animation seconds per frame")
+        ->check(CLI::Range(0.0, 10.0))
+        ->check(finite_number());
     add_pass_timing_option(app, &o->pass_timing);
     app->add_option("--json", o->json, "Write the results as JSON");
     app->add_option(

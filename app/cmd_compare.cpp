@@ -29,11 +29,10 @@ Command add_compare_command(CLI::App& parent) {
     app->add_option("--mask", o->mask, "PNG: white pixels are compared (instead of A's alpha)");
     app->add_option("--diff", o->diff, "PNG to write: relative error in false colour (red at --diff-scale)");
     app->add_option("--diff-scale", o->diff_scale, "Relative error shown as red (default 0.1)")
-        ->check(CLI::Range(1e-6, 1e6));
+        ->check(CLI::Range(1e-6, 1e6))
+        ->check(finite_number());
     return {
         app, [o] {
-            // CLI::Range lets NaN through (every comparison with it is false).
-            if (!std::isfinite(o->diff_scale)) throw UsageError("--diff-scale must be a finite number");
             const ExrContents a = read_exr(o->a), b = read_exr(o->b);
             std::optional<Image8> mask;
             if (!o->mask.empty()) mask = read_png(o->mask);

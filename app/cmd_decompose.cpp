@@ -18,9 +18,8 @@ namespace envshadow::app {
 namespace {
 
 struct DecomposeArguments {
-    std::string env, method = "lloyd", json, png;
-    int lights = 128;
-    std::uint64_t seed = 1;
+    CommonOptions common;  // --env, --lights, --method, --seed
+    std::string json, png;
     bool clamp_invalid = false;
 };
 
@@ -45,26 +44,22 @@ nlohmann::ordered_json to_json(const Decomposition& d) {
 }
 
 int run_decompose(const DecomposeArguments& args) {
-    DecomposeOptions options;
-    options.method = parse_method(args.method);
-    options.lights = args.lights;
-    options.seed = args.seed;
-    if (options.lights < 1 || options.lights > kMaxLights)
-        throw UsageError("--lights " + std::to_string(options.lights) + " is outside 1.." + std::to_string(kMaxLights));
+    const std::string& env = args.common.env;
+    const DecomposeOptions options{parse_method(args.common.method), args.common.lights, args.common.seed};
 
     EnvironmentLoadReport report;
-    const EnvironmentMap map = load_environment(args.env, {args.clamp_invalid}, &report);
+    const EnvironmentMap map = load_environment(env, {args.clamp_invalid}, &report);
     if (report.negative_clamped > 0)
-        log::info(args.env + ": " + std::to_string(report.negative_clamped) + " negative texel values set to 0");
+        log::info(env + ": " + std::to_string(report.negative_clamped) + " negative texel values set to 0");
     if (report.invalid_clamped > 0)
-        log::warn(args.env + ": " + std::to_string(report.invalid_clamped) + " NaN/infinite texel values set to 0");
+        log::warn(env + ": " + std::to_string(report.invalid_clamped) + " NaN/infinite texel values set to 0");
 
     const Decomposition d = decompose(map, options);
-    if (d.uniform_importance) log::warn(args.env + ": the map is black; cells follow solid angle (uniform importance)");
+    if (d.uniform_importance) log::warn(env + ": the map is black; cells follow solid angle (uniform importance)");
     if (!args.json.empty()) write_file_atomically(args.json, to_json(d).dump(2) + "\n");
     if (!args.png.empty()) write_png(args.png, draw_cells(map, d));
 
-    std::printf("decompose: %s %dx%d, %s, %zu lights, %.3f s", args.env.c_str(), d.width, d.height,
+    std::printf("decompose: %s %dx%d, %s, %zu lights, %.3f s", env.c_str(), d.width, d.height,
                 std::string(to_string(d.method)).c_str(), d.cells.size(), d.seconds);
     if (options.method == Method::lloyd || options.method == Method::ccvt) {
         std::printf(", %d iterations", d.iterations);
@@ -83,12 +78,12 @@ int run_decompose(const DecomposeArguments& args) {
 Command add_decompose_command(CLI::App& parent) {
     auto args = std::make_shared<DecomposeArguments>();
     CLI::App* app = parent.add_subcommand("decompose", "Cut an environment map into N directional cells");
-    app->add_option("--env", args->env, "Environment: an .exr or .hdr lat-long map, or builtin:constant, builtin:sky")
-        ->required();
-    app->add_option("--lights", args->lights, "Number of cells N, 1..256 (mediancut: the largest power of two below)");
-    app->add_option("--method", args->method, "lloyd (default), ccvt, mediancut, random or fs")
-        ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs"}));
-    app->add_option("--seed", args->seed, "Seed of the random choices (random; lloyd's start)");
+    CommonOptionSet set;
+    set.scene = false;  // --env is the map itself
+    set.gpu_method = false;
+    set.size = false;
+    set.backend = false;
+    add_common_options(app, &args->common, set);
     app->add_option("--json", args->json, "Write the cells as JSON here");
     app->add_option("--png", args->png, "Write a picture of the cells over the map here");
     app->add_flag("--clamp-invalid", args->clamp_invalid, "Set NaN and infinite texels to 0 instead of failing");

@@ -2,24 +2,22 @@
 // Parse, load the scene and its map, render, report the standard errors, write.
 #include <tbb/info.h>
 
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "commands.h"
-#include "core/error.h"
 #include "core/image.h"
-#include "env/environment.h"
+#include "inputs.h"
 #include "reference/reference.h"
-#include "scene/scene.h"
 
 namespace envshadow::app {
 namespace {
 
 struct ReferenceCommandOptions {
-    std::string scene, env, exr, png, error_exr;
+    CommonOptions common;  // --scene, --env, --seed, --width, --height
+    std::string exr, png, error_exr;
     reference::ReferenceOptions render;
 };
 
@@ -40,27 +38,31 @@ void print_statistics(const reference::ReferenceOptions& options, const referenc
 Command add_reference_command(CLI::App& parent) {
     auto o = std::make_shared<ReferenceCommandOptions>();
     CLI::App* app = parent.add_subcommand("reference", "Render the ground truth with Embree (CPU)");
-    app->add_option("--scene", o->scene, "Scene JSON or .gltf/.glb")->required();
-    app->add_option("--env", o->env, "Environment map or builtin: spec, replacing the scene's");
-    app->add_option("--width", o->render.width, "Image width")->check(CLI::Range(1, kMaxImageWidth));
-    app->add_option("--height", o->render.height, "Image height")->check(CLI::Range(1, kMaxImageHeight));
-    app->add_option("--time", o->render.time, "Animation time in seconds");
+    o->common.width = o->render.width;
+    o->common.height = o->render.height;
+    o->common.seed = o->render.seed;
+    CommonOptionSet set;
+    set.lights = false;  // nor --method: the reference integrates the map itself
+    set.backend = false;
+    add_common_options(app, &o->common, set);
+    add_time_option(app, &o->render.time);
     app->add_option("--exr", o->exr, "Linear EXR to write (alpha 1 on objects, 0 on the background)")->required();
     app->add_option("--png", o->png, "Tone-mapped PNG to write (the scene's exposure)");
     app->add_option("--samples", o->render.max_samples, "Most samples per pixel (a pixel stops earlier at --error)")
         ->check(CLI::Range(1LL, 1LL << 40));
     app->add_option("--error", o->render.target_error,
                     "Relative standard error at which a pixel stops (default 0.0025, half the 0.5% promised)")
-        ->check(CLI::Range(1e-6, 1.0));
-    app->add_option("--seed", o->render.seed, "Random seed");
+        ->check(CLI::Range(1e-6, 1.0))
+        ->check(finite_number());  // a NaN target is never met and every pixel would take --samples
     app->add_option("--error-exr", o->error_exr, "EXR of the per-pixel standard error (alpha: samples taken)");
     return {app, [o] {
-                if (!std::isfinite(o->render.time)) throw UsageError("--time must be a finite number of seconds");
-                // CLI::Range lets NaN through; a NaN target is never met and every pixel takes --samples.
-                if (std::isnan(o->render.target_error)) throw UsageError("--error must be a number");
-                const Scene scene = load_scene(o->scene);
-                const EnvironmentMap map = load_environment(o->env.empty() ? scene.environment.source : o->env);
-                const reference::ReferenceImage result = reference::render_reference(scene, map, o->render);
+                o->render.width = o->common.width;
+                o->render.height = o->common.height;
+                o->render.seed = o->common.seed;
+                // The map at --time, as `render` lights it: builtin:sky's sun moves with the animation.
+                const Inputs inputs = load_inputs(o->common.scene, o->common.env, o->render.time);
+                const Scene& scene = inputs.scene;
+                const reference::ReferenceImage result = reference::render_reference(scene, inputs.map, o->render);
                 print_statistics(o->render, result.statistics);
                 write_exr(o->exr, result.image);
                 std::printf("wrote %s\n", o->exr.c_str());

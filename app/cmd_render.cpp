@@ -4,9 +4,7 @@
 // drawn once per way of drawing the atlas, interleaved, so their times compare in one run.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <memory>
 #include <optional>
@@ -20,20 +18,21 @@
 #include "env/cells.h"
 #include "env/environment.h"
 #include "gl/context.h"
-#include "render/embedded_shaders.h"
-#include "render/fs_sampler.h"
+#include "inputs.h"
+#include "render/light_source.h"
 #include "render/renderer.h"
-#include "scene/scene.h"
 
 namespace envshadow::app {
 namespace {
 
+constexpr const char* kSamplingWall = "sampling wall";  // the per-frame light source's, among the passes
+
 struct RenderOptions {
-    std::string scene, env, method = "lloyd", backend = "egl", out, exr;
+    CommonOptions common;  // --scene, --env, --lights, --method, --seed, --width, --height, --backend
+    std::string out, exr;
     std::string pcf = "2x2", specular = "blended", cap = "weighted", diffuse = "center", atlas;
-    int lights = 128, width = 960, height = 540, tile = 256, depth_bits = 16, frames = 1;
+    int tile = 256, depth_bits = 16, frames = 1;
     double time = 0.0;
-    std::uint64_t seed = 1;
     std::string pass_timing = "auto";
     OptimisationFlags optimisations;
     bool per_tile_atlas = false, no_background = false;
@@ -43,10 +42,10 @@ render::RenderSettings settings_from(const RenderOptions& o) {
     render::RenderSettings s;
     s.tile_size = o.tile;
     s.depth_bits = o.depth_bits;
-    s.pcf = render::parse_pcf_kernel(o.pcf, "--pcf");
-    s.specular = render::parse_specular_mode(o.specular, "--specular");
-    s.cap = render::parse_cap_kind(o.cap, "--cap");
-    s.diffuse = render::parse_diffuse_mode(o.diffuse, "--diffuse");
+    s.pcf = naming_flag("--pcf", [&] { return render::parse_pcf_kernel(o.pcf); });
+    s.specular = naming_flag("--specular", [&] { return render::parse_specular_mode(o.specular); });
+    s.cap = naming_flag("--cap", [&] { return render::parse_cap_kind(o.cap); });
+    s.diffuse = naming_flag("--diffuse", [&] { return render::parse_diffuse_mode(o.diffuse); });
     s.background = !o.no_background;
     if (o.per_tile_atlas) s.atlas = render::AtlasMode::per_tile;
     s = apply(o.optimisations, s);
@@ -60,38 +59,30 @@ std::vector<render::AtlasMode> atlas_modes(const RenderOptions& o, const render:
     if (o.per_tile_atlas) throw UsageError("--per-tile-atlas and --atlas exclude each other");
     if (o.atlas == "all")
         return {render::AtlasMode::clip_distances, render::AtlasMode::viewport_array, render::AtlasMode::per_tile};
-    return {render::parse_atlas_mode(o.atlas, "--atlas")};
+    return {naming_flag("--atlas", [&] { return render::parse_atlas_mode(o.atlas); })};
 }
 
 int run_render(const RenderOptions& o) {
     if (o.out.empty() && o.exr.empty()) throw UsageError("render: give --out OUT.png and/or --exr OUT.exr");
-    if (!std::isfinite(o.time)) throw UsageError("--time must be a finite number of seconds");
-    // fs-gpu: Floyd-Steinberg samples of the environment texture made on the GPU every frame
-    // (docs/FS_GPU.md), instead of a decomposition at load time.
-    const bool fs_gpu = o.method == "fs-gpu";
-    const Method method = fs_gpu ? Method::fs : parse_method(o.method);
+    const CommonOptions& c = o.common;
     render::RenderSettings settings = settings_from(o);
     const std::vector<render::AtlasMode> modes = atlas_modes(o, settings);
     settings.atlas = modes.front();
 
-    Scene scene = load_scene(o.scene);
-    if (!o.env.empty()) scene.environment.source = o.env;
-    const EnvironmentMap map = load_environment(environment_at_time(scene.environment.source, o.time));
-    const Decomposition decomposition =
-        fs_gpu ? Decomposition{} : decompose(map, DecomposeOptions{method, o.lights, o.seed});
+    const Inputs inputs = load_inputs(c.scene, c.env, o.time);
+    const Scene& scene = inputs.scene;
+    const EnvironmentMap& map = inputs.map;
 
-    auto context = gl::create_context(gl::parse_backend(o.backend));
+    auto context = gl::create_context(gl::parse_backend(c.backend));
     render::Renderer renderer(settings);
-    renderer.set_pass_timing(gl::parse_pass_timing(o.pass_timing, context->is_software(), "--pass-timing"));
+    renderer.set_pass_timing(pass_timing(o.pass_timing, context->is_software()));
     renderer.set_scene(scene);
     renderer.set_environment(map);
-    std::optional<render::FsSampler> fs_sampler;
-    if (fs_gpu) {
-        fs_sampler.emplace(render::embedded_shaders());
-    } else {
-        renderer.set_lights(decomposition.cells);
-    }
-    const render::CameraView view = render::camera_view(scene, o.width, o.height, o.time);
+    // fs-gpu: Floyd-Steinberg samples of the environment texture made on the GPU every frame
+    // (docs/FS_GPU.md), instead of a decomposition at load time.
+    render::LightSource lights = render::make_light_source(render::light_method(c.method), map, c.lights, c.seed);
+    lights.attach(renderer);
+    const render::CameraView view = render::camera_view(scene, c.width, c.height, o.time);
 
     // Per mode and pass, the GPU milliseconds of every measured frame.
     std::map<render::AtlasMode, std::map<std::string, std::vector<double>>> times;
@@ -103,12 +94,8 @@ int run_render(const RenderOptions& o) {
             settings.atlas = mode;
             renderer.set_settings(settings);
             const auto start = std::chrono::steady_clock::now();
-            if (fs_sampler) {  // the lights are regenerated every frame; in map space, as cells are
-                fs_sampler->sample(renderer.environment_texture(), render::FsSampleRequest{o.lights});
-                renderer.set_lights(fs_sampler->read_lights());
-                const std::chrono::duration<double, std::milli> sampled = std::chrono::steady_clock::now() - start;
-                if (frame >= warmup) times[mode]["fs-gpu sampling wall"].push_back(sampled.count());
-            }
+            lights.update(renderer);  // per frame: the lights sampled again
+            if (lights.per_frame() && frame >= warmup) times[mode][kSamplingWall].push_back(lights.sampling_ms());
             stats = renderer.render(o.time, view);  // returns after the GPU's timer results are in
             const std::chrono::duration<double, std::milli> wall = std::chrono::steady_clock::now() - start;
             if (frame >= warmup) {
@@ -118,17 +105,23 @@ int run_render(const RenderOptions& o) {
             if (!image) image = renderer.read_back();  // the first mode's first frame
         }
 
-    std::printf("scene %s, %dx%d, %s on %s\n", o.scene.c_str(), o.width, o.height,
+    std::printf("scene %s, %dx%d, %s on %s\n", c.scene.c_str(), c.width, c.height,
                 std::string(gl::to_string(context->backend())).c_str(), context->renderer().c_str());
-    if (fs_sampler)
-        std::printf("fs-gpu: %u lights of %u samples from a %dx%d importance map of %s, every frame, %.2f ms wall\n",
-                    fs_sampler->read_counts().light_count, fs_sampler->read_counts().samples,
-                    fs_sampler->importance_size().x, fs_sampler->importance_size().y, map.source.c_str(),
-                    summarize(times[modes.front()]["fs-gpu sampling wall"]).median);
-    else
-        std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n",
-                    std::string(to_string(decomposition.method)).c_str(), decomposition.cells.size(),
-                    decomposition.width, decomposition.height, map.source.c_str(), decomposition.seconds);
+    if (const render::FsSampler* sampler = lights.sampler()) {
+        const render::FsCounts counts = sampler->read_counts();
+        std::printf("%s: %u lights of %u samples from a %dx%d importance map of %s, every frame, %.2f ms wall",
+                    std::string(lights.method().name()).c_str(), counts.light_count, counts.samples,
+                    sampler->importance_size().x, sampler->importance_size().y, map.source.c_str(),
+                    summarize(times[modes.front()][kSamplingWall]).median);
+        if (lights.lights_folded() > 0)
+            std::printf(" (%d beyond the %d the renderer takes folded into the brightest)", lights.lights_folded(),
+                        kMaxLights);
+        std::printf("\n");
+    } else {
+        const Decomposition& d = lights.decomposition();
+        std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n", std::string(to_string(d.method)).c_str(),
+                    d.cells.size(), d.width, d.height, map.source.c_str(), d.seconds);
+    }
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
@@ -169,21 +162,12 @@ int run_render(const RenderOptions& o) {
 Command add_render_command(CLI::App& parent) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* app = parent.add_subcommand("render", "Render one frame offscreen to PNG and/or EXR");
-    app->add_option("--scene", o->scene, "Scene JSON, or a .gltf/.glb")->required();
-    app->add_option("--env", o->env, "Environment map (.exr/.hdr or builtin:...), overriding the scene's");
-    app->add_option("--lights", o->lights, "Number of cells (lights)")->check(CLI::Range(1, 256));
-    app->add_option("--method", o->method,
-                    "Decomposition: lloyd, ccvt, mediancut, random, fs; or fs-gpu (sampled on the GPU every frame)");
-    app->add_option("--seed", o->seed, "Seed of the decomposition");
-    app->add_option("--width", o->width, "Image width")->check(CLI::Range(16, 8192));
-    app->add_option("--height", o->height, "Image height")->check(CLI::Range(16, 8192));
-    app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
+    add_common_options(app, &o->common, CommonOptionSet{});
     add_pass_timing_option(app, &o->pass_timing);
-    app->add_option("--time", o->time, "Animation time in seconds (builtin:sky's sun: one hour per second)");
+    add_time_option(app, &o->time);
     app->add_option("--out", o->out, "PNG to write (exposure, filmic tone map, sRGB)");
     app->add_option("--exr", o->exr, "EXR to write (linear; alpha 1 on objects, 0 on the background)");
-    app->add_option("--tile", o->tile, "Shadow map tile size (128..2048)")->check(CLI::Range(128, 2048));
-    app->add_option("--depth-bits", o->depth_bits, "Shadow depth bits")->check(CLI::IsMember({16, 32}));
+    add_atlas_options(app, &o->tile, &o->depth_bits);
     app->add_option("--pcf", o->pcf, "Shadow filter: 2x2 (hardware) or wide (3x3 taps)")
         ->check(CLI::IsMember({"2x2", "wide"}));
     app->add_option("--specular", o->specular, "blended (Barsi et al.) or single (cos^n psi_c)")

@@ -13,9 +13,4 @@ int print_version() {
     return 0;
 }
 
-int not_built(const char* name) {
-    std::fprintf(stderr, "envshadow: '%s' is not built yet\n", name);
-    return 2;
-}
-
 }  // namespace envshadow::app

@@ -1,17 +1,13 @@
 // The interactive viewer: the scene rendered every frame by render::Renderer into the window, with
 // Dear ImGui panels for every setting, the shadow atlas, the cells over the environment and live
-// GPU timings. Loading and decomposing run off the render thread (viewer/jobs.h).
+// GPU timings (viewer/panels.h). Loading and decomposing run off the render thread (viewer/jobs.h).
 #include "viewer/viewer.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <deque>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -34,34 +30,28 @@
 #include "env/cell_overlay.h"
 #include "env/cells.h"
 #include "env/environment.h"
-#include "env/latlong.h"
 #include "gl/context.h"
 #include "gl/readback.h"
+#include "inputs.h"
 #include "render/display.h"
-#include "render/embedded_shaders.h"
-#include "render/fs_sampler.h"
+#include "render/light_source.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "viewer/jobs.h"
 #include "viewer/orbit_camera.h"
+#include "viewer/panels.h"
 
 namespace envshadow::app {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::array<Method, 5> kMethods = {Method::lloyd, Method::ccvt, Method::mediancut, Method::random, Method::fs};
-constexpr int kHistory = 240;  // frames kept for the timing plots
-
-// Where the lights come from: the cells of the load-time decomposition, or Floyd-Steinberg samples
-// drawn on the GPU every frame (docs/FS_GPU.md), which follow a rotated, swapped or animated map at once.
-enum class LightSource { cells, gpu_fs };
-
 struct LoadedEnvironment {
-    std::shared_ptr<const EnvironmentMap> map;
-    Decomposition decomposition;
-    Image8 cells_picture;  // the map tone-mapped with cell borders (env/cell_overlay.h)
-    Image8 map_picture;    // the map tone-mapped alone (under the GPU sampler's lights)
+    std::string spec;                           // as given, before the animation time was applied
+    std::shared_ptr<const EnvironmentMap> map;  // spec at the time it was loaded for
+    render::LightSource cells;                  // its load-time decomposition
+    Image8 cells_picture;                       // the map tone-mapped with cell borders (env/cell_overlay.h)
+    Image8 map_picture;                         // the map tone-mapped alone (under the GPU sampler's lights)
 };
 
 struct LoadedModel {
@@ -81,13 +71,13 @@ struct DropQueue {
     std::vector<std::string> paths;
 };
 
-LoadedEnvironment load_and_decompose(std::shared_ptr<const EnvironmentMap> map, DecomposeOptions options) {
-    LoadedEnvironment result;
-    result.decomposition = decompose(*map, options);
-    result.cells_picture = draw_cells(*map, result.decomposition);
-    result.map_picture = draw_map(*map);
-    result.map = std::move(map);
-    return result;
+LoadedEnvironment load_and_decompose(std::string spec, std::shared_ptr<const EnvironmentMap> map,
+                                     DecomposeOptions options) {
+    Decomposition decomposition = decompose(*map, options);
+    Image8 cells_picture = draw_cells(*map, decomposition);
+    Image8 map_picture = draw_map(*map);
+    return {std::move(spec), std::move(map), render::LightSource(std::move(decomposition)), std::move(cells_picture),
+            std::move(map_picture)};
 }
 
 std::string timestamp() {
@@ -97,11 +87,16 @@ std::string timestamp() {
     return text;
 }
 
+JobStatus status_of(const auto& job) {
+    return {job.running(), job.what(), job.seconds()};
+}
+
 class Viewer {
 public:
     explicit Viewer(const ViewerOptions& options) : options_(options) {
         context_ = gl::create_context(
-            gl::Backend::window, gl::ContextOptions{options.width, options.height, false, true, true, "envshadow"});
+            gl::Backend::window,
+            gl::ContextOptions{options.common.width, options.common.height, false, true, true, "envshadow"});
         window_ = static_cast<GLFWwindow*>(context_->native_window());
         glfwSetWindowUserPointer(window_, &drops_);
         glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
@@ -118,21 +113,19 @@ public:
         ImGui_ImplOpenGL3_Init("#version 450 core");
 
         display_ = std::make_unique<render::Display>();
-        renderer_ = std::make_unique<render::Renderer>(settings_);
-        renderer_->set_pass_timing(
-            gl::parse_pass_timing(options.pass_timing, context_->is_software(), "--pass-timing"));
+        panels_ = std::make_unique<Panels>(*display_);
+        renderer_ = std::make_unique<render::Renderer>(controls_.settings);
+        renderer_->set_pass_timing(pass_timing(options.pass_timing, context_->is_software()));
 
-        lights_ = options.lights;
-        if (options.method == "fs-gpu")
-            light_source_ = LightSource::gpu_fs;
-        else
-            method_ = parse_method(options.method);
-        seed_ = options.seed;
-        speed_ = options.speed;
-        time_ = options.time;
-        set_scene(load_scene(options.scene));
-        const std::string source = options.environment.empty() ? scene_.environment.source : options.environment;
-        start_environment(source);
+        const render::LightMethod& method = render::light_method(options.common.method);
+        controls_.light_source = method.kind;
+        if (method.kind == render::LightSourceKind::cells) controls_.method = method.decomposition;
+        controls_.lights = options.common.lights;
+        controls_.seed = options.common.seed;
+        controls_.speed = options.speed;
+        controls_.time = options.time;
+        set_scene(load_scene_with_environment(options.common.scene, options.common.env));
+        start_environment(scene_.environment.source);
     }
 
     ~Viewer() {
@@ -148,7 +141,7 @@ public:
             const auto now = std::chrono::steady_clock::now();
             const double dt = std::chrono::duration<double>(now - last).count();
             last = now;
-            if (playing_) time_ += dt * speed_;
+            if (controls_.playing) controls_.time += dt * controls_.speed;
             last_frame_ = options_.frames > 0 && frame + 1 >= options_.frames;
 
             handle_drops();
@@ -163,7 +156,7 @@ public:
             context_->swap_buffers();
             if (last_frame_) break;
         }
-        if (light_source_ == LightSource::gpu_fs) log_fs_lights();
+        if (controls_.light_source == render::LightSourceKind::gpu_fs) log_sampled_lights();
         return 0;
     }
 
@@ -173,28 +166,30 @@ private:
     void set_scene(Scene scene) {
         scene_ = std::move(scene);
         renderer_->set_scene(scene_);
-        rotation_ = scene_.environment.rotation_degrees;
-        exposure_ = scene_.environment.exposure_stops;
-        renderer_->set_environment_rotation(rotation_);
+        controls_.rotation = scene_.environment.rotation_degrees;
+        controls_.exposure = scene_.environment.exposure_stops;
+        renderer_->set_environment_rotation(controls_.rotation);
         orbit_.reset(scene_.camera);
-        selected_object_ = 0;
+        controls_.selected_object = 0;
     }
 
-    void start_environment(const std::string& source) {
-        const DecomposeOptions decompose_options{method_, lights_, seed_};
-        environment_job_.start("loading " + source, [source, decompose_options] {
-            EnvironmentLoadReport report;
-            auto map = std::make_shared<const EnvironmentMap>(load_environment(source, {}, &report));
-            return load_and_decompose(std::move(map), decompose_options);
+    // The map of `spec` at the animation time now, and its cells.
+    void start_environment(const std::string& spec) {
+        const DecomposeOptions decompose_options{controls_.method, controls_.lights, controls_.seed};
+        environment_job_.start("loading " + spec, [spec, time = controls_.time, decompose_options] {
+            auto map = std::make_shared<const EnvironmentMap>(load_environment_at(spec, time));
+            return load_and_decompose(spec, std::move(map), decompose_options);
         });
     }
 
     void start_decomposition() {
         if (!environment_) return;
-        const DecomposeOptions decompose_options{method_, lights_, seed_};
-        environment_job_.start(
-            std::string("decomposing (") + std::string(to_string(method_)) + ", N = " + std::to_string(lights_) + ")",
-            [map = environment_->map, decompose_options] { return load_and_decompose(map, decompose_options); });
+        const DecomposeOptions decompose_options{controls_.method, controls_.lights, controls_.seed};
+        environment_job_.start(std::string("decomposing (") + std::string(to_string(controls_.method)) +
+                                   ", N = " + std::to_string(controls_.lights) + ")",
+                               [spec = environment_->spec, map = environment_->map, decompose_options] {
+                                   return load_and_decompose(spec, map, decompose_options);
+                               });
     }
 
     void finish_jobs() {
@@ -203,10 +198,9 @@ private:
             const bool new_map = !environment_ || environment_->map != loaded->map;
             environment_ = std::make_unique<LoadedEnvironment>(std::move(*loaded));
             if (new_map) renderer_->set_environment(*environment_->map), animated_sky_time_.reset();
-            if (light_source_ == LightSource::cells) renderer_->set_lights(environment_->decomposition.cells);
+            if (controls_.light_source == render::LightSourceKind::cells) environment_->cells.attach(*renderer_);
             cells_texture_ = render::Display::upload(environment_->cells_picture);
             map_texture_ = render::Display::upload(environment_->map_picture);
-            selected_cell_ = std::min(selected_cell_, int(environment_->decomposition.cells.size()) - 1);
             error_.clear();
         }
         if (auto sky = sky_job_.poll(error_)) show_sky(*sky);
@@ -250,28 +244,45 @@ private:
             if (io.MouseWheel != 0.0f) orbit_.zoom(io.MouseWheel);
         }
         if (io.WantCaptureKeyboard) return;
-        if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) playing_ = !playing_;
+        render::RenderSettings& settings = controls_.settings;
+        if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) controls_.playing = !controls_.playing;
         if (ImGui::IsKeyPressed(GLFW_KEY_R)) orbit_.reset(scene_.camera);
-        if (ImGui::IsKeyPressed(GLFW_KEY_B)) settings_.background = !settings_.background, apply_settings();
+        if (ImGui::IsKeyPressed(GLFW_KEY_B)) settings.background = !settings.background, apply_settings();
         if (ImGui::IsKeyPressed(GLFW_KEY_S)) {
-            settings_.specular = settings_.specular == render::SpecularMode::blended ? render::SpecularMode::single
-                                                                                     : render::SpecularMode::blended;
+            settings.specular = settings.specular == render::SpecularMode::blended ? render::SpecularMode::single
+                                                                                   : render::SpecularMode::blended;
             apply_settings();
         }
         if (ImGui::IsKeyPressed(GLFW_KEY_G))
-            set_light_source(light_source_ == LightSource::cells ? LightSource::gpu_fs : LightSource::cells);
-        if (ImGui::IsKeyPressed(GLFW_KEY_H) || ImGui::IsKeyPressed(GLFW_KEY_F1)) show_help_ = !show_help_;
-        if (ImGui::IsKeyPressed(GLFW_KEY_F12) || ImGui::IsKeyPressed(GLFW_KEY_P)) screenshot_requested_ = true;
+            set_light_source(controls_.light_source == render::LightSourceKind::cells ? render::LightSourceKind::gpu_fs
+                                                                                      : render::LightSourceKind::cells);
+        if (ImGui::IsKeyPressed(GLFW_KEY_H) || ImGui::IsKeyPressed(GLFW_KEY_F1))
+            controls_.show_help = !controls_.show_help;
+        if (ImGui::IsKeyPressed(GLFW_KEY_F12) || ImGui::IsKeyPressed(GLFW_KEY_P)) controls_.screenshot_requested = true;
         if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(window_, GLFW_TRUE);
     }
 
     void apply_settings() {
         try {
-            renderer_->set_settings(settings_);
+            renderer_->set_settings(controls_.settings);
         } catch (const std::exception& e) {
             error_ = e.what();
-            settings_ = renderer_->settings();
+            controls_.settings = renderer_->settings();
         }
+    }
+
+    // What the panels changed.
+    void apply(const PanelChanges& changes) {
+        if (changes.light_source) set_light_source(controls_.light_source);
+        if (changes.decompose) start_decomposition();
+        if (changes.settings) apply_settings();
+        if (changes.rotation) renderer_->set_environment_rotation(controls_.rotation);
+        if (changes.material) {
+            const auto& [object, material] = *changes.material;
+            scene_.objects[object].material = material;
+            renderer_->set_material(object, material);
+        }
+        if (changes.pass_timing) renderer_->set_pass_timing(*changes.pass_timing);
     }
 
     // --- frame ----------------------------------------------------------------------------------
@@ -279,59 +290,67 @@ private:
     void draw_frame(int width, int height, double dt) {
         Scene framed = scene_;
         framed.camera = orbit_.camera();
-        if (light_source_ == LightSource::gpu_fs) sample_lights_on_the_gpu();
-        const render::FrameStats stats = renderer_->render(time_, render::camera_view(framed, width, height, time_));
-        record(stats, dt);
-        if (screenshot_requested_) save_screenshot();
+        if (controls_.light_source == render::LightSourceKind::gpu_fs) sample_lights_on_the_gpu();
+        const render::FrameStats stats =
+            renderer_->render(controls_.time, render::camera_view(framed, width, height, controls_.time));
+        const render::LightSource* lights = light_source();
+        panels_->record(stats, dt,
+                        lights && lights->per_frame() ? std::optional<double>(lights->sampling_ms()) : std::nullopt);
+        if (controls_.screenshot_requested) save_screenshot();
 
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        glViewport(0, 0, width, height);
-        display_->present(renderer_->color_texture(), exposure_);
+        display_->present(renderer_->color_texture(), controls_.exposure, width, height);
 
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
-        draw_settings_panel(stats);
-        draw_timings_panel(stats);
-        draw_atlas_panel();
-        draw_cells_panel();
-        if (show_help_) draw_help();
+        PanelInputs in;
+        in.stats = &stats;
+        in.scene = &scene_;
+        in.renderer = renderer_.get();
+        in.lights = lights;
+        in.cells = environment_ ? &environment_->cells.decomposition() : nullptr;
+        in.cells_picture = &cells_texture_;
+        in.map_picture = &map_texture_;
+        in.environment_job = status_of(environment_job_);
+        in.model_job = status_of(model_job_);
+        in.error = error_;
+        in.last_screenshot = last_screenshot_;
+        apply(panels_->draw(controls_, in));
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     }
 
-    void record(const render::FrameStats& stats, double dt) {
-        auto push = [](std::deque<float>& history, float value) {
-            history.push_back(value);
-            if (history.size() > kHistory) history.pop_front();
-        };
-        push(frame_ms_, float(dt * 1000.0));
-        for (const gl::PassTime& pass : stats.passes) push(pass_ms_[pass.pass], float(pass.milliseconds));
-        if (light_source_ == LightSource::gpu_fs) push(pass_ms_[render::kFsSamplingPass], float(fs_sampling_ms_));
+    // The source lighting the frame: the GPU sampler once made, else the cells once decomposed.
+    const render::LightSource* light_source() const {
+        if (controls_.light_source == render::LightSourceKind::gpu_fs) return gpu_fs_ ? &*gpu_fs_ : nullptr;
+        return environment_ ? &environment_->cells : nullptr;
     }
 
     // --- lights sampled on the GPU ---------------------------------------------------------------
 
     // What automated runs check: the last frame's lights and the sky they were sampled from.
-    void log_fs_lights() const {
-        const auto brightest = std::max_element(fs_lights_.begin(), fs_lights_.end(), [](const Cell& a, const Cell& b) {
+    void log_sampled_lights() const {
+        const std::vector<Cell> none;
+        const std::vector<Cell>& lights = gpu_fs_ ? gpu_fs_->lights() : none;
+        const auto brightest = std::max_element(lights.begin(), lights.end(), [](const Cell& a, const Cell& b) {
             return a.radiance.r + a.radiance.g + a.radiance.b < b.radiance.r + b.radiance.g + b.radiance.b;
         });
-        if (brightest == fs_lights_.end()) return log::info("fs-gpu: no lights sampled");
+        const std::string name(render::light_method(render::LightSourceKind::gpu_fs, Method::fs).name());
+        if (brightest == lights.end()) return log::info(name + ": no lights sampled");
         char text[200];
         std::snprintf(text, sizeof text,
-                      "fs-gpu: %zu lights in the last frame, the brightest toward (%.4f, %.4f, %.4f) in map space",
-                      fs_lights_.size(), double(brightest->direction.x), double(brightest->direction.y),
+                      "%s: %zu lights in the last frame, the brightest toward (%.4f, %.4f, %.4f) in map space",
+                      name.c_str(), lights.size(), double(brightest->direction.x), double(brightest->direction.y),
                       double(brightest->direction.z));
         std::string line = text;
         if (animated_sky_time_) line += "; the sky at animation time " + std::to_string(*animated_sky_time_) + " s";
         log::info(line);
     }
 
-    void set_light_source(LightSource source) {
-        light_source_ = source;
-        if (source == LightSource::cells && environment_) {
-            renderer_->set_lights(environment_->decomposition.cells);
+    void set_light_source(render::LightSourceKind source) {
+        controls_.light_source = source;
+        if (source == render::LightSourceKind::cells && environment_) {
+            environment_->cells.attach(*renderer_);
             if (animated_sky_time_) {
                 renderer_->set_environment(*environment_->map);
                 map_texture_ = render::Display::upload(environment_->map_picture);
@@ -349,22 +368,20 @@ private:
             if (auto sky = sky_job_.wait(error_)) show_sky(*sky);
         }
         try {
-            if (!fs_sampler_) fs_sampler_.emplace(render::embedded_shaders());
-            const auto start = std::chrono::steady_clock::now();
-            fs_sampler_->sample(renderer_->environment_texture(), render::FsSampleRequest{lights_});
-            fs_lights_ = fs_sampler_->read_lights();
-            renderer_->set_lights(fs_lights_);
-            fs_sampling_ms_ =
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            if (!gpu_fs_) gpu_fs_.emplace(controls_.lights, render::FsSamplerOptions{});
+            gpu_fs_->set_requested_lights(controls_.lights);
+            gpu_fs_->update(*renderer_);
         } catch (const std::exception& e) {  // e.g. a GL without storage blocks in geometry shaders
             error_ = e.what();
-            set_light_source(LightSource::cells);
+            set_light_source(render::LightSourceKind::cells);
         }
     }
 
     void show_sky(const AnimatedSky& sky) {
         // Unless the cells came back or a new map came in meanwhile.
-        if (light_source_ != LightSource::gpu_fs || !environment_ || sky.source != environment_->map->source) return;
+        if (controls_.light_source != render::LightSourceKind::gpu_fs || !environment_ ||
+            sky.source != environment_->spec)
+            return;
         renderer_->set_environment(sky.map);
         map_texture_ = render::Display::upload(sky.picture);
         animated_sky_time_ = sky.time;
@@ -374,306 +391,55 @@ private:
     // The map is made off the render thread; each finished one is shown and the next started, so
     // the sky moves as fast as the CPU makes maps without slowing the frame.
     void follow_the_clock() {
-        if (!sun_follows_time_ || sky_job_.running()) return;
-        const std::string& source = environment_->map->source;
-        const std::string spec = environment_at_time(source, time_);
-        if (spec == source && !animated_sky_time_) return;  // not a sky, or a sky at its own time
-        if (animated_sky_time_ == time_) return;
-        sky_job_.start("sky at " + std::to_string(time_) + " s", [source, spec, time = time_] {
+        if (!controls_.sun_follows_time || sky_job_.running()) return;
+        const std::string& source = environment_->spec;
+        const double time = controls_.time;
+        const std::string spec = environment_at_time(source, time);
+        if (spec == environment_->map->source && !animated_sky_time_) return;  // not a sky, or still at its time
+        if (animated_sky_time_ == time) return;
+        sky_job_.start("sky at " + std::to_string(time) + " s", [source, spec, time] {
             AnimatedSky sky{source, load_environment(spec), {}, time};
             sky.picture = draw_map(sky.map);
             return sky;
         });
     }
 
-    // --- panels ---------------------------------------------------------------------------------
-
-    void draw_settings_panel(const render::FrameStats& stats) {
-        ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
-        ImGui::Begin("envshadow", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-        ImGui::TextUnformatted(scene_.file.filename().string().c_str());
-        if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.3f, 1.0f), "%s", error_.c_str());
-        if (environment_job_.running()) {
-            ImGui::ProgressBar(
-                -1.0f * float(ImGui::GetTime()), ImVec2(-1, 0),
-                (environment_job_.what() + " " + std::to_string(int(environment_job_.seconds() * 1000)) + " ms")
-                    .c_str());
-        }
-        if (model_job_.running()) ImGui::TextUnformatted(model_job_.what().c_str());
-
-        if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
-            int source = int(light_source_);
-            if (ImGui::RadioButton("cells (load time)", &source, int(LightSource::cells)))
-                set_light_source(LightSource::cells);
-            ImGui::SameLine();
-            if (ImGui::RadioButton("GPU FS (every frame)", &source, int(LightSource::gpu_fs)))
-                set_light_source(LightSource::gpu_fs);
-            // Decompose when the slider is let go, not on every step of the drag.
-            ImGui::SliderInt("cells N", &lights_, 1, kMaxLights, "%d", ImGuiSliderFlags_AlwaysClamp);
-            bool redo = ImGui::IsItemDeactivatedAfterEdit();
-            if (light_source_ == LightSource::cells) {
-                int method_index = int(std::find(kMethods.begin(), kMethods.end(), method_) - kMethods.begin());
-                const char* names[] = {"lloyd", "ccvt", "mediancut", "random", "fs"};
-                if (ImGui::Combo("method", &method_index, names, int(kMethods.size()))) {
-                    method_ = kMethods[size_t(method_index)];
-                    redo = true;
-                }
-                if (redo) start_decomposition();
-            }
-            if (light_source_ == LightSource::gpu_fs) {
-                ImGui::Checkbox("sun follows time (builtin:sky)", &sun_follows_time_);
-                if (fs_sampler_) {
-                    const render::FsCounts counts = fs_sampler_->read_counts();
-                    ImGui::Text("GPU FS: %u lights from %u samples of a %dx%d importance map, %.2f ms",
-                                counts.light_count, counts.samples, fs_sampler_->importance_size().x,
-                                fs_sampler_->importance_size().y, fs_sampling_ms_);
-                }
-            } else if (environment_) {
-                const Decomposition& d = environment_->decomposition;
-                ImGui::Text("%zu cells, decomposed in %.1f ms (%d iterations)", d.cells.size(), d.seconds * 1000.0,
-                            d.iterations);
-            }
-            if (environment_) {
-                ImGui::Text("%d lights drawn, %d below ground, %d negligible", stats.lights, stats.lights_below_ground,
-                            stats.lights_negligible);
-            }
-        }
-
-        if (ImGui::CollapsingHeader("Shadows")) {
-            bool changed = false;
-            const int tiles[] = {128, 256, 512, 1024, 2048};
-            int tile_index =
-                int(std::find(std::begin(tiles), std::end(tiles), settings_.tile_size) - std::begin(tiles));
-            const char* tile_names[] = {"128", "256", "512", "1024", "2048"};
-            if (ImGui::Combo("tile size", &tile_index, tile_names, 5))
-                settings_.tile_size = tiles[tile_index], changed = true;
-            int depth = settings_.depth_bits == 16 ? 0 : 1;
-            if (ImGui::Combo("depth", &depth,
-                             "16 bit\0"
-                             "32 bit float\0"))
-                settings_.depth_bits = depth ? 32 : 16, changed = true;
-            int pcf = int(settings_.pcf);
-            if (ImGui::Combo("PCF", &pcf, "2x2 hardware\0wide\0"))
-                settings_.pcf = render::PcfKernel(pcf), changed = true;
-            changed |= ImGui::SliderFloat("slope bias", &settings_.slope_bias, 0.0f, 8.0f);
-            changed |= ImGui::SliderFloat("depth bias", &settings_.depth_bias, 0.0f, 8.0f);
-            changed |= ImGui::SliderFloat("normal offset", &settings_.normal_offset, 0.0f, 4.0f);
-            int atlas = int(settings_.atlas);
-            if (ImGui::Combo("atlas draw", &atlas, "one draw (clip distances)\0viewport arrays\0per tile (baseline)\0"))
-                settings_.atlas = render::AtlasMode(atlas), changed = true;
-            changed |= ImGui::Checkbox("skip hidden/negligible lights", &settings_.skip_lights);
-            if (changed) apply_settings();
-            ImGui::Text("atlas %dx%d, %.1f MB", stats.atlas.width(), stats.atlas.height(),
-                        double(stats.atlas_bytes) / (1 << 20));
-        }
-
-        if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) {
-            bool changed = false;
-            int specular = int(settings_.specular);
-            if (ImGui::Combo("specular", &specular, "blended (Barsi)\0single sample\0"))
-                settings_.specular = render::SpecularMode(specular), changed = true;
-            int cap = int(settings_.cap);
-            if (ImGui::Combo("cap radius", &cap, "solid angle\0radiance weighted\0"))
-                settings_.cap = render::CapKind(cap), changed = true;
-            int diffuse = int(settings_.diffuse);
-            if (ImGui::Combo("diffuse", &diffuse, "centre sample\0cap integral\0"))
-                settings_.diffuse = render::DiffuseMode(diffuse), changed = true;
-            changed |= ImGui::Checkbox("background", &settings_.background);
-            if (changed) apply_settings();
-            ImGui::SliderFloat("exposure", &exposure_, -6.0f, 6.0f, "%.2f stops");
-            if (ImGui::SliderFloat("env rotation", &rotation_, -180.0f, 180.0f, "%.0f deg"))
-                renderer_->set_environment_rotation(rotation_);
-        }
-
-        if (!scene_.objects.empty() && ImGui::CollapsingHeader("Material")) {
-            selected_object_ = std::min(selected_object_, int(scene_.objects.size()) - 1);
-            if (ImGui::BeginCombo("object", scene_.objects[size_t(selected_object_)].name.c_str())) {
-                for (int i = 0; i < int(scene_.objects.size()); ++i)
-                    if (ImGui::Selectable(scene_.objects[size_t(i)].name.c_str(), i == selected_object_))
-                        selected_object_ = i;
-                ImGui::EndCombo();
-            }
-            Material& m = scene_.objects[size_t(selected_object_)].material;
-            bool changed = ImGui::ColorEdit3("rho_d", &m.rho_d.x);
-            changed |= ImGui::SliderFloat("rho_s", &m.rho_s, 0.0f, 1.0f);
-            changed |=
-                ImGui::SliderFloat("shininess n", &m.shininess, 1.0f, 10000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
-            if (changed) renderer_->set_material(size_t(selected_object_), m);
-        }
-
-        if (ImGui::CollapsingHeader("Animation")) {
-            ImGui::Checkbox("play", &playing_);
-            ImGui::SameLine();
-            ImGui::SliderFloat("speed", &speed_, 0.0f, 4.0f);
-            float t = float(time_);
-            if (ImGui::SliderFloat("time", &t, 0.0f, 60.0f, "%.2f s")) time_ = t;
-        }
-        if (ImGui::Button("screenshot (F12)")) screenshot_requested_ = true;
-        ImGui::SameLine();
-        if (ImGui::Button("help (H)")) show_help_ = !show_help_;
-        if (!last_screenshot_.empty()) ImGui::TextWrapped("saved %s", last_screenshot_.c_str());
-        ImGui::End();
-    }
-
-    void draw_timings_panel(const render::FrameStats& stats) {
-        const ImVec2 display = ImGui::GetIO().DisplaySize;
-        ImGui::SetNextWindowPos(ImVec2(display.x - 388, 8), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
-        ImGui::Begin("GPU time per pass", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-        auto plot = [](const char* label, const std::deque<float>& history) {
-            if (history.empty()) return;
-            std::vector<float> values(history.begin(), history.end());
-            const float peak = *std::max_element(values.begin(), values.end());
-            char overlay[64];
-            std::snprintf(overlay, sizeof overlay, "%.2f ms", double(values.back()));
-            ImGui::PlotLines(label, values.data(), int(values.size()), 0, overlay, 0.0f, peak * 1.1f, ImVec2(0, 40));
-        };
-        const float frame = frame_ms_.empty() ? 0.0f : frame_ms_.back();
-        ImGui::Text("%.1f FPS (%.2f ms per frame)", frame > 0.0f ? 1000.0 / double(frame) : 0.0, double(frame));
-        plot("frame", frame_ms_);
-        bool synchronous = renderer_->pass_timing() == gl::PassTiming::synchronous;
-        if (ImGui::Checkbox("wait for each pass", &synchronous))
-            renderer_->set_pass_timing(synchronous ? gl::PassTiming::synchronous : gl::PassTiming::queries);
-        if (ImGui::IsItemHovered())
-            ImGui::SetTooltip(
-                "Times each pass by the clock between glFinish calls: exact on a software\n"
-                "rasteriser, whose GL_TIME_ELAPSED queries misplace the work (on by default\n"
-                "there); on a GPU the queries are exact and waiting costs the overlap.");
-        for (const gl::PassTime& pass : stats.passes) plot(pass.pass.c_str(), pass_ms_[pass.pass]);
-        if (light_source_ == LightSource::gpu_fs) plot(render::kFsSamplingPass, pass_ms_[render::kFsSamplingPass]);
-        ImGui::End();
-    }
-
-    void draw_atlas_panel() {
-        ImGui::SetNextWindowPos(ImVec2(346, 8), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowSize(ImVec2(420, 228), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowCollapsed(true, ImGuiCond_FirstUseEver);
-        if (ImGui::Begin("Shadow atlas")) {
-            const gl::Texture& atlas = renderer_->atlas_texture();
-            if (atlas) {
-                const gl::Texture& preview = display_->atlas_preview(atlas, 1024);
-                const float w = std::min(ImGui::GetContentRegionAvail().x, float(preview.width()));
-                const float h = w * float(preview.height()) / float(preview.width());
-                // GL textures start at the bottom row: flip v.
-                ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(preview.id())), ImVec2(w, h),
-                             ImVec2(0, 1), ImVec2(1, 0));
-                ImGui::Text("%d tiles of %d^2", renderer_->light_count(), settings_.tile_size);
-            }
-        }
-        ImGui::End();
-    }
-
-    void draw_cells_panel() {
-        const ImVec2 display = ImGui::GetIO().DisplaySize;
-        ImGui::SetNextWindowPos(ImVec2(display.x - 388, display.y - 292), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowSize(ImVec2(380, 284), ImGuiCond_FirstUseEver);
-        if (light_source_ == LightSource::gpu_fs) {
-            draw_fs_lights_panel();
-            return;
-        }
-        if (ImGui::Begin("Environment cells") && environment_ && cells_texture_) {
-            const Decomposition& d = environment_->decomposition;
-            const float w = ImGui::GetContentRegionAvail().x, h = w * 0.5f;
-            const ImVec2 origin = ImGui::GetCursorScreenPos();
-            ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(cells_texture_.id())), ImVec2(w, h));
-            if (ImGui::IsItemHovered() && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-                const ImVec2 mouse = ImGui::GetMousePos();
-                const int i = std::clamp(int((mouse.x - origin.x) / w * float(d.width)), 0, d.width - 1);
-                const int j = std::clamp(int((mouse.y - origin.y) / h * float(d.height)), 0, d.height - 1);
-                selected_cell_ = d.texel_cell[size_t(j) * size_t(d.width) + size_t(i)];
-            }
-            if (!d.cells.empty()) {
-                ImGui::SliderInt("cell", &selected_cell_, 0, int(d.cells.size()) - 1);
-                const Cell& c = d.cells[size_t(selected_cell_)];
-                const glm::dvec2 uv = latlong::uv(glm::dvec3(c.direction));
-                const ImVec2 centre(origin.x + float(uv.x) * w, origin.y + float(uv.y) * h);
-                ImGui::GetWindowDrawList()->AddCircle(centre, 9.0f, IM_COL32(255, 230, 0, 255), 16, 2.5f);
-                ImGui::Text("L~ = (%.4g, %.4g, %.4g)  solid angle %.4g sr", double(c.radiance.r), double(c.radiance.g),
-                            double(c.radiance.b), double(c.solid_angle));
-                ImGui::Text("cos r = %.5f (solid angle), %.5f (radiance weighted)", double(c.cos_radius),
-                            double(c.cos_radius_weighted));
-            }
-        }
-        ImGui::End();
-    }
-
-    // The GPU sampler's lights of this frame as dots over the map on screen, brighter lights larger.
-    void draw_fs_lights_panel() {
-        if (ImGui::Begin("Environment cells") && environment_ && map_texture_) {
-            const float w = ImGui::GetContentRegionAvail().x, h = w * 0.5f;
-            const ImVec2 origin = ImGui::GetCursorScreenPos();
-            ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(map_texture_.id())), ImVec2(w, h));
-            float brightest = 0.0f;
-            for (const Cell& c : fs_lights_)
-                brightest = std::max(brightest, c.radiance.r + c.radiance.g + c.radiance.b);
-            for (const Cell& c : fs_lights_) {
-                const glm::dvec2 uv = latlong::uv(glm::dvec3(c.direction));
-                const float share = (c.radiance.r + c.radiance.g + c.radiance.b) / std::max(brightest, 1e-30f);
-                ImGui::GetWindowDrawList()->AddCircleFilled(
-                    ImVec2(origin.x + float(uv.x) * w, origin.y + float(uv.y) * h), 2.0f + 4.0f * std::sqrt(share),
-                    IM_COL32(255, 60, 40, 255));
-            }
-            ImGui::Text("%zu lights sampled on the GPU this frame (dots)", fs_lights_.size());
-        }
-        ImGui::End();
-    }
-
-    void draw_help() {
-        ImGui::SetNextWindowPos(ImVec2(400, 300), ImGuiCond_FirstUseEver);
-        ImGui::Begin("Help", &show_help_, ImGuiWindowFlags_AlwaysAutoResize);
-        ImGui::TextUnformatted(
-            "Left drag        orbit\n"
-            "Right/mid drag   pan\n"
-            "Wheel            zoom\n"
-            "Space            play / pause the animation\n"
-            "R                reset the camera\n"
-            "B                background on / off\n"
-            "S                blended / single-sample specular\n"
-            "G                lights: load-time cells / GPU Floyd-Steinberg\n"
-            "F12 or P         screenshot to screenshots/ (PNG, EXR, JSON)\n"
-            "H or F1          this help\n"
-            "Esc              quit\n"
-            "Drop an .exr/.hdr onto the window for a new environment,\n"
-            "a .gltf/.glb for a new model, a .json for a new scene.");
-        ImGui::End();
-    }
-
     // --- output ---------------------------------------------------------------------------------
 
     // The frame without the UI: linear EXR, tone-mapped PNG, and the settings beside them.
     void save_screenshot() {
-        screenshot_requested_ = false;
+        controls_.screenshot_requested = false;
+        const render::RenderSettings& s = controls_.settings;
         try {
             fs::create_directories("screenshots");
             const std::string stem = "screenshots/view_" + scene_.file.stem().string() + "_" + method_name() + "_N" +
-                                     std::to_string(lights_) + "_" + timestamp();
+                                     std::to_string(controls_.lights) + "_" + timestamp();
             const Image linear = renderer_->read_back();
             write_exr(stem + ".exr", linear);
-            write_png(stem + ".png", tonemap_to_srgb8(linear, exposure_));
+            write_png(stem + ".png", tonemap_to_srgb8(linear, controls_.exposure));
             const Camera camera = orbit_.camera();
             nlohmann::json settings = {
                 {"scene", scene_.file.string()},
                 {"environment", environment_ ? environment_->map->source : ""},
                 {"method", method_name()},
-                {"lights", lights_},
-                {"seed", seed_},
-                {"time", time_},
-                {"exposure", exposure_},
-                {"rotation_degrees", rotation_},
+                {"lights", controls_.lights},
+                {"seed", controls_.seed},
+                {"time", controls_.time},
+                {"exposure", controls_.exposure},
+                {"rotation_degrees", controls_.rotation},
                 {"camera",
                  {{"position", {camera.position.x, camera.position.y, camera.position.z}},
                   {"target", {camera.target.x, camera.target.y, camera.target.z}},
                   {"fov_y_degrees", camera.fov_y_degrees}}},
-                {"tile", settings_.tile_size},
-                {"depth_bits", settings_.depth_bits},
-                {"pcf", render::to_string(settings_.pcf)},
-                {"specular", render::to_string(settings_.specular)},
-                {"cap", render::to_string(settings_.cap)},
-                {"diffuse", render::to_string(settings_.diffuse)},
-                {"slope_bias", settings_.slope_bias},
-                {"depth_bias", settings_.depth_bias},
-                {"normal_offset", settings_.normal_offset},
+                {"tile", s.tile_size},
+                {"depth_bits", s.depth_bits},
+                {"pcf", render::to_string(s.pcf)},
+                {"specular", render::to_string(s.specular)},
+                {"cap", render::to_string(s.cap)},
+                {"diffuse", render::to_string(s.diffuse)},
+                {"slope_bias", s.slope_bias},
+                {"depth_bias", s.depth_bias},
+                {"normal_offset", s.normal_offset},
             };
             write_file_atomically(stem + ".json", settings.dump(2) + "\n");
             last_screenshot_ = stem + ".png";
@@ -684,7 +450,7 @@ private:
     }
 
     std::string method_name() const {
-        return light_source_ == LightSource::gpu_fs ? "fs-gpu" : std::string(to_string(method_));
+        return std::string(render::light_method(controls_.light_source, controls_.method).name());
     }
 
     // The window as a person sees it, UI included (for automated runs).
@@ -698,8 +464,9 @@ private:
     GLFWwindow* window_ = nullptr;
     DropQueue drops_;
     std::unique_ptr<render::Display> display_;
+    std::unique_ptr<Panels> panels_;
     std::unique_ptr<render::Renderer> renderer_;
-    render::RenderSettings settings_;
+    ViewerControls controls_;
 
     Scene scene_;
     OrbitCamera orbit_;
@@ -708,31 +475,12 @@ private:
     BackgroundJob<LoadedEnvironment> environment_job_;
     BackgroundJob<LoadedModel> model_job_;
     BackgroundJob<AnimatedSky> sky_job_;
-    std::optional<double> animated_sky_time_;  // the animation time of the sky on screen, when animated
-    bool sun_follows_time_ = true;
-    LightSource light_source_ = LightSource::cells;
-    std::optional<render::FsSampler> fs_sampler_;
-    std::vector<Cell> fs_lights_;  // this frame's, in map space
-    double fs_sampling_ms_ = 0.0;
+    std::optional<double> animated_sky_time_;    // the animation time of the sky on screen, when animated
+    std::optional<render::LightSource> gpu_fs_;  // made the first time the GPU sampler lights a frame
 
-    int lights_ = 128;
-    Method method_ = Method::lloyd;
-    std::uint64_t seed_ = 1;
-    float exposure_ = 0.0f;
-    float rotation_ = 0.0f;
-    double time_ = 0.0;
-    float speed_ = 1.0f;  // animation seconds per second
-    bool playing_ = true;
-    int selected_object_ = 0;
-    int selected_cell_ = 0;
-    bool show_help_ = false;
-    bool screenshot_requested_ = false;
     bool last_frame_ = false;  // of an automated run (--frames)
     std::string last_screenshot_;
     std::string error_;
-
-    std::deque<float> frame_ms_;
-    std::map<std::string, std::deque<float>> pass_ms_;
 };
 
 }  // namespace

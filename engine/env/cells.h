@@ -1,6 +1,7 @@
 #pragma once
 // Directional cells of an environment map (docs/DESIGN.md §3): the output of every decomposition method,
 // and what the renderer turns into lights.
+#include <array>
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <span>
@@ -23,6 +24,8 @@ struct Cell {
 };
 
 enum class Method { lloyd, ccvt, mediancut, random, fs };
+inline constexpr std::array<Method, 5> kMethods = {Method::lloyd, Method::ccvt, Method::mediancut, Method::random,
+                                                   Method::fs};
 std::string_view to_string(Method method);
 Method parse_method(std::string_view name);  // throws UsageError
 
@@ -30,7 +33,7 @@ inline constexpr int kMaxLights = 256;
 
 struct DecomposeOptions {
     Method method = Method::lloyd;
-    int lights = 128;        // 1..256 (mediancut rounds down to a power of two; fs gives N or N - 1)
+    int lights = 128;        // 1..kMaxLights (mediancut rounds down to a power of two; fs gives N or N - 1)
     std::uint64_t seed = 1;  // random and lloyd draw their initial sites with it (ccvt's start needs none)
     SiteSearch search = SiteSearch::tiles;
 };

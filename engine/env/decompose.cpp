@@ -31,9 +31,12 @@ std::string_view to_string(Method method) {
 }
 
 Method parse_method(std::string_view name) {
-    for (Method m : {Method::lloyd, Method::ccvt, Method::mediancut, Method::random, Method::fs})
+    std::string names;
+    for (Method m : kMethods) {
         if (to_string(m) == name) return m;
-    throw UsageError("unknown decomposition method '" + std::string(name) + "' (lloyd, ccvt, mediancut, random or fs)");
+        names += (names.empty() ? "" : ", ") + std::string(to_string(m));
+    }
+    throw UsageError("unknown decomposition method '" + std::string(name) + "' (" + names + ")");
 }
 
 std::vector<Cell> integrate_cells(const EnvironmentMap& map, const ImportanceMap& importance,
@@ -79,7 +82,8 @@ std::vector<Cell> integrate_cells(const EnvironmentMap& map, const ImportanceMap
 
 Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& options) {
     if (options.lights < 1 || options.lights > kMaxLights)
-        throw UsageError("--lights " + std::to_string(options.lights) + " is outside 1.." + std::to_string(kMaxLights));
+        throw UsageError("a decomposition into " + std::to_string(options.lights) + " cells: the count must be 1.." +
+                         std::to_string(kMaxLights));
     const long long texels = (long long)map.width * map.height;
     if (texels < options.lights)
         throw InputError(map.source + ": a " + std::to_string(map.width) + "x" + std::to_string(map.height) +

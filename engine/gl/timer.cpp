@@ -6,11 +6,11 @@
 
 namespace envshadow::gl {
 
-PassTiming parse_pass_timing(std::string_view name, bool software_rasteriser, std::string_view flag) {
+PassTiming parse_pass_timing(std::string_view name, bool software_rasteriser) {
     if (name == "queries") return PassTiming::queries;
     if (name == "wait") return PassTiming::synchronous;
     if (name == "auto") return software_rasteriser ? PassTiming::synchronous : PassTiming::queries;
-    throw UsageError(std::string(flag) + " " + std::string(name) + ": expected auto, queries or wait");
+    throw UsageError("pass timing '" + std::string(name) + "' is not one of auto, queries, wait");
 }
 
 void GpuTimer::begin(std::string_view pass) {

@@ -22,9 +22,9 @@ struct PassTime {
 
 enum class PassTiming { queries, synchronous };
 
-// A --pass-timing value: "queries", "wait" (synchronous), or "auto": wait on a software rasteriser,
-// queries on a GPU. Throws UsageError naming `flag` for anything else.
-PassTiming parse_pass_timing(std::string_view name, bool software_rasteriser, std::string_view flag);
+// "queries", "wait" (synchronous), or "auto": wait on a software rasteriser, queries on a GPU.
+// Throws UsageError listing the names for anything else.
+PassTiming parse_pass_timing(std::string_view name, bool software_rasteriser);
 
 class GpuTimer {
 public:

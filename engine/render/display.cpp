@@ -14,7 +14,9 @@ Display::Display() {
     empty_vertex_array_ = gl::VertexArray::create();
 }
 
-void Display::present(const gl::Texture& linear, float exposure_stops) {
+void Display::present(const gl::Texture& linear, float exposure_stops, int width, int height) {
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, width, height);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     present_program_.use();

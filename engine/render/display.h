@@ -12,9 +12,9 @@ class Display {
 public:
     Display();
 
-    // Draws `linear` (RGBA float) over the whole viewport of the bound draw framebuffer:
-    // exposure (stops), ACES filmic, sRGB (glsl/tonemap.glsl, twin of core's tonemap_to_srgb8).
-    void present(const gl::Texture& linear, float exposure_stops);
+    // Draws `linear` (RGBA float) over the whole default framebuffer (the window), `width` x `height`
+    // pixels: exposure (stops), ACES filmic, sRGB (glsl/tonemap.glsl, twin of core's tonemap_to_srgb8).
+    void present(const gl::Texture& linear, float exposure_stops, int width, int height);
 
     // A greyscale RGBA8 picture of the depth atlas, at most `max_width` wide (aspect kept).
     const gl::Texture& atlas_preview(const gl::Texture& atlas_depth, int max_width);

@@ -1,6 +1,7 @@
 #pragma once
 // What the renderer can be asked to do differently; the viewer and `bench` change these between
 // frames, `envshadow render` maps its options onto them.
+#include <span>
 #include <string_view>
 
 namespace envshadow::render {
@@ -16,8 +17,10 @@ enum class SpecularMode { blended, single };   // Barsi et al.'s blended average
 enum class CapKind { solid_angle, weighted };  // docs/DESIGN.md §3: cos_radius or cos_radius_weighted
 enum class DiffuseMode { center, cap };        // k_d cos theta_c, or its exact average over the cap
 
+inline constexpr float kMaxCasterLod = 4.0f;  // shadow texels
+
 struct RenderSettings {
-    int tile_size = 256;  // 128..2048
+    int tile_size = 256;  // kMinTileSize..kMaxTileSize (render/shadow_atlas_layout.h)
     int depth_bits = 16;  // 16 or 32
     PcfKernel pcf = PcfKernel::hardware_2x2;
     // Bias against shadow acne: the casters' depth is pushed back by glPolygonOffset(slope, 1)
@@ -40,7 +43,7 @@ struct RenderSettings {
     // texel; but thin parts a few texels across (the viruses' spikes at 128^2 tiles) change their
     // shadows' speckle visibly already at 0.4 texel (golden fails: 0.22% of pixels differ, 0.2%
     // allowed), so 0.3; flyover's figures take 1 texel invisibly (docs/PERFORMANCE.md).
-    float caster_lod = 0.3f;
+    float caster_lod = 0.3f;  // 0..kMaxCasterLod
     // Depth-only pass of the objects first, then the N-light shading once per visible pixel
     // (depth test EQUAL) instead of once per rasterised fragment.
     bool depth_prepass = true;
@@ -61,15 +64,17 @@ struct RenderSettings {
     bool flat_receivers = true;
 };
 
+// The on/off optimisations of issue 10, each by its short name (docs/PERFORMANCE.md's tables, bench's
+// variants); caster_lod, the eighth, is a number.
+struct OptimisationSwitch {
+    std::string_view name;
+    bool RenderSettings::*member;
+};
+std::span<const OptimisationSwitch> optimisation_switches();
+
 // The first working renderer's settings (issue 10's baseline): `settings` with every optimisation
 // of issue 10 off.
 RenderSettings baseline(RenderSettings settings);
-
-// `settings` changed by a variant of `bench --variants`: comma-separated items, each a preset
-// ("baseline": baseline(); "optimised" or "default": nothing changed) or key=value, with keys
-// caster-lod (texels; "off" = 0), prepass, ubo, cull, specialise, tiles, flat (on/off), depth-bits, tile, atlas, pcf.
-// Applied left to right; validated. UsageError naming `option` for anything else.
-RenderSettings apply_variant(RenderSettings settings, std::string_view variant, std::string_view option);
 
 std::string_view to_string(AtlasMode mode);
 std::string_view to_string(PcfKernel kernel);
@@ -77,12 +82,12 @@ std::string_view to_string(SpecularMode mode);
 std::string_view to_string(CapKind kind);
 std::string_view to_string(DiffuseMode mode);
 // Parse the names above ("2x2"/"wide", "blended"/"single", "solid-angle"/"weighted",
-// "center"/"cap", "clip-distances"/"viewport-array"/"per-tile"); UsageError naming `option`.
-AtlasMode parse_atlas_mode(std::string_view name, std::string_view option);
-PcfKernel parse_pcf_kernel(std::string_view name, std::string_view option);
-SpecularMode parse_specular_mode(std::string_view name, std::string_view option);
-CapKind parse_cap_kind(std::string_view name, std::string_view option);
-DiffuseMode parse_diffuse_mode(std::string_view name, std::string_view option);
+// "center"/"cap", "clip-distances"/"viewport-array"/"per-tile"); UsageError listing the names.
+AtlasMode parse_atlas_mode(std::string_view name);
+PcfKernel parse_pcf_kernel(std::string_view name);
+SpecularMode parse_specular_mode(std::string_view name);
+CapKind parse_cap_kind(std::string_view name);
+DiffuseMode parse_diffuse_mode(std::string_view name);
 
 // UsageError if a value is out of range (tile size, depth bits, negative biases, caster LOD).
 void validate(const RenderSettings& settings);

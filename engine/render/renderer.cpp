@@ -90,7 +90,7 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings), librar
     glGetIntegerv(GL_MAX_VIEWPORTS, &max_viewports_);
     GLint max_block = 0;
     glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
-    uniform_block_fits_ = std::size_t(max_block) >= kMaxTiles * sizeof(LightRecord);
+    uniform_block_fits_ = std::size_t(max_block) >= kMaxLights * sizeof(LightRecord);
     use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
     max_viewports_ = std::clamp(max_viewports_, 1, kMaxViewports);
     empty_vertex_array_ = gl::VertexArray::create();
@@ -109,7 +109,7 @@ Renderer::~Renderer() = default;
 
 void Renderer::build_programs() {
     // Shared by the atlas, shading and screen-tile programs.
-    std::vector<std::string> light_defines{"MAX_LIGHTS " + std::to_string(kMaxTiles)};
+    std::vector<std::string> light_defines{"MAX_LIGHTS " + std::to_string(kMaxLights)};
     if (use_uniform_block_) light_defines.push_back("LIGHTS_UNIFORM_BLOCK");
     tiles_program_ = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, light_defines);
     std::vector<std::string> atlas_defines = light_defines;
@@ -198,6 +198,9 @@ void Renderer::set_environment_rotation(float degrees) {
 }
 
 void Renderer::set_lights(std::vector<Cell> cells, CellSpace space) {
+    if (cells.size() > std::size_t(kMaxLights))  // the light buffer, the atlas and MAX_LIGHTS hold that many
+        throw std::invalid_argument("renderer: " + std::to_string(cells.size()) + " lights given, at most " +
+                                    std::to_string(kMaxLights) + " fit");
     cells_ = std::move(cells);
     cell_space_ = space;
     select_lights();
@@ -209,8 +212,8 @@ void Renderer::select_lights() {
     light_frames_.clear();
     for (const WorldLight& light : lights_.kept) light_frames_.push_back(light_frame(light.direction));
     records_.assign(lights_.kept.size(), LightRecord{});
-    // Room for kMaxTiles records: a uniform block's bound range must cover its whole declared array.
-    light_buffer_ = gl::Buffer::create(std::size_t(kMaxTiles) * sizeof(LightRecord));
+    // Room for kMaxLights records: a uniform block's bound range must cover its whole declared array.
+    light_buffer_ = gl::Buffer::create(std::size_t(kMaxLights) * sizeof(LightRecord));
 }
 
 void Renderer::ensure_atlas() {
@@ -242,7 +245,7 @@ void Renderer::ensure_target(int width, int height) {
     depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
     screen_tiles_ = glm::ivec2((width + kScreenTile - 1) / kScreenTile, (height + kScreenTile - 1) / kScreenTile);
     tile_lists_ = gl::Buffer::create(std::size_t(screen_tiles_.x) * std::size_t(screen_tiles_.y) *
-                                     std::size_t(kMaxTiles + 1) * sizeof(std::uint32_t));
+                                     std::size_t(kMaxLights + 1) * sizeof(std::uint32_t));
     target_ = gl::Framebuffer::create();
     target_.attach(GL_COLOR_ATTACHMENT0, color_);
     target_.attach(GL_DEPTH_ATTACHMENT, depth_);

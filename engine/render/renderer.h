@@ -78,8 +78,8 @@ public:
     void set_environment(const EnvironmentMap& map);
     // Rotation of the map about +Y (env/orientation.h); set_scene sets the scene's.
     void set_environment_rotation(float degrees);
-    // Cells of a decomposition; map-space ones are rotated into the world by the environment's
-    // rotation, world-space ones (FsSampler::read_lights) are taken as they are.
+    // Cells of a decomposition, at most kMaxLights (std::invalid_argument otherwise); map-space ones
+    // are rotated into the world by the environment's rotation, world-space ones are taken as they are.
     enum class CellSpace { map, world };
     void set_lights(std::vector<Cell> cells, CellSpace space = CellSpace::map);
 
@@ -153,7 +153,7 @@ private:
     gl::Texture atlas_depth_;
     gl::Framebuffer atlas_;
     int max_viewports_ = 1;
-    bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds kMaxTiles light records
+    bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds kMaxLights light records
     bool use_uniform_block_ = false;
 
     gl::Texture environment_;

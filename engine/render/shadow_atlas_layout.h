@@ -28,7 +28,6 @@ struct AtlasLayout {
 
 inline constexpr int kMinTileSize = 128;
 inline constexpr int kMaxTileSize = 2048;
-inline constexpr int kMaxTiles = 256;
 
 // Columns are the power of two at or above sqrt(tiles) (128 tiles of 256^2: 16 x 8, 4096 x 2048).
 // When the atlas would exceed `max_texture_size` (GL_MAX_TEXTURE_SIZE, GL_MAX_VIEWPORT_DIMS) the

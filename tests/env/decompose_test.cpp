@@ -20,7 +20,6 @@ namespace envshadow {
 namespace {
 
 constexpr double kFourPi = 4.0 * std::numbers::pi;
-const Method kMethods[] = {Method::lloyd, Method::ccvt, Method::mediancut, Method::random, Method::fs};
 
 Decomposition run(const EnvironmentMap& map, Method method, int lights, std::uint64_t seed = 1) {
     DecomposeOptions options;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include <glm/ext/matrix_clip_space.hpp>
@@ -526,15 +527,28 @@ TEST_P(RendererTest, OptimisationsKeepTheBaselineImage) {
     std::size_t full_triangles = 0, lod_triangles = 0;
     long pixels = 0;
     const Image reference = render_with(first, &full_triangles);
-    auto with = [&](const char* variant) { return render::apply_variant(first, variant, "test"); };
+    using Switch = bool RenderSettings::*;
+    auto with = [&](std::initializer_list<Switch> on) {
+        RenderSettings settings = first;
+        for (Switch member : on) settings.*member = true;
+        return settings;
+    };
+    RenderSettings lod = first;
+    lod.caster_lod = 1.0f;
 
-    EXPECT_GT(object_psnr(render_with(with("caster-lod=1"), &lod_triangles), reference, &pixels), 45.0);
+    EXPECT_GT(object_psnr(render_with(lod, &lod_triangles), reference, &pixels), 45.0);
     EXPECT_GT(pixels, 5000);
     EXPECT_LT(double(lod_triangles), 0.8 * double(full_triangles)) << "the LOD must really simplify the casters here";
-    for (const char* exact :
-         {"prepass=on", "ubo=on", "specialise=on", "prepass=on,tiles=on", "prepass=on,tiles=on,specialise=on,flat=on"})
-        EXPECT_GT(object_psnr(render_with(with(exact)), reference), 80.0) << exact;
-    EXPECT_GT(object_psnr(render_with(with("cull=on")), reference), 60.0);
+    const std::vector<std::pair<const char*, RenderSettings>> exact = {
+        {"prepass", with({&RenderSettings::depth_prepass})},
+        {"ubo", with({&RenderSettings::lights_uniform_block})},
+        {"specialise", with({&RenderSettings::specialise_shaders})},
+        {"prepass, tiles", with({&RenderSettings::depth_prepass, &RenderSettings::shadow_tile_lists})},
+        {"prepass, tiles, specialise, flat",
+         with({&RenderSettings::depth_prepass, &RenderSettings::shadow_tile_lists, &RenderSettings::specialise_shaders,
+               &RenderSettings::flat_receivers})}};
+    for (const auto& [name, settings] : exact) EXPECT_GT(object_psnr(render_with(settings), reference), 80.0) << name;
+    EXPECT_GT(object_psnr(render_with(with({&RenderSettings::cull_back_faces})), reference), 60.0);
     RenderSettings optimised;
     optimised.tile_size = first.tile_size;
     EXPECT_GT(object_psnr(render_with(optimised), reference), 45.0);

@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
+#include "env/cells.h"
 #include "render/shadow_atlas_layout.h"
 
 namespace envshadow::render {
@@ -23,7 +24,7 @@ TEST(AtlasLayout, DesignsExampleIs16By8TilesIn4096By2048) {
 }
 
 TEST(AtlasLayout, EveryTileFitsAndNoneIsWasted) {
-    for (int tiles = 1; tiles <= kMaxTiles; ++tiles) {
+    for (int tiles = 1; tiles <= kMaxLights; ++tiles) {
         const AtlasLayout layout = plan_atlas(tiles, 128, 16384);
         EXPECT_GE(layout.columns * layout.rows, tiles);
         EXPECT_LT(layout.columns * (layout.rows - 1), tiles) << "a whole empty row for " << tiles;

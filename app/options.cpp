@@ -1,0 +1,99 @@
+#include "options.h"
+
+#include <cmath>
+#include <vector>
+
+#include "core/image.h"
+#include "env/cells.h"
+#include "render/light_source.h"
+#include "render/shadow_atlas_layout.h"
+#include "variants.h"
+
+namespace envshadow::app {
+
+void add_common_options(CLI::App* app, CommonOptions* o, const CommonOptionSet& set) {
+    if (set.scene) {
+        CLI::Option* scene =
+            app->add_option("--scene", o->scene,
+                            set.scene_required ? "Scene JSON, or a .gltf/.glb"
+                                               : "Scene JSON, or a .gltf/.glb (default: assets/scenes/default.json)");
+        if (set.scene_required) scene->required();
+        app->add_option("--env", o->env, "Environment map (.exr, .hdr or builtin:...), overriding the scene's");
+    } else {
+        app->add_option("--env", o->env, "Environment: an .exr or .hdr lat-long map, or builtin:constant, builtin:sky")
+            ->required();
+    }
+    if (set.lights) {
+        app->add_option("--lights", o->lights, "Number of cells (lights) N")->check(CLI::Range(1, kMaxLights));
+        std::vector<std::string> names;
+        std::string help;
+        for (const render::LightMethod& method : render::light_methods()) {
+            if (method.kind == render::LightSourceKind::gpu_fs && !set.gpu_method) continue;
+            names.emplace_back(method.name());
+            help += (help.empty() ? "" : "; ") + names.back() + ": " + std::string(method.help);
+        }
+        app->add_option("--method", o->method, help)->check(CLI::IsMember(names));
+    }
+    if (set.seed)
+        app->add_option("--seed", o->seed, "Random seed (of the decomposition's sites; of the reference's samples)");
+    if (set.size) {
+        app->add_option("--width", o->width, "Image width")->check(CLI::Range(kMinImageSize, kMaxImageWidth));
+        app->add_option("--height", o->height, "Image height")->check(CLI::Range(kMinImageSize, kMaxImageHeight));
+    }
+    if (set.backend) app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
+}
+
+const CLI::Validator& finite_number() {
+    static const CLI::Validator validator(
+        [](std::string& input) {
+            double value = 0.0;
+            if (!CLI::detail::lexical_cast(input, value) || !std::isfinite(value))
+                return "Value " + input + " is not a finite number";
+            return std::string();
+        },
+        "FINITE");
+    return validator;
+}
+
+void add_time_option(CLI::App* app, double* time) {
+    app->add_option("--time", *time, "Animation time in seconds (builtin:sky's sun: one hour per second)")
+        ->check(finite_number());
+}
+
+void add_atlas_options(CLI::App* app, int* tile, int* depth_bits) {
+    app->add_option("--tile", *tile, "Shadow map tile size")
+        ->check(CLI::Range(render::kMinTileSize, render::kMaxTileSize));
+    app->add_option("--depth-bits", *depth_bits, "Shadow depth bits: 16 or 32 (float)")->check(CLI::IsMember({16, 32}));
+}
+
+void add_pass_timing_option(CLI::App* app, std::string* value) {
+    app->add_option("--pass-timing", *value,
+                    "auto (default: wait on a software rasteriser, queries on a GPU), queries (GL_TIME_ELAPSED) or "
+                    "wait (glFinish around each pass)")
+        ->check(CLI::IsMember({"auto", "queries", "wait"}));
+}
+
+gl::PassTiming pass_timing(const std::string& value, bool software_rasteriser) {
+    return naming_flag("--pass-timing", [&] { return gl::parse_pass_timing(value, software_rasteriser); });
+}
+
+void add_optimisation_options(CLI::App* app, OptimisationFlags* flags) {
+    app->add_flag("--baseline", flags->baseline, "The first working renderer: every issue-10 optimisation off");
+    app->add_option("--caster-lod", flags->caster_lod, "Shadow-caster LOD error in shadow texels (default 0.3), or off")
+        ->type_name("F|off");
+    app->add_option("--prepass", flags->prepass, "Depth pre-pass before shading: on (default) or off")
+        ->check(CLI::IsMember({"on", "off"}));
+}
+
+render::RenderSettings apply(const OptimisationFlags& flags, render::RenderSettings settings) {
+    if (flags.baseline) settings = render::baseline(settings);
+    if (!flags.caster_lod.empty())
+        naming_flag("--caster-lod", [&] {
+            settings.caster_lod = parse_caster_lod(flags.caster_lod);
+            render::validate(settings);
+        });
+    if (!flags.prepass.empty()) settings.depth_prepass = parse_on_off(flags.prepass);
+    return settings;
+}
+
+}  // namespace envshadow::app

@@ -1,0 +1,78 @@
+#pragma once
+// The command line's shared vocabulary: the options several commands take, each with one spelling,
+// range and help text, and how a value the engine parses in its own words gets the flag's name.
+// README.md's command-line reference lists the same ranges.
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include <CLI/CLI.hpp>
+
+#include "core/error.h"
+#include "gl/timer.h"
+#include "render/render_settings.h"
+
+namespace envshadow::app {
+
+// --width and --height: from one 16x16 screen tile up to core's image limit (kMaxImageWidth/Height).
+inline constexpr int kMinImageSize = 16;
+
+// The options of every command that renders (decompose takes the lights part only).
+struct CommonOptions {
+    std::string scene;              // --scene: scene JSON or .gltf/.glb
+    std::string env;                // --env: overrides the scene's environment (decompose: the map)
+    int lights = 128;               // --lights: 1..kMaxLights
+    std::string method = "lloyd";   // --method: a name of render::light_methods()
+    std::uint64_t seed = 1;         // --seed
+    int width = 960, height = 540;  // --width, --height: kMinImageSize..kMaxImageWidth/Height
+    std::string backend = "egl";    // --backend: egl or osmesa
+};
+
+// Which of CommonOptions a command takes.
+struct CommonOptionSet {
+    bool scene = true;           // --scene and --env overriding its map; false: --env alone, required
+    bool scene_required = true;  // false: the command has a default scene
+    bool lights = true;          // --lights and --method
+    bool gpu_method = true;      // --method also takes fs-gpu (the lights sampled on the GPU every frame)
+    bool seed = true;
+    bool size = true;  // --width, --height
+    bool backend = true;
+};
+
+// Adds the options `set` names to `app`, stored in `options` (whose values are the defaults).
+void add_common_options(CLI::App* app, CommonOptions* options, const CommonOptionSet& set);
+
+// A number that is neither NaN nor infinite (CLI::Range lets NaN through: every comparison with it fails).
+const CLI::Validator& finite_number();
+
+// --time: the animation time in seconds.
+void add_time_option(CLI::App* app, double* time);
+
+// --tile and --depth-bits: the shadow atlas of render and bench.
+void add_atlas_options(CLI::App* app, int* tile, int* depth_bits);
+
+// --pass-timing, for the commands that render; pass_timing() reads the value.
+void add_pass_timing_option(CLI::App* app, std::string* value);
+gl::PassTiming pass_timing(const std::string& value, bool software_rasteriser);
+
+// --baseline, --caster-lod, --prepass: issue 10's optimisations, for render and bench.
+struct OptimisationFlags {
+    bool baseline = false;
+    std::string caster_lod, prepass;  // empty: the default
+};
+void add_optimisation_options(CLI::App* app, OptimisationFlags* flags);
+// `settings` with the flags applied (baseline first); UsageError naming the flag for a bad value.
+render::RenderSettings apply(const OptimisationFlags& flags, render::RenderSettings settings);
+
+// `parse()`, and a UsageError it throws (in the engine's words) prefixed by `flag`:
+// "--atlas: 'x' is not one of clip-distances, viewport-array, per-tile".
+template <class Parse>
+auto naming_flag(std::string_view flag, Parse&& parse) {
+    try {
+        return parse();
+    } catch (const UsageError& e) {
+        throw UsageError(std::string(flag) + ": " + e.what());
+    }
+}
+
+}  // namespace envshadow::app

@@ -1,0 +1,70 @@
+// bench --variants and the optimisation flags' values (app/variants.h).
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "variants.h"
+
+namespace envshadow::app {
+namespace {
+
+using render::AtlasMode;
+using render::PcfKernel;
+using render::RenderSettings;
+
+TEST(Variants, ItemsApplyLeftToRight) {
+    const RenderSettings base;
+    EXPECT_EQ(apply_variant(base, "baseline").caster_lod, 0.0f);
+    EXPECT_TRUE(apply_variant(base, "optimised").depth_prepass);
+    const RenderSettings v =
+        apply_variant(base, "baseline, caster-lod=0.25,depth-bits=32,tile=128,atlas=per-tile,pcf=wide");
+    EXPECT_EQ(v.caster_lod, 0.25f);
+    EXPECT_FALSE(v.depth_prepass);
+    EXPECT_EQ(v.depth_bits, 32);
+    EXPECT_EQ(v.tile_size, 128);
+    EXPECT_EQ(v.atlas, AtlasMode::per_tile);
+    EXPECT_EQ(v.pcf, PcfKernel::wide);
+    EXPECT_EQ(apply_variant(base, "caster-lod=off").caster_lod, 0.0f);
+    EXPECT_FALSE(apply_variant(base, "prepass=off").depth_prepass);
+    EXPECT_TRUE(apply_variant(base, "baseline,prepass=on").depth_prepass);  // later items win
+    const RenderSettings off = apply_variant(base, "ubo=off,cull=off,specialise=off,tiles=off,flat=off");
+    EXPECT_FALSE(off.lights_uniform_block || off.cull_back_faces || off.specialise_shaders || off.shadow_tile_lists ||
+                 off.flat_receivers);
+    EXPECT_EQ(apply_variant(base, "").tile_size, base.tile_size);
+    for (const char* bad : {"fast", "prepass=maybe", "caster-lod=x", "caster-lod=-1", "caster-lod=nan", "tile=64",
+                            "depth-bits=24", "colour=red"})
+        EXPECT_THROW(apply_variant(base, bad), UsageError) << bad;
+}
+
+TEST(Variants, SemicolonsSeparateVariantsAndErrorsNameTheFlag) {
+    RenderSettings base;
+    base.tile_size = 512;
+    const std::vector<Variant> variants = parse_variants("baseline;optimised;tile=128", base);
+    ASSERT_EQ(variants.size(), 3u);
+    EXPECT_EQ(variants[0].label, "baseline");
+    EXPECT_FALSE(variants[0].settings.depth_prepass);
+    EXPECT_EQ(variants[0].settings.tile_size, 512);
+    EXPECT_TRUE(variants[1].settings.depth_prepass);
+    EXPECT_EQ(variants[2].settings.tile_size, 128);
+    const std::vector<Variant> none = parse_variants("", base);
+    ASSERT_EQ(none.size(), 1u);
+    EXPECT_EQ(none[0].label, "");
+    EXPECT_EQ(none[0].settings.tile_size, 512);
+    try {
+        parse_variants("baseline;tile=64", base);
+        ADD_FAILURE() << "no error";
+    } catch (const UsageError& e) {
+        EXPECT_EQ(std::string(e.what()), "--variants: shadow tile size 64 is outside 128..2048");
+    }
+}
+
+TEST(Variants, FlagValues) {
+    EXPECT_EQ(parse_caster_lod("off"), 0.0f);
+    EXPECT_EQ(parse_caster_lod("1.5"), 1.5f);
+    EXPECT_THROW(parse_caster_lod("1.5x"), UsageError);
+    EXPECT_TRUE(parse_on_off("on"));
+    EXPECT_FALSE(parse_on_off("off"));
+    EXPECT_THROW(parse_on_off("yes"), UsageError);
+}
+
+}  // namespace
+}  // namespace envshadow::app
