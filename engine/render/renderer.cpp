@@ -17,43 +17,14 @@
 #include "env/orientation.h"
 #include "gl/readback.h"
 #include "render/embedded_shaders.h"
+#include "render/shader_interface.h"
 
 namespace envshadow::render {
 
-namespace {
-// Texture units and buffer bindings shared with glsl/ (shade.frag, background.frag, cells.glsl).
-constexpr GLuint kAtlasUnit = 0;
-constexpr GLuint kEnvironmentUnit = 1;
-constexpr GLuint kLightsBinding = 0;
-constexpr GLuint kDepthUnit = 2;           // glsl/shadow_tiles.comp
-constexpr GLuint kTileListsBinding = 1;    // shadow_tiles.comp writes, shade.frag (SHADOW_TILE_LISTS) reads
-constexpr int kScreenTile = 16;            // pixels; shadow_tiles.comp's work group, shade.frag's tile
-constexpr GLuint kCasterRectsBinding = 3;  // shadow_tiles.comp
-constexpr int kMaxCasterRects = 16;        // per light; more casters share one rectangle (the tile)
+using namespace shader;  // loc::, unit::, binding::, size::
 
-// Explicit uniform locations of glsl/shadow_atlas.vert, shade.vert/.frag, background.frag and
-// (tiles_*) shadow_tiles.comp.
-namespace loc {
-constexpr GLint world_from_object = 0;
-constexpr GLint first_tile = 4;
-constexpr GLint atlas_tiles = 5;
-constexpr GLint world_normal_from_object = 4;
-constexpr GLint clip_from_world = 8;
-constexpr GLint eye = 12;
-constexpr GLint light_count = 13;
-constexpr GLint atlas_texel = 14;
-constexpr GLint k_d = 15;
-constexpr GLint k_s = 16;
-constexpr GLint shininess = 17;
-constexpr GLint tiles_x = 18;
-constexpr GLint unshadowed = 19;
-constexpr GLint direction_from_clip = 0;
-constexpr GLint map_from_world = 4;
-constexpr GLint tiles_world_from_clip = 0;
-constexpr GLint tiles_light_count = 4;
-constexpr GLint tiles_pad = 5;
-constexpr GLint tiles_caster_count = 6;
-}  // namespace loc
+namespace {
+constexpr int kMaxCasterRects = 16;  // per light; more casters share one rectangle (the tile)
 
 // Texels between the casters and a tile's border: the wide PCF reaches 1.5 texels from its centre.
 constexpr float kTileMarginTexels = 3.0f;
@@ -90,26 +61,26 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings), librar
     glGetIntegerv(GL_MAX_VIEWPORTS, &max_viewports_);
     GLint max_block = 0;
     glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
-    uniform_block_fits_ = std::size_t(max_block) >= kMaxTiles * sizeof(LightRecord);
+    uniform_block_fits_ = std::size_t(max_block) >= std::size_t(size::max_lights) * sizeof(LightRecord);
     use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
     max_viewports_ = std::clamp(max_viewports_, 1, kMaxViewports);
     empty_vertex_array_ = gl::VertexArray::create();
-    shadow_sampler_ = gl::Sampler::create();
     // Hardware depth comparison with bilinear filtering of the results: 2x2 PCF per lookup.
-    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glSamplerParameteri(shadow_sampler_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    shadow_sampler_ = gl::Sampler::create({.min_filter = GL_LINEAR,
+                                           .mag_filter = GL_LINEAR,
+                                           .wrap_s = GL_CLAMP_TO_EDGE,
+                                           .wrap_t = GL_CLAMP_TO_EDGE,
+                                           .compare_mode = GL_COMPARE_REF_TO_TEXTURE,
+                                           .compare_func = GL_LEQUAL});
     build_programs();
 }
 
 Renderer::~Renderer() = default;
 
 void Renderer::build_programs() {
-    // Shared by the atlas, shading and screen-tile programs.
-    std::vector<std::string> light_defines{"MAX_LIGHTS " + std::to_string(kMaxTiles)};
+    // Shared by the atlas, shading and screen-tile programs (MAX_LIGHTS and the other numbers of
+    // render/shader_interface.h are in every stage already).
+    std::vector<std::string> light_defines;
     if (use_uniform_block_) light_defines.push_back("LIGHTS_UNIFORM_BLOCK");
     tiles_program_ = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, light_defines);
     std::vector<std::string> atlas_defines = light_defines;
@@ -209,8 +180,8 @@ void Renderer::select_lights() {
     light_frames_.clear();
     for (const WorldLight& light : lights_.kept) light_frames_.push_back(light_frame(light.direction));
     records_.assign(lights_.kept.size(), LightRecord{});
-    // Room for kMaxTiles records: a uniform block's bound range must cover its whole declared array.
-    light_buffer_ = gl::Buffer::create(std::size_t(kMaxTiles) * sizeof(LightRecord));
+    // Room for MAX_LIGHTS records: a uniform block's bound range must cover its whole declared array.
+    light_buffer_ = gl::Buffer::create(std::size_t(size::max_lights) * sizeof(LightRecord));
 }
 
 void Renderer::ensure_atlas() {
@@ -240,9 +211,10 @@ void Renderer::ensure_target(int width, int height) {
     color_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
     depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
     depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
-    screen_tiles_ = glm::ivec2((width + kScreenTile - 1) / kScreenTile, (height + kScreenTile - 1) / kScreenTile);
+    screen_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
+                               (height + size::screen_tile - 1) / size::screen_tile);
     tile_lists_ = gl::Buffer::create(std::size_t(screen_tiles_.x) * std::size_t(screen_tiles_.y) *
-                                     std::size_t(kMaxTiles + 1) * sizeof(std::uint32_t));
+                                     std::size_t(size::max_lights + 1) * sizeof(std::uint32_t));
     target_ = gl::Framebuffer::create();
     target_.attach(GL_COLOR_ATTACHMENT0, color_);
     target_.attach(GL_DEPTH_ATTACHMENT, depth_);
@@ -317,7 +289,7 @@ void Renderer::draw_atlas() {
     atlas_program_.use();
     glProgramUniform2i(atlas_program_.id(), loc::atlas_tiles, layout_.columns, layout_.rows);
     const int tiles = int(records_.size());
-    const int size = layout_.tile_size;
+    const int tile_size = layout_.tile_size;
 
     // Each caster at the coarsest level of detail within settings_.caster_lod of the smallest texel
     // of this frame's tiles (level 0, the full mesh, with caster_lod = 0).
@@ -361,9 +333,9 @@ void Renderer::draw_atlas() {
                 std::array<float, 4 * kMaxViewports> rects{};
                 for (int i = 0; i < batch; ++i) {
                     const int k = first + i;
-                    rects[4 * i + 0] = float((k % layout_.columns) * size);
-                    rects[4 * i + 1] = float((k / layout_.columns) * size);
-                    rects[4 * i + 2] = rects[4 * i + 3] = float(size);
+                    rects[4 * i + 0] = float((k % layout_.columns) * tile_size);
+                    rects[4 * i + 1] = float((k / layout_.columns) * tile_size);
+                    rects[4 * i + 2] = rects[4 * i + 3] = float(tile_size);
                 }
                 glViewportArrayv(0, batch, rects.data());
                 glProgramUniform1i(atlas_program_.id(), loc::first_tile, first);
@@ -372,7 +344,7 @@ void Renderer::draw_atlas() {
             break;
         case AtlasMode::per_tile:
             for (int k = 0; k < tiles; ++k) {
-                glViewport((k % layout_.columns) * size, (k / layout_.columns) * size, size, size);
+                glViewport((k % layout_.columns) * tile_size, (k / layout_.columns) * tile_size, tile_size, tile_size);
                 glProgramUniform1i(atlas_program_.id(), loc::first_tile, k);
                 for_each_caster(1, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level); });
             }
@@ -413,16 +385,16 @@ void Renderer::build_tile_lists(const CameraView& view) {
     for (const LightRecord& record : records_) pad = std::max(pad, record.bias.y + min_texel_world_);
     const GLuint program = tiles_program_.id();
     tiles_program_.use();
-    glProgramUniformMatrix4fv(program, loc::tiles_world_from_clip, 1, GL_FALSE, &world_from_clip[0][0]);
-    glProgramUniform1i(program, loc::tiles_light_count, int(records_.size()));
-    glProgramUniform1f(program, loc::tiles_pad, pad);
-    glProgramUniform1i(program, loc::tiles_caster_count, caster_rect_count_);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCasterRectsBinding, caster_rect_buffer_.id());
-    depth_.bind(kDepthUnit);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileListsBinding, tile_lists_.id());
+    glProgramUniformMatrix4fv(program, loc::world_from_clip, 1, GL_FALSE, &world_from_clip[0][0]);
+    glProgramUniform1i(program, loc::light_count, int(records_.size()));
+    glProgramUniform1f(program, loc::pad, pad);
+    glProgramUniform1i(program, loc::caster_count, caster_rect_count_);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::caster_rects, caster_rect_buffer_.id());
+    depth_.bind(unit::depth);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::tile_lists, tile_lists_.id());
     glDispatchCompute(GLuint(screen_tiles_.x), GLuint(screen_tiles_.y), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    glBindTextureUnit(kDepthUnit, 0);
+    glBindTextureUnit(unit::depth, 0);
 }
 
 void Renderer::draw_objects(const CameraView& view) {
@@ -438,8 +410,8 @@ void Renderer::draw_objects(const CameraView& view) {
         glProgramUniform2f(program, loc::atlas_texel, 1.0f / float(layout_.width()), 1.0f / float(layout_.height()));
         glProgramUniform1ui(program, loc::tiles_x, GLuint(screen_tiles_.x));
     }
-    atlas_depth_.bind(kAtlasUnit);
-    shadow_sampler_.bind(kAtlasUnit);
+    atlas_depth_.bind(unit::atlas);
+    shadow_sampler_.bind(unit::atlas);
     glEnable(GL_DEPTH_TEST);
     // After the pre-pass only the visible fragment of each pixel passes (bit-identical depths:
     // shade.vert's gl_Position is invariant), so the light loop runs once per pixel.
@@ -486,7 +458,7 @@ void Renderer::draw_objects(const CameraView& view) {
         instance.mesh->bind();
         instance.mesh->draw();
     }
-    glBindSampler(kAtlasUnit, 0);
+    glBindSampler(unit::atlas, 0);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
 }
@@ -502,7 +474,7 @@ void Renderer::draw_background(const CameraView& view) {
     background_program_.use();
     glProgramUniformMatrix4fv(program, loc::direction_from_clip, 1, GL_FALSE, &direction_from_clip[0][0]);
     glProgramUniformMatrix3fv(program, loc::map_from_world, 1, GL_FALSE, &map_from_world_matrix[0][0]);
-    environment_.bind(kEnvironmentUnit);
+    environment_.bind(unit::environment);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);  // only where no object was drawn (depth still cleared to 1)
     glDepthMask(GL_FALSE);
@@ -518,7 +490,7 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     ensure_target(view.width, view.height);
     update_instances(time);
     fit_lights();
-    glBindBufferBase(use_uniform_block_ ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER, kLightsBinding,
+    glBindBufferBase(use_uniform_block_ ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER, binding::lights,
                      light_buffer_.id());
     if (!timer_warmed_up_) {
         // Mesa's llvmpipe (22.3) gives the first GL_TIME_ELAPSED query of a context that draws

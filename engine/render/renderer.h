@@ -153,13 +153,13 @@ private:
     gl::Texture atlas_depth_;
     gl::Framebuffer atlas_;
     int max_viewports_ = 1;
-    bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds kMaxTiles light records
+    bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds shader::size::max_lights records
     bool use_uniform_block_ = false;
 
     gl::Texture environment_;
     gl::Texture color_, depth_;
     gl::Framebuffer target_;
-    glm::ivec2 screen_tiles_{0, 0};        // 16x16-pixel tiles of the target
+    glm::ivec2 screen_tiles_{0, 0};        // shader::size::screen_tile^2-pixel tiles of the target
     gl::Buffer tile_lists_;                // per screen tile: light count, light indices (shadow_tiles.comp)
     std::vector<glm::vec4> caster_rects_;  // per light, per caster: its box in the light's clip space
     int caster_rect_count_ = 1;
