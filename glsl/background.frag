@@ -3,14 +3,14 @@
 // rotated into map space, looked up in the lat-long map. Computed per pixel, so there is no pinch
 // at the poles; the map repeats in u (no seam at the wrap) and is clamped in v; no mipmaps, so the
 // jump of u at the wrap cannot select a blurry level.
-#include "cells.glsl"
+#include "latlong.glsl"
 
 layout(location = 0) in vec2 v_ndc;
 
-layout(location = 0) uniform mat4 u_direction_from_clip;  // world_from_view (rotation) * view_from_clip
-layout(location = 4) uniform mat3 u_map_from_world;
+layout(location = LOC_DIRECTION_FROM_CLIP) uniform mat4 u_direction_from_clip;  // world_from_view (rotation) * view_from_clip
+layout(location = LOC_MAP_FROM_WORLD) uniform mat3 u_map_from_world;
 
-layout(binding = 1) uniform sampler2D u_environment;
+layout(binding = UNIT_ENVIRONMENT) uniform sampler2D u_environment;
 
 layout(location = 0) out vec4 o_color;
 

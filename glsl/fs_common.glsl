@@ -1,11 +1,6 @@
 // Shared by the Floyd-Steinberg GPU sampler's stages (engine/render/fs_sampler.h).
 
-// The lat-long convention (engine/env/latlong.h) comes from cells.glsl; its storage block of the
-// renderer's lights is not used here, so it gets a binding no fs_* stage uses.
-#ifndef LIGHTS_BINDING
-#define LIGHTS_BINDING 7
-#endif
-#include "cells.glsl"
+#include "latlong.glsl"
 
 vec3 fs_texel_direction(ivec2 texel, ivec2 size) { return latlong_direction((vec2(texel) + 0.5) / vec2(size)); }
 
@@ -30,11 +25,12 @@ float fs_luminance(vec3 rgb) { return dot(rgb, vec3(0.2126, 0.7152, 0.0722)); }
     uint lights_found;     /* sample texels the scan found; more than capacity: some were dropped */ \
     uint unused_counts0, unused_counts1;
 
-// A captured sample: texel index (21 bits: up to 2048 x 1024) and multiplicity (11 bits).
-const int FS_MAX_MULTIPLICITY = 2047;
-uint fs_pack_sample(uint texel, uint multiplicity) { return texel | (multiplicity << 21); }
-uint fs_sample_texel(uint captured) { return captured & 0x1FFFFFu; }
-uint fs_sample_multiplicity(uint captured) { return captured >> 21; }
+// A captured sample: texel index (FS_TEXEL_BITS = 21 bits: up to 2048 x 1024) and multiplicity (the
+// 11 bits above; engine/render/shader_interface.h).
+const int FS_MAX_MULTIPLICITY = (1 << (32 - FS_TEXEL_BITS)) - 1;
+uint fs_pack_sample(uint texel, uint multiplicity) { return texel | (multiplicity << FS_TEXEL_BITS); }
+uint fs_sample_texel(uint captured) { return captured & ((1u << FS_TEXEL_BITS) - 1u); }
+uint fs_sample_multiplicity(uint captured) { return captured >> FS_TEXEL_BITS; }
 
 // One light, the fields of envshadow::Cell (engine/env/cells.h), std430: 48 bytes.
 struct FsLight {

@@ -6,15 +6,15 @@
 // also reduces the row's sum, so that the sampler adds H row sums instead of W x H texels for S.
 #include "fs_common.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = FS_WORK_GROUP) in;
 
-layout(binding = 0) uniform sampler2D u_environment;  // lat-long RGB(A), texel (i, j) = map texel (i, j)
-layout(binding = 0, r32f) uniform writeonly image2D u_importance;
-layout(binding = 1, rgba32f) uniform writeonly image2D u_radiance;  // sum L dw over the texel (RGB), I (a)
-layout(binding = 2, rgba32f) uniform writeonly image2D u_moments;   // sum of lum(L) dw w (xyz), sum dw (w)
-layout(std430, binding = 0) writeonly buffer FsRowSums { double row_sum[]; };
+layout(binding = UNIT_ENVIRONMENT) uniform sampler2D u_environment;  // lat-long RGB(A), texel (i, j) = map texel (i, j)
+layout(binding = IMAGE_IMPORTANCE, r32f) uniform writeonly image2D u_importance;
+layout(binding = IMAGE_RADIANCE, rgba32f) uniform writeonly image2D u_radiance;  // sum L dw over the texel (RGB), I (a)
+layout(binding = IMAGE_MOMENTS, rgba32f) uniform writeonly image2D u_moments;    // sum of lum(L) dw w (xyz), sum dw (w)
+layout(std430, binding = BINDING_FS_ROW_SUMS) writeonly buffer FsRowSums { double row_sum[]; };
 
-shared double partial_sums[64];
+shared double partial_sums[FS_WORK_GROUP];
 
 // First fine index whose texel centre lies in coarse texel `coarse`: ceil(coarse * fine / coarse_size - 0.5).
 int block_start(int coarse, int fine_size, int coarse_size) {
@@ -29,7 +29,7 @@ void main() {
     const int env_row_end = block_start(row + 1, env_size.y, size.y);
 
     double row_importance = 0.0;
-    for (int column = int(gl_LocalInvocationID.x); column < size.x; column += 64) {
+    for (int column = int(gl_LocalInvocationID.x); column < size.x; column += FS_WORK_GROUP) {
         const int env_column_begin = block_start(column, env_size.x, size.x);
         const int env_column_end = block_start(column + 1, env_size.x, size.x);
         vec3 radiance = vec3(0.0), importance_direction = vec3(0.0);
@@ -55,7 +55,7 @@ void main() {
 
     partial_sums[gl_LocalInvocationID.x] = row_importance;
     barrier();
-    for (uint stride = 32; stride > 0; stride >>= 1) {
+    for (uint stride = FS_WORK_GROUP / 2; stride > 0; stride >>= 1) {
         if (gl_LocalInvocationID.x < stride)
             partial_sums[gl_LocalInvocationID.x] += partial_sums[gl_LocalInvocationID.x + stride];
         barrier();

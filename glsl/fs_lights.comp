@@ -9,16 +9,16 @@
 // where importance is uniform.
 #include "fs_common.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = FS_WORK_GROUP) in;
 
-layout(binding = 0) uniform sampler2D u_radiance;  // sum L dw (rgb) and importance (a) per importance texel
-layout(binding = 1) uniform sampler2D u_moments;   // sum lum(L) dw w (xyz) per importance texel
-layout(std430, binding = 0) readonly buffer FsSamples { uint captured_sample[]; };
-layout(std430, binding = 1) readonly buffer FsCounts { FS_COUNTS_MEMBERS };
-layout(std430, binding = 2) writeonly buffer FsLights { FsLight fs_lights[]; };
+layout(binding = UNIT_RADIANCE) uniform sampler2D u_radiance;  // sum L dw (rgb) and importance (a) per importance texel
+layout(binding = UNIT_MOMENTS) uniform sampler2D u_moments;    // sum lum(L) dw w (xyz) per importance texel
+layout(std430, binding = BINDING_FS_SAMPLES) readonly buffer FsSamples { uint captured_sample[]; };
+layout(std430, binding = BINDING_FS_COUNTS) readonly buffer FsCounts { FS_COUNTS_MEMBERS };
+layout(std430, binding = BINDING_FS_LIGHTS) writeonly buffer FsLights { FsLight fs_lights[]; };
 
-layout(location = 0) uniform mat3 u_world_from_map;
-layout(location = 1) uniform float u_radiance_scale;  // exposure
+layout(location = LOC_WORLD_FROM_MAP) uniform mat3 u_world_from_map;
+layout(location = LOC_RADIANCE_SCALE) uniform float u_radiance_scale;  // exposure
 
 void main() {
     const uint index = gl_GlobalInvocationID.x;

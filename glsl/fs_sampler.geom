@@ -11,7 +11,7 @@
 // sun holding 30 S / M becomes one light of 30 samples instead of spilling one sample per texel into
 // a streak along its row. Without it, one sample per texel, as in the listing.
 //
-// Texels are visited in unrolled runs of FS_RUN where the width allows (the listing works in runs of
+// Texels are visited in unrolled runs of FS_SCAN_RUN where the width allows (the listing works in runs of
 // 4): llvmpipe ends any shader after 65535 loop iterations in all, which a loop per texel would pass
 // at 256 x 256.
 //
@@ -25,18 +25,20 @@
 // FS_ADAPTIVE (the CPU method's rules instead of the listing's), FS_SCAN_FLOAT (fs_common.glsl).
 #include "fs_common.glsl"
 
-#define FS_RUN 16
+#if FS_SCAN_RUN != 16
+#error "FS_SCAN_RUN: main() unrolls runs of exactly 16 texels (four FS_VISIT4)"
+#endif
 
 layout(points) in;
 layout(points, max_vertices = FS_MAX_VERTICES) out;
 
-layout(binding = 0) uniform sampler2D u_importance;  // r32f, FS_IMPORTANCE_WIDTH x height
-layout(std430, binding = 0) readonly buffer FsRowSums { double row_sum[]; };
-layout(std430, binding = 1) writeonly buffer FsCounts { FS_COUNTS_MEMBERS };
+layout(binding = UNIT_IMPORTANCE) uniform sampler2D u_importance;  // r32f, FS_IMPORTANCE_WIDTH x height
+layout(std430, binding = BINDING_FS_ROW_SUMS) readonly buffer FsRowSums { double row_sum[]; };
+layout(std430, binding = BINDING_FS_COUNTS) writeonly buffer FsCounts { FS_COUNTS_MEMBERS };
 
-layout(location = 0) uniform int u_expected_samples;  // M
-layout(location = 1) uniform int u_capacity;          // samples the capture buffer holds
-layout(location = 2) uniform dvec3 u_weights;         // error to: next texel, below, below the next
+layout(location = LOC_EXPECTED_SAMPLES) uniform int u_expected_samples;  // M
+layout(location = LOC_CAPACITY) uniform int u_capacity;                  // samples the capture buffer holds
+layout(location = LOC_WEIGHTS) uniform dvec3 u_weights;                  // error to: next texel, below, below the next
 
 out uint fs_texel;  // fs_pack_sample(j * width + i, multiplicity)
 
@@ -146,8 +148,8 @@ void main() {
     for (int row = 0; row < height; ++row) {
         const bool forward = (row & 1) == 0;
         const int step = forward ? 1 : -1;
-#if FS_IMPORTANCE_WIDTH % FS_RUN == 0
-        for (int run = 0; run < FS_IMPORTANCE_WIDTH; run += FS_RUN) {
+#if FS_IMPORTANCE_WIDTH % FS_SCAN_RUN == 0
+        for (int run = 0; run < FS_IMPORTANCE_WIDTH; run += FS_SCAN_RUN) {
             const int first = forward ? run : FS_IMPORTANCE_WIDTH - 1 - run;
             FS_VISIT4(0) FS_VISIT4(4) FS_VISIT4(8) FS_VISIT4(12)
         }

@@ -3,8 +3,8 @@
 #include "tonemap.glsl"
 
 layout(location = 0) in vec2 v_uv;
-layout(location = 0) uniform float u_exposure_scale;
-layout(binding = 0) uniform sampler2D u_linear;
+layout(location = LOC_EXPOSURE_SCALE) uniform float u_exposure_scale;
+layout(binding = UNIT_LINEAR) uniform sampler2D u_linear;
 layout(location = 0) out vec4 o_color;
 
 void main() {

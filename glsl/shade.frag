@@ -6,7 +6,7 @@
 //   DIFFUSE_CAP      clamped cosine averaged over the cell's cap instead of the centre sample
 //   SPECULAR_SINGLE  the single sample k_s cos^n psi_c instead of the blended average
 //   PCF_WIDE         3x3 hardware-filtered taps (a 4x4 texel footprint) instead of one (2x2)
-//   SHADOW_TILE_LISTS shadow lookups only for the lights listed for the pixel's 16x16 tile
+//   SHADOW_TILE_LISTS shadow lookups only for the lights listed for the pixel's screen tile
 //   FLAT_RECEIVER    (with DIFFUSE_ONLY and SHADOW_TILE_LISTS) the unshadowed sum from u_unshadowed
 //   DIFFUSE_ONLY     for materials with k_s = 0: the specular code left out (a uniform branch on
 //                    u_k_s still costs its whole body on SIMD CPU rasterisers such as llvmpipe)
@@ -16,20 +16,21 @@
 layout(location = 0) in vec3 v_world_position;
 layout(location = 1) in vec3 v_world_normal;
 
-layout(location = 12) uniform vec3 u_eye;
-layout(location = 13) uniform int u_light_count;
-layout(location = 14) uniform vec2 u_atlas_texel;  // size of one atlas texel in uv
-layout(location = 15) uniform vec3 u_k_d;          // rho_d / pi
-layout(location = 16) uniform float u_k_s;         // rho_s (n + 2) / (2 pi)
-layout(location = 17) uniform float u_shininess;
+layout(location = LOC_EYE) uniform vec3 u_eye;
+layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
+layout(location = LOC_ATLAS_TEXEL) uniform vec2 u_atlas_texel;  // size of one atlas texel in uv
+layout(location = LOC_K_D) uniform vec3 u_k_d;                  // rho_d / pi
+layout(location = LOC_K_S) uniform float u_k_s;                 // rho_s (n + 2) / (2 pi)
+layout(location = LOC_SHININESS) uniform float u_shininess;
 
-layout(location = 18) uniform uint u_tiles_x;  // 16x16 screen tiles per row (SHADOW_TILE_LISTS)
-layout(location = 19) uniform vec3 u_unshadowed;  // FLAT_RECEIVER: sum of L~_i a_i, the same for every pixel
+layout(location = LOC_TILES_X) uniform uint u_tiles_x;  // screen tiles per row (SHADOW_TILE_LISTS)
+layout(location = LOC_UNSHADOWED) uniform vec3 u_unshadowed;  // FLAT_RECEIVER: sum of L~_i a_i, the same for every pixel
 
-layout(binding = 0) uniform sampler2DShadow u_atlas;
+layout(binding = UNIT_ATLAS) uniform sampler2DShadow u_atlas;
 
 #if defined(SHADOW_TILE_LISTS)
-layout(std430, binding = 1) readonly buffer TileLists { uint tile_lists[]; };  // glsl/shadow_tiles.comp
+// glsl/shadow_tiles.comp: per screen tile of SCREEN_TILE^2 pixels, a count and MAX_LIGHTS indices.
+layout(std430, binding = BINDING_TILE_LISTS) readonly buffer TileLists { uint tile_lists[]; };
 #endif
 
 layout(location = 0) out vec4 o_color;
@@ -96,7 +97,7 @@ void main() {
 
     vec3 radiance = vec3(0.0);
 #if defined(SHADOW_TILE_LISTS)
-    // Every light unshadowed, then the shadow taken off for the lights listed for this 16x16 tile
+    // Every light unshadowed, then the shadow taken off for the lights listed for this screen tile
     // (glsl/shadow_tiles.comp): the others see V = 1 here. The lists are the same for all pixels of a
     // tile, so on SIMD rasterisers the second loop's trip count is uniform.
 #if defined(FLAT_RECEIVER)
@@ -104,7 +105,8 @@ void main() {
 #else
     for (int i = 0; i < u_light_count; ++i) radiance += lights[i].radiance.rgb * reflectivity(i, n, mirror);
 #endif
-    uint base = (uint(gl_FragCoord.y) / 16u * u_tiles_x + uint(gl_FragCoord.x) / 16u) * uint(MAX_LIGHTS + 1);
+    uvec2 tile = uvec2(gl_FragCoord.xy) / uint(SCREEN_TILE);
+    uint base = (tile.y * u_tiles_x + tile.x) * uint(MAX_LIGHTS + 1);
     uint count = tile_lists[base];
     for (uint k = 0u; k < count; ++k) {
         int i = int(tile_lists[base + 1u + k]);

@@ -1,12 +1,12 @@
 #version 450 core
 // Objects in the camera's view: world position and normal for shade.frag.
 
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
+layout(location = ATTRIB_POSITION) in vec3 a_position;
+layout(location = ATTRIB_NORMAL) in vec3 a_normal;
 
-layout(location = 0) uniform mat4 u_world_from_object;
-layout(location = 4) uniform mat3 u_world_normal_from_object;  // inverse transpose
-layout(location = 8) uniform mat4 u_clip_from_world;
+layout(location = LOC_WORLD_FROM_OBJECT) uniform mat4 u_world_from_object;
+layout(location = LOC_WORLD_NORMAL_FROM_OBJECT) uniform mat3 u_world_normal_from_object;  // inverse transpose
+layout(location = LOC_CLIP_FROM_WORLD) uniform mat4 u_clip_from_world;
 
 invariant gl_Position;  // the depth pre-pass and the shading pass must give equal depths
 

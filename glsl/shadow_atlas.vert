@@ -1,7 +1,8 @@
 #version 450 core
 // Depth of the shadow casters into the shadow atlas: instance k draws the mesh into tile
 // u_first_tile + k, orthographically along -w_i (Barsi et al. §2.2: one depth map per cell).
-// One of three ways keeps a tile's triangles inside its rectangle (engine/render/shadow_atlas.h):
+// One of three ways keeps a tile's triangles inside its rectangle (engine/render/render_settings.h
+// AtlasMode; engine/render/renderer.cpp draw_atlas):
 //   ATLAS_CLIP_DISTANCES  all tiles in one instanced draw over the whole atlas; four clip
 //                         distances cut each instance to the tile's [-1, 1]^2
 //   ATLAS_VIEWPORT_ARRAY  batches of GL_MAX_VIEWPORTS instances, instance k to viewport k
@@ -11,11 +12,11 @@
 #endif
 #include "cells.glsl"
 
-layout(location = 0) in vec3 a_position;
+layout(location = ATTRIB_POSITION) in vec3 a_position;
 
-layout(location = 0) uniform mat4 u_world_from_object;
-layout(location = 4) uniform int u_first_tile;
-layout(location = 5) uniform ivec2 u_atlas_tiles;  // columns, rows
+layout(location = LOC_WORLD_FROM_OBJECT) uniform mat4 u_world_from_object;
+layout(location = LOC_FIRST_TILE) uniform int u_first_tile;
+layout(location = LOC_ATLAS_TILES) uniform ivec2 u_atlas_tiles;  // columns, rows
 
 #if defined(ATLAS_CLIP_DISTANCES)
 out gl_PerVertex {

@@ -1,5 +1,5 @@
 #version 450 core
-// Which lights can shadow each 16x16 tile of the image (issue 10: "cull per tile"). After the
+// Which lights can shadow each SCREEN_TILE^2-pixel tile of the image (issue 10: "cull per tile"). After the
 // depth pre-pass, one work group per screen tile bounds the visible receivers of its pixels in the
 // world (pushed out by the largest normal offset), and lists the lights for which any of them falls
 // inside the rectangle of one of the casters in that light's tile (the caster's box projected into
@@ -8,18 +8,19 @@
 // the lookup. The list keeps the light order.
 #include "cells.glsl"
 
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x = SCREEN_TILE, local_size_y = SCREEN_TILE) in;
 
-layout(binding = 2) uniform sampler2D u_depth;  // the image's depth after the pre-pass (NEAREST)
-layout(location = 0) uniform mat4 u_world_from_clip;
-layout(location = 4) uniform int u_light_count;
-layout(location = 5) uniform float u_pad;  // world units: the largest normal offset and rounding
+layout(binding = UNIT_DEPTH) uniform sampler2D u_depth;  // the image's depth after the pre-pass (NEAREST)
+layout(location = LOC_WORLD_FROM_CLIP) uniform mat4 u_world_from_clip;
+layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
+layout(location = LOC_PAD) uniform float u_pad;  // world units: the largest normal offset and rounding
 
-layout(location = 6) uniform int u_caster_count;  // rectangles per light
+layout(location = LOC_CASTER_COUNT) uniform int u_caster_count;  // rectangles per light
 
-layout(std430, binding = 1) writeonly buffer TileLists { uint tile_lists[]; };  // per tile: count, lights
+// Per tile: count, lights.
+layout(std430, binding = BINDING_TILE_LISTS) writeonly buffer TileLists { uint tile_lists[]; };
 // Per light, u_caster_count rectangles in its clip space: xy lower left, zw upper right.
-layout(std430, binding = 3) readonly buffer CasterRects { vec4 caster_rects[]; };
+layout(std430, binding = BINDING_CASTER_RECTS) readonly buffer CasterRects { vec4 caster_rects[]; };
 
 shared uint s_lo[3], s_hi[3];
 shared uint s_any;
@@ -68,7 +69,7 @@ void main() {
     }
     vec3 lo = vec3(unordered(s_lo[0]), unordered(s_lo[1]), unordered(s_lo[2])) - u_pad;
     vec3 hi = vec3(unordered(s_hi[0]), unordered(s_hi[1]), unordered(s_hi[2])) + u_pad;
-    for (uint i = local; i < uint(u_light_count); i += 256u) {
+    for (uint i = local; i < uint(u_light_count); i += uint(SCREEN_TILE * SCREEN_TILE)) {
         // The box's corners in the light's clip space; the box lies outside the tile where all
         // corners are beyond one side.
         vec2 clip_lo = vec2(1e30), clip_hi = vec2(-1e30);

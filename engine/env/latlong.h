@@ -1,5 +1,5 @@
 #pragma once
-// The one place the lat-long convention is written (docs/DESIGN.md §2; glsl/cells.glsl mirrors it and a
+// The one place the lat-long convention is written (docs/DESIGN.md §2; glsl/latlong.glsl mirrors it and a
 // GL test keeps the two equal). World space is right-handed, +Y up.
 //   Map W x H, texel (i, j) centre u = (i + 0.5) / W, v = (j + 0.5) / H; row 0 is the zenith.
 //   theta = pi v (from +Y), phi = 2 pi u, direction = (sin theta cos phi, cos theta, sin theta sin phi).

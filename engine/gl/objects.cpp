@@ -112,9 +112,15 @@ VertexArray VertexArray::create() {
     return vao;
 }
 
-Sampler Sampler::create() {
+Sampler Sampler::create(const SamplerDesc& desc) {
     GLuint id = 0;
     glCreateSamplers(1, &id);
+    glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, GLint(desc.min_filter));
+    glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, GLint(desc.mag_filter));
+    glSamplerParameteri(id, GL_TEXTURE_WRAP_S, GLint(desc.wrap_s));
+    glSamplerParameteri(id, GL_TEXTURE_WRAP_T, GLint(desc.wrap_t));
+    glSamplerParameteri(id, GL_TEXTURE_COMPARE_MODE, GLint(desc.compare_mode));
+    glSamplerParameteri(id, GL_TEXTURE_COMPARE_FUNC, GLint(desc.compare_func));
     Sampler sampler;
     sampler.name_ = detail::Name<detail::destroy_sampler>(id);
     return sampler;

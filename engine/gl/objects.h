@@ -110,11 +110,24 @@ private:
     detail::Name<detail::destroy_vertex_array> name_;
 };
 
+// A sampler object's parameters; the defaults are GL's own.
+struct SamplerDesc {
+    GLenum min_filter = GL_NEAREST_MIPMAP_LINEAR;
+    GLenum mag_filter = GL_LINEAR;
+    GLenum wrap_s = GL_REPEAT;
+    GLenum wrap_t = GL_REPEAT;
+    // GL_COMPARE_REF_TO_TEXTURE: a depth texture read through it (sampler2DShadow) returns the
+    // comparison `reference compare_func texel`, filtered like a colour (GL_LINEAR: 2x2 PCF).
+    GLenum compare_mode = GL_NONE;
+    GLenum compare_func = GL_LEQUAL;
+};
+
 class Sampler {
 public:
     Sampler() = default;
-    static Sampler create();
+    static Sampler create(const SamplerDesc& desc = {});
     GLuint id() const { return name_.id(); }
+    explicit operator bool() const { return id() != 0; }
     void bind(GLuint unit) const { glBindSampler(unit, id()); }
 
 private:

@@ -77,7 +77,8 @@ AssembledSource ShaderLibrary::assemble(const std::string& name, const std::vect
 
     AssembledSource out;
     out.text = version + "\n";
-    for (const std::string& d : defines) out.text += "#define " + d + "\n";
+    for (const std::vector<std::string>* list : {&defines_, &defines})
+        for (const std::string& d : *list) out.text += "#define " + d + "\n";
     std::vector<std::string> stack;
     append(name, out, stack);
     return out;

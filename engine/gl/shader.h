@@ -25,6 +25,9 @@ class ShaderLibrary {
 public:
     void add(std::string name, std::string source) { sources_[std::move(name)] = std::move(source); }
     bool contains(const std::string& name) const { return sources_.count(name) != 0; }
+    // A #define ("NAME" or "NAME VALUE") for every stage assembled from this library, after
+    // #version and before the defines given to assemble() or build().
+    void define(std::string definition) { defines_.push_back(std::move(definition)); }
 
     // `defines` are "NAME" or "NAME VALUE". Throws PlatformError for a missing file, a missing
     // #version or an include cycle.
@@ -38,6 +41,7 @@ public:
 private:
     void append(const std::string& name, AssembledSource& out, std::vector<std::string>& stack) const;
     std::map<std::string, std::string> sources_;
+    std::vector<std::string> defines_;
 };
 
 // Rewrites a driver's info log ("0:12(3): error: x" from Mesa, "0(12) : error C0000: x" from NVIDIA)

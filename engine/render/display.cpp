@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "render/embedded_shaders.h"
+#include "render/shader_interface.h"
 
 namespace envshadow::render {
 
@@ -20,8 +21,8 @@ void Display::present(const gl::Texture& linear, float exposure_stops, int width
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     present_program_.use();
-    glUniform1f(0, std::exp2(exposure_stops));
-    linear.bind(0);
+    glUniform1f(shader::loc::exposure_scale, std::exp2(exposure_stops));
+    linear.bind(shader::unit::linear);
     empty_vertex_array_.bind();
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
@@ -43,8 +44,8 @@ const gl::Texture& Display::atlas_preview(const gl::Texture& atlas_depth, int ma
     glViewport(0, 0, width, height);
     glDisable(GL_DEPTH_TEST);
     preview_program_.use();
-    atlas_depth.bind(0);
-    glBindSampler(0, 0);
+    atlas_depth.bind(shader::unit::atlas);
+    glBindSampler(shader::unit::atlas, 0);
     empty_vertex_array_.bind();
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous));

@@ -5,11 +5,13 @@
 #include <string>
 
 #include "core/error.h"
+#include "render/shader_interface.h"
 
 namespace envshadow::render {
 
+using namespace shader;  // loc::, unit::, image::, binding::, size::
+
 namespace {
-constexpr int kWorkGroupSize = 64;       // local_size_x of fs_importance.comp and fs_lights.comp
 constexpr int kComponentsPerSample = 1;  // fs_sampler.geom emits one uint per sample
 
 GLint get_integer(GLenum name) {
@@ -17,10 +19,6 @@ GLint get_integer(GLenum name) {
     glGetIntegerv(name, &value);
     return value;
 }
-
-// Texture and buffer binding points, matching the layout qualifiers of the fs_* shaders.
-constexpr GLuint kRowSumsBinding = 0, kCountsBinding = 1;                           // fs_sampler.geom
-constexpr GLuint kSamplesBinding = 0, kLightCountsBinding = 1, kLightsBinding = 2;  // fs_lights.comp
 }  // namespace
 
 int FsGeometryLimits::vertices_per_invocation() const {
@@ -96,8 +94,10 @@ const gl::Program& FsSampler::sampler_program(int width, int vertices) {
 }
 
 void FsSampler::prepare(const gl::Texture& environment, int samples) {
-    if (samples < 1 || samples > 2047)
-        throw UsageError("Floyd-Steinberg GPU sampler: " + std::to_string(samples) + " samples asked, 1..2047 allowed");
+    // One texel may take all M samples: its multiplicity must fit the packed sample.
+    if (samples < 1 || samples > kFsMaxMultiplicity)
+        throw UsageError("Floyd-Steinberg GPU sampler: " + std::to_string(samples) + " samples asked, 1.." +
+                         std::to_string(kFsMaxMultiplicity) + " allowed");
     const bool native = options_.importance_width == 0 && options_.importance_height == 0;
     int width = native ? environment.width() : options_.importance_width;
     int height = native ? environment.height() : options_.importance_height;
@@ -110,9 +110,9 @@ void FsSampler::prepare(const gl::Texture& environment, int samples) {
         width = environment.width() / block;
         height = environment.height() / block;
     }
-    const bool unrolled = options_.weighting == FsWeighting::adaptive_blocks || width % 16 == 0;
+    const bool unrolled = options_.weighting == FsWeighting::adaptive_blocks || width % size::fs_scan_run == 0;
     if (width < 1 || height < 1 || !unrolled || width > environment.width() || height > environment.height() ||
-        width * height > (1 << 21))  // texel indices are packed into 21 bits (glsl/fs_common.glsl)
+        width * height > kFsMaxTexels)  // texel indices are packed into fs_texel_bits (glsl/fs_common.glsl)
         throw UsageError("Floyd-Steinberg GPU sampler: importance map of " + std::to_string(width) + "x" +
                          std::to_string(height) + " for an environment of " + std::to_string(environment.width()) +
                          "x" + std::to_string(environment.height()) +
@@ -146,25 +146,25 @@ void FsSampler::sample(const gl::Texture& environment, const FsSampleRequest& re
     {
         gl::ScopedPass pass(timer, "fs importance");
         importance_program_.use();
-        environment.bind(0);
-        glBindSampler(0, 0);
-        glBindImageTexture(0, importance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-        glBindImageTexture(1, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindImageTexture(2, moments_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, row_sums_.id());
+        environment.bind(unit::environment);
+        glBindSampler(unit::environment, 0);
+        glBindImageTexture(image::importance, importance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        glBindImageTexture(image::radiance, radiance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(image::moments, moments_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_row_sums, row_sums_.id());
         glDispatchCompute(1, GLuint(height), 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     }
     {
         gl::ScopedPass pass(timer, "fs sampler");
         sampler.use();
-        glUniform1i(0, request.samples);
-        glUniform1i(1, capacity);
+        glUniform1i(loc::expected_samples, request.samples);
+        glUniform1i(loc::capacity, capacity);
         const FsDiffusionWeights weights = fs_diffusion_weights(options_.weighting, request.samples, width, height);
-        glUniform3d(2, weights.next, weights.below, weights.below_next);
-        importance_.bind(0);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRowSumsBinding, row_sums_.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCountsBinding, counts_.id());
+        glUniform3d(loc::weights, weights.next, weights.below, weights.below_next);
+        importance_.bind(unit::importance);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_row_sums, row_sums_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_counts, counts_.id());
         GLint previous_framebuffer = 0;
         glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, no_attachments_.id());
@@ -182,15 +182,16 @@ void FsSampler::sample(const gl::Texture& environment, const FsSampleRequest& re
     {
         gl::ScopedPass pass(timer, "fs lights");
         lights_program_.use();
-        glUniformMatrix3fv(0, 1, GL_FALSE, &request.world_from_map[0][0]);
-        glUniform1f(1, request.radiance_scale);
-        radiance_.bind(0);
-        moments_.bind(1);
-        glBindSampler(1, 0);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSamplesBinding, samples_.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightCountsBinding, counts_.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, lights_.id());
-        glDispatchCompute(GLuint((capacity + kWorkGroupSize - 1) / kWorkGroupSize), 1, 1);
+        glUniformMatrix3fv(loc::world_from_map, 1, GL_FALSE, &request.world_from_map[0][0]);
+        glUniform1f(loc::radiance_scale, request.radiance_scale);
+        radiance_.bind(unit::radiance);
+        moments_.bind(unit::moments);
+        glBindSampler(unit::radiance, 0);
+        glBindSampler(unit::moments, 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_samples, samples_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_counts, counts_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_lights, lights_.id());
+        glDispatchCompute(GLuint((capacity + size::fs_work_group - 1) / size::fs_work_group), 1, 1);
         // Consumers read the lights from shaders, the count as an indirect command or a copy source.
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
@@ -226,8 +227,8 @@ std::vector<FsSampler::Sample> FsSampler::read_samples() const {
     samples.reserve(packed.size());
     const int width = importance_.width();
     for (std::uint32_t p : packed) {  // glsl/fs_common.glsl fs_pack_sample
-        const int texel = int(p & 0x1FFFFFu);
-        samples.push_back({{texel % width, texel / width}, int(p >> 21)});
+        const int texel = int(p & std::uint32_t(kFsMaxTexels - 1));
+        samples.push_back({{texel % width, texel / width}, int(p >> size::fs_texel_bits)});
     }
     return samples;
 }

@@ -113,7 +113,7 @@ struct FsSamplerOptions {
 inline constexpr const char* kFsSamplingPass = "fs-gpu sampling (wall)";
 
 struct FsSampleRequest {
-    int samples = 128;               // M, the number of samples wanted (1 .. 2047)
+    int samples = 128;               // M, the number of samples wanted (1 .. shader::kFsMaxMultiplicity, 2047)
     glm::mat3 world_from_map{1.0f};  // applied to the lights; the default identity keeps map space
     float radiance_scale = 1.0f;     // exposure
 };

@@ -8,6 +8,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "render/shader_interface.h"
+
 namespace envshadow::render {
 
 GpuMesh::GpuMesh(const Mesh& mesh) {
@@ -23,9 +25,10 @@ GpuMesh::GpuMesh(const Mesh& mesh) {
 
     vertex_array_ = gl::VertexArray::create();
     const GLuint vao = vertex_array_.id();
-    glVertexArrayVertexBuffer(vao, 0, positions_.id(), 0, sizeof(glm::vec3));
-    glVertexArrayVertexBuffer(vao, 1, normals_.id(), 0, sizeof(glm::vec3));
-    for (GLuint attribute : {0u, 1u}) {
+    constexpr GLuint position = shader::attrib::position, normal = shader::attrib::normal;
+    glVertexArrayVertexBuffer(vao, position, positions_.id(), 0, sizeof(glm::vec3));
+    glVertexArrayVertexBuffer(vao, normal, normals_.id(), 0, sizeof(glm::vec3));
+    for (GLuint attribute : {position, normal}) {
         glEnableVertexArrayAttrib(vao, attribute);
         glVertexArrayAttribFormat(vao, attribute, 3, GL_FLOAT, GL_FALSE, 0);
         glVertexArrayAttribBinding(vao, attribute, attribute);
@@ -36,10 +39,10 @@ GpuMesh::GpuMesh(const Mesh& mesh) {
     caster_indices_ = make(caster_lod_.indices);
     caster_vertex_array_ = gl::VertexArray::create();
     const GLuint caster_vao = caster_vertex_array_.id();
-    glVertexArrayVertexBuffer(caster_vao, 0, positions_.id(), 0, sizeof(glm::vec3));
-    glEnableVertexArrayAttrib(caster_vao, 0);
-    glVertexArrayAttribFormat(caster_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(caster_vao, 0, 0);
+    glVertexArrayVertexBuffer(caster_vao, position, positions_.id(), 0, sizeof(glm::vec3));
+    glEnableVertexArrayAttrib(caster_vao, position);
+    glVertexArrayAttribFormat(caster_vao, position, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(caster_vao, position, position);
     glVertexArrayElementBuffer(caster_vao, caster_indices_.id());
 
     if (mesh.positions.empty()) return;

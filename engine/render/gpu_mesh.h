@@ -1,5 +1,5 @@
 #pragma once
-// A scene mesh in GPU buffers: attribute 0 position, attribute 1 normal (object space), 32-bit
+// A scene mesh in GPU buffers: attributes shader::attrib::position and normal (object space), 32-bit
 // indices; and the shadow-caster levels of detail (render/caster_lod.h) in a second index buffer
 // over the same positions. Needs a current GL context.
 #include <optional>

@@ -2,25 +2,24 @@
 // The per-frame renderer (Barsi et al., "Image-Based Illumination on the GPU"): every frame the
 // shadow casters are drawn into one depth tile per cell of the environment (the shadow atlas), then
 // the objects are shaded by summing V * L~_i * a over the cells, and the environment fills the
-// background. The viewer, `bench` and `envshadow render` drive it the same way:
+// background. What to draw is planned on the CPU (render/frame_plan.h); the renderer uploads the
+// plan and draws it. The viewer, `bench` and `envshadow render` drive it the same way:
 //
 //   Renderer renderer(settings);        // a GL 4.5 core context must be current
 //   renderer.set_scene(scene);          // meshes to the GPU, materials, animation, env rotation
 //   renderer.set_environment(map);      // the background
 //   renderer.set_lights(cells);         // map-space cells of the decomposition
-//   FrameStats stats = renderer.render(time, camera_view(scene.camera, width, height));
+//   FrameStats stats = renderer.render(time, camera_view(scene, width, height, time));
 //   Image linear = renderer.read_back();
 //
-// render() creates no GL objects and reuses its buffers from frame to frame; only a change of image
-// size, light count or settings reallocates (the returned pass-time list is the one per-frame vector).
+// render() and set_lights() create no GL objects and reuse their buffers from frame to frame; only a
+// change of image size, light count or settings reallocates (the returned pass-time list is the one
+// per-frame vector).
 #include <cstddef>
 #include <memory>
 #include <vector>
 
-#include <glm/mat3x3.hpp>
-#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
-#include <glm/vec3.hpp>
 
 #include "core/image.h"
 #include "env/cells.h"
@@ -28,6 +27,7 @@
 #include "gl/objects.h"
 #include "gl/shader.h"
 #include "gl/timer.h"
+#include "render/frame_plan.h"
 #include "render/gpu_mesh.h"
 #include "render/lights.h"
 #include "render/render_settings.h"
@@ -35,18 +35,6 @@
 #include "scene/scene.h"
 
 namespace envshadow::render {
-
-// Where the camera is and the image it makes.
-struct CameraView {
-    glm::mat4 view_from_world{1.0f};
-    glm::mat4 clip_from_view{1.0f};
-    glm::vec3 eye{0.0f};
-    int width = 0;
-    int height = 0;
-};
-
-// The scene's camera for an image of width x height (near and far planes from the scene bounds).
-CameraView camera_view(const Scene& scene, int width, int height, double time = 0.0);
 
 struct FrameStats {
     std::vector<gl::PassTime> passes;  // "shadow atlas", "shading", "background" (GPU milliseconds)
@@ -102,24 +90,15 @@ public:
     int light_count() const { return int(lights_.kept.size()); }
 
 private:
-    struct Instance {
-        const GpuMesh* mesh = nullptr;
-        Object object;  // transform, material, animation (its mesh pointer is not used)
-        glm::mat4 world_from_object{1.0f};
-        glm::mat3 world_normal_from_object{1.0f};
-    };
-
     void build_programs();
     void select_lights();
     void ensure_atlas();
     void ensure_target(int width, int height);
-    void update_instances(double time);
-    void fit_lights();
-    void draw_atlas();
-    void draw_objects(const CameraView& view);
-    void draw_depth_prepass(const CameraView& view);
-    bool tile_lists_active() const;
-    void build_tile_lists(const CameraView& view);
+    void upload(const FramePlan& plan);
+    void draw_atlas(const FramePlan& plan);
+    void draw_objects(const FramePlan& plan, const CameraView& view);
+    void draw_depth_prepass(const FramePlan& plan, const CameraView& view);
+    void build_tile_lists(const FramePlan& plan, const CameraView& view);
     void draw_background(const CameraView& view);
 
     RenderSettings settings_;
@@ -133,37 +112,32 @@ private:
     bool timer_warmed_up_ = false;
 
     std::vector<std::unique_ptr<GpuMesh>> meshes_;
-    std::vector<Instance> instances_;
-    std::vector<int> instance_of_object_;  // index into instances_ per scene object; -1: no triangles
+    std::vector<const GpuMesh*> instance_meshes_;  // per object of planner_.objects()
+    std::vector<int> instance_of_object_;          // index into instance_meshes_ per scene object; -1: no triangles
     bool has_ground_ = false;
     float rotation_degrees_ = 0.0f;
 
     std::vector<Cell> cells_;
     CellSpace cell_space_ = CellSpace::map;
     LightSelection lights_;
-    std::vector<LightFrame> light_frames_;
-    std::vector<LightRecord> records_;      // rewritten every frame
-    std::vector<glm::vec3> caster_points_;  // rewritten every frame
-    float min_texel_world_ = 0.0f;          // smallest atlas texel of this frame's fits (world units)
+    FramePlanner planner_;
     std::size_t atlas_triangles_ = 0;
-    gl::Buffer light_buffer_;
+    gl::Buffer light_buffer_;  // room for shader::size::max_lights records, made once
 
     AtlasLayout layout_;
     int atlas_depth_bits_ = 0;
     gl::Texture atlas_depth_;
     gl::Framebuffer atlas_;
     int max_viewports_ = 1;
-    bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds kMaxLights light records
+    bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds shader::size::max_lights records
     bool use_uniform_block_ = false;
 
     gl::Texture environment_;
     gl::Texture color_, depth_;
     gl::Framebuffer target_;
-    glm::ivec2 screen_tiles_{0, 0};        // 16x16-pixel tiles of the target
-    gl::Buffer tile_lists_;                // per screen tile: light count, light indices (shadow_tiles.comp)
-    std::vector<glm::vec4> caster_rects_;  // per light, per caster: its box in the light's clip space
-    int caster_rect_count_ = 1;
-    gl::Buffer caster_rect_buffer_;
+    glm::ivec2 screen_tiles_{0, 0};  // shader::size::screen_tile^2-pixel tiles of the target
+    gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
+    gl::Buffer caster_rect_buffer_;  // FramePlan::caster_rects
 };
 
 }  // namespace envshadow::render

@@ -12,6 +12,7 @@
 #include "env/environment.h"
 #include "fs_reference.h"
 #include "gl_fixture.h"
+#include "render/embedded_shaders.h"
 #include "render/fs_sampler.h"
 #include "render/renderer.h"
 #include "scene/meshes.h"
@@ -47,7 +48,7 @@ TEST_P(FsRenderTest, BoxShadowFollowsBuiltinSkysSunWithLightsSampledOnTheGpu) {
     scene.objects.push_back(object(make_mesh(BoxShape{glm::vec3(1.0f)}), glm::vec3(0.0f, 0.5f, 0.0f), true));
     render::Renderer renderer;
     renderer.set_scene(scene);  // environment rotation 0: map directions are world directions
-    render::FsSampler sampler(project_shaders());
+    render::FsSampler sampler(render::embedded_shaders());
 
     render::CameraView view;  // from above, so the ground all around the box is in view
     view.eye = {0.0f, 6.0f, 0.5f};

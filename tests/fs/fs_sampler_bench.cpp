@@ -18,7 +18,7 @@
 
 #include "fs_reference.h"
 #include "gl/context.h"
-#include "glsl/embedded.h"
+#include "render/embedded_shaders.h"
 #include "render/fs_sampler.h"
 
 namespace envshadow::testing {
@@ -41,7 +41,7 @@ Setup& setup() {
         Setup made;
         const char* backend = std::getenv("ENVSHADOW_FS_BACKEND");
         made.context = gl::create_context(gl::parse_backend(backend ? backend : "egl"), gl::ContextOptions{64, 64});
-        for (const glsl::File& f : glsl::files()) made.shaders.add(f.name, f.source);
+        made.shaders = render::embedded_shaders();
         made.city = upload(city_map());
         return made;
     }();

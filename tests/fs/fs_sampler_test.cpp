@@ -16,7 +16,9 @@
 #include "env/sites.h"
 #include "fs_reference.h"
 #include "gl_fixture.h"
+#include "render/embedded_shaders.h"
 #include "render/fs_sampler.h"
+#include "render/shader_interface.h"
 
 namespace envshadow::testing {
 namespace {
@@ -109,7 +111,7 @@ TEST_P(FsSamplerTest, GeometryLimitsAllowAtLeastTheGlMinimumPerInvocation) {
 
 TEST_P(FsSamplerTest, ImportanceMapIsLuminanceTimesSolidAngleSummedOverTheBlock) {
     const EnvironmentMap fine = analytic_sky(512, sun_at(0.5, 1.0));
-    FsSampler sampler(project_shaders(), FsSamplerOptions{128, 64});
+    FsSampler sampler(render::embedded_shaders(), FsSamplerOptions{128, 64});
     sampler.sample(upload(fine), FsSampleRequest{64});
     const std::vector<double> gpu = read_importance(sampler);
     const std::vector<double> expected = importance_map(downsample(fine, 128, 64));
@@ -123,30 +125,30 @@ TEST_P(FsSamplerTest, ImportanceMapIsLuminanceTimesSolidAngleSummedOverTheBlock)
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnAnAnalyticSky) {
     const EnvironmentMap sky = analytic_sky(256, sun_at(0.6, 2.0));
-    expect_reference_samples(project_shaders(), upload(sky), importance_map(sky), 256, 128, FsSamplerOptions{256, 128},
-                             "sky 256x128");
+    expect_reference_samples(render::embedded_shaders(), upload(sky), importance_map(sky), 256, 128,
+                             FsSamplerOptions{256, 128}, "sky 256x128");
 }
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnBuiltinSky) {
     const EnvironmentMap sky = load_environment("builtin:sky:width=256");
-    expect_reference_samples(project_shaders(), upload(sky), importance_map(sky), 256, 128, FsSamplerOptions{256, 128},
-                             "builtin:sky 256x128");
+    expect_reference_samples(render::embedded_shaders(), upload(sky), importance_map(sky), 256, 128,
+                             FsSamplerOptions{256, 128}, "builtin:sky 256x128");
 }
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnCityAtFullResolution) {
     const EnvironmentMap city = city_map();
     ASSERT_EQ(city.width, 1024);
     // 0 x 0: the environment's own resolution.
-    expect_reference_samples(project_shaders(), upload(city), importance_map(city), 1024, 512, FsSamplerOptions{0, 0},
-                             "city 1024x512");
+    expect_reference_samples(render::embedded_shaders(), upload(city), importance_map(city), 1024, 512,
+                             FsSamplerOptions{0, 0}, "city 1024x512");
 }
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnCityDownsampledOnTheGpu) {
     EXPECT_EQ(FsSamplerOptions{}.importance_width, 256);  // the default
     EXPECT_EQ(FsSamplerOptions{}.importance_height, 128);
     const EnvironmentMap city = city_map();
-    expect_reference_samples(project_shaders(), upload(city), importance_map(downsample(city, 256, 128)), 256, 128,
-                             FsSamplerOptions{}, "city 1024x512 -> 256x128");
+    expect_reference_samples(render::embedded_shaders(), upload(city), importance_map(downsample(city, 256, 128)), 256,
+                             128, FsSamplerOptions{}, "city 1024x512 -> 256x128");
 }
 
 // The CPU method's rules (FsWeighting::adaptive_blocks) against their transcription: same blocks in
@@ -184,11 +186,11 @@ void expect_adaptive_block_samples(const gl::ShaderLibrary& shaders, const Envir
 }
 
 TEST_P(FsSamplerTest, CpuMethodRulesGiveTheSameBlocksOnAnAnalyticSky) {
-    expect_adaptive_block_samples(project_shaders(), analytic_sky(1024, sun_at(0.6, 2.0)), "sky 1024x512");
+    expect_adaptive_block_samples(render::embedded_shaders(), analytic_sky(1024, sun_at(0.6, 2.0)), "sky 1024x512");
 }
 
 TEST_P(FsSamplerTest, CpuMethodRulesGiveTheSameBlocksOnCity) {
-    expect_adaptive_block_samples(project_shaders(), city_map(), "city 1024x512");
+    expect_adaptive_block_samples(render::embedded_shaders(), city_map(), "city 1024x512");
 }
 
 // Angle between directions, accurate near 0 (acos of a dot product near 1 is not: a float unit vector's
@@ -223,19 +225,19 @@ void expect_cpu_method_samples(const gl::ShaderLibrary& shaders, const std::stri
 }
 
 TEST_P(FsSamplerTest, SameSamplesAsTheCpuMethodOnBuiltinSky) {
-    expect_cpu_method_samples(project_shaders(), "builtin:sky");
+    expect_cpu_method_samples(render::embedded_shaders(), "builtin:sky");
 }
 
 TEST_P(FsSamplerTest, SameSamplesAsTheCpuMethodOnCity) {
-    expect_cpu_method_samples(project_shaders(), kCityExr);
+    expect_cpu_method_samples(render::embedded_shaders(), kCityExr);
 }
 
 // The listing's weights spread the error so thinly when M is far below the texel count that most of
 // it never becomes a sample (the warm-up of seed 000 §1.3.1); the warm-up-matched ones do not.
 TEST_P(FsSamplerTest, ListingWeightsLoseMostSamplesOnCityWhereWarmUpMatchedKeepThem) {
     const gl::Texture environment = upload(city_map());
-    FsSampler listing(project_shaders(), FsSamplerOptions{0, 0, 0, render::FsWeighting::listing, true, false});
-    FsSampler matched(project_shaders(), FsSamplerOptions{0, 0});
+    FsSampler listing(render::embedded_shaders(), FsSamplerOptions{0, 0, 0, render::FsWeighting::listing, true, false});
+    FsSampler matched(render::embedded_shaders(), FsSamplerOptions{0, 0});
     listing.sample(environment, FsSampleRequest{64});
     matched.sample(environment, FsSampleRequest{64});
     EXPECT_LT(listing.read_counts().samples, 32u);
@@ -244,8 +246,8 @@ TEST_P(FsSamplerTest, ListingWeightsLoseMostSamplesOnCityWhereWarmUpMatchedKeepT
 
 TEST_P(FsSamplerTest, SplittingTheScanOverInvocationsGivesTheSameSamples) {
     const gl::Texture environment = upload(downsample(city_map(), 256, 128));
-    FsSampler whole(project_shaders(), FsSamplerOptions{256, 128});
-    FsSampler split(project_shaders(), FsSamplerOptions{256, 128, /*vertices_per_invocation=*/7});
+    FsSampler whole(render::embedded_shaders(), FsSamplerOptions{256, 128});
+    FsSampler split(render::embedded_shaders(), FsSamplerOptions{256, 128, /*vertices_per_invocation=*/7});
     whole.sample(environment, FsSampleRequest{64});
     split.sample(environment, FsSampleRequest{64});
     EXPECT_EQ(whole.invocations(), 1);
@@ -262,7 +264,7 @@ TEST_P(FsSamplerTest, SplittingTheScanOverInvocationsGivesTheSameSamples) {
 
 TEST_P(FsSamplerTest, LightsCarryTheirShareOfSTheTexelColourAndTheirCaps) {
     const EnvironmentMap sky = analytic_sky(256, sun_at(0.4, -1.0));
-    FsSampler sampler(project_shaders(), FsSamplerOptions{256, 128});
+    FsSampler sampler(render::embedded_shaders(), FsSamplerOptions{256, 128});
     const glm::mat3 world_from_map = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.7f, glm::vec3(0.0f, 1.0f, 0.0f)));
     const float exposure = 0.5f;
     sampler.sample(upload(sky), FsSampleRequest{100, world_from_map, exposure});
@@ -314,15 +316,15 @@ TEST_P(FsSamplerTest, LightsCarryTheirShareOfSTheTexelColourAndTheirCaps) {
 
 // The renderer's path: light and count buffers bound as storage buffers, nothing read back in between.
 TEST_P(FsSamplerTest, ShadersConsumeTheLightBufferWithTheCountFromTheGpu) {
-    FsSampler sampler(project_shaders(), FsSamplerOptions{256, 128});
+    FsSampler sampler(render::embedded_shaders(), FsSamplerOptions{256, 128});
     sampler.sample(upload(analytic_sky(256, sun_at(0.3, 0.3))), FsSampleRequest{77});
 
-    gl::ShaderLibrary shaders = project_shaders();
+    gl::ShaderLibrary shaders = render::embedded_shaders();
     shaders.add("fs_test_consumer.comp", R"(#version 450 core
 #include "fs_common.glsl"
 layout(local_size_x = 1) in;
-layout(std430, binding = 1) readonly buffer FsCounts { FS_COUNTS_MEMBERS };
-layout(std430, binding = 2) readonly buffer FsLights { FsLight fs_lights[]; };
+layout(std430, binding = BINDING_FS_COUNTS) readonly buffer FsCounts { FS_COUNTS_MEMBERS };
+layout(std430, binding = BINDING_FS_LIGHTS) readonly buffer FsLights { FsLight fs_lights[]; };
 layout(std430, binding = 3) writeonly buffer Result { vec4 radiance_sum; uint lights_seen; };
 void main() {
     vec3 sum = vec3(0.0);
@@ -334,8 +336,8 @@ void main() {
     const gl::Program consumer = shaders.build({{GL_COMPUTE_SHADER, "fs_test_consumer.comp"}});
     gl::Buffer result = gl::Buffer::create(32);
     consumer.use();
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, sampler.count_buffer().id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, sampler.light_buffer().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, render::shader::binding::fs_counts, sampler.count_buffer().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, render::shader::binding::fs_lights, sampler.light_buffer().id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, result.id());
     glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -357,7 +359,7 @@ void main() {
 // Dynamic environments: the lights are regenerated from each frame's texture. builtin:sky's sun moves
 // with the time of day; the brightest light must be at the sun each time.
 TEST_P(FsSamplerTest, BrightestLightFollowsBuiltinSkysSun) {
-    FsSampler sampler(project_shaders(), FsSamplerOptions{256, 128});
+    FsSampler sampler(render::embedded_shaders(), FsSamplerOptions{256, 128});
     SkyParameters morning, afternoon;
     morning.time_hours = 9.0;
     afternoon.time_hours = 15.0;

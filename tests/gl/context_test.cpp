@@ -1,6 +1,7 @@
 // Contexts on both headless backends: a known image rendered into an FBO and read back, shader
-// errors that name file and line, and #include working through the real compiler.
+// errors that name file and line, #include working through the real compiler, sampler objects.
 #include <cmath>
+#include <vector>
 
 #include "core/error.h"
 #include "gl/objects.h"
@@ -100,6 +101,33 @@ TEST_P(ContextTest, IncludedFunctionsLinkAndRun) {
         project_shaders().build({{GL_VERTEX_SHADER, "test_triangle.vert"}, {GL_FRAGMENT_SHADER, "test_triangle.frag"}});
     EXPECT_NE(program.id(), 0u);
     EXPECT_EQ(program.uniform_location("u_tint"), 2);
+}
+
+TEST_P(ContextTest, SamplerTakesItsDescriptionAndDefaultsToGls) {
+    auto parameters = [](GLuint sampler) {
+        std::vector<GLint> values;
+        for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER, GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T,
+                         GL_TEXTURE_COMPARE_MODE, GL_TEXTURE_COMPARE_FUNC}) {
+            GLint value = 0;
+            glGetSamplerParameteriv(sampler, p, &value);
+            values.push_back(value);
+        }
+        return values;
+    };
+    GLuint untouched = 0;  // a sampler as GL makes it
+    glCreateSamplers(1, &untouched);
+    EXPECT_EQ(parameters(gl::Sampler::create().id()), parameters(untouched));
+    glDeleteSamplers(1, &untouched);
+
+    const gl::Sampler shadow = gl::Sampler::create({.min_filter = GL_LINEAR,
+                                                    .mag_filter = GL_NEAREST,
+                                                    .wrap_s = GL_CLAMP_TO_EDGE,
+                                                    .wrap_t = GL_MIRRORED_REPEAT,
+                                                    .compare_mode = GL_COMPARE_REF_TO_TEXTURE,
+                                                    .compare_func = GL_GEQUAL});
+    EXPECT_TRUE(bool(shadow));
+    EXPECT_EQ(parameters(shadow.id()), (std::vector<GLint>{GL_LINEAR, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT,
+                                                           GL_COMPARE_REF_TO_TEXTURE, GL_GEQUAL}));
 }
 
 ENVSHADOW_INSTANTIATE_GL_TEST(ContextTest);

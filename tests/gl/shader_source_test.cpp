@@ -27,6 +27,22 @@ TEST(ShaderSource, IncludesAreResolvedOnceAndDefinesFollowVersion) {
     EXPECT_EQ(s.files[0], "main.frag");
 }
 
+TEST(ShaderSource, LibraryDefinesReachEveryStageBeforeTheBuildsOwn) {
+    ShaderLibrary library;
+    library.define("LOC_EYE 12");
+    library.define("MAX_LIGHTS 256");
+    library.add("a.vert", "// a comment first\n#version 450 core\nvoid main() {}\n");
+    library.add("b.frag", "#version 450 core\nvoid main() {}\n");
+    EXPECT_EQ(
+        library.assemble("a.vert").text.rfind("#version 450 core\n#define LOC_EYE 12\n#define MAX_LIGHTS 256\n", 0),
+        0u);
+    const AssembledSource b = library.assemble("b.frag", {"SHADOW_TILE_LISTS"});
+    EXPECT_EQ(
+        b.text.rfind("#version 450 core\n#define LOC_EYE 12\n#define MAX_LIGHTS 256\n#define SHADOW_TILE_LISTS\n", 0),
+        0u)
+        << b.text;
+}
+
 TEST(ShaderSource, MissingIncludeAndCycleAreErrors) {
     ShaderLibrary library;
     library.add("a.frag", "#version 450\n#include \"nope.glsl\"\n");

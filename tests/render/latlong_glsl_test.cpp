@@ -1,4 +1,4 @@
-// glsl/cells.glsl's lat-long functions agree with engine/env/latlong.h, the one written convention.
+// glsl/latlong.glsl's lat-long functions agree with engine/env/latlong.h, the one written convention.
 #include <cmath>
 #include <random>
 #include <vector>
@@ -18,8 +18,7 @@ using LatLongGlslTest = GlTest;
 // For each input (u, v, dx, dy, dz as two vec4s) writes latlong_direction(u, v) and latlong_uv(d).
 constexpr const char* kProbe = R"(#version 450 core
 layout(local_size_x = 64) in;
-#define LIGHTS_BINDING 3
-#include "cells.glsl"
+#include "latlong.glsl"
 layout(std430, binding = 1) readonly buffer Inputs { vec4 inputs[]; };
 layout(std430, binding = 2) writeonly buffer Outputs { vec4 outputs[]; };
 layout(location = 0) uniform uint u_count;

@@ -1,0 +1,159 @@
+#include "render/frame_plan.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include "env/brdf.h"
+
+namespace envshadow::render {
+
+namespace {
+std::array<glm::vec3, 8> box_corners(const glm::vec3& lo, const glm::vec3& hi) {
+    return {glm::vec3(lo.x, lo.y, lo.z), glm::vec3(hi.x, lo.y, lo.z), glm::vec3(lo.x, hi.y, lo.z),
+            glm::vec3(hi.x, hi.y, lo.z), glm::vec3(lo.x, lo.y, hi.z), glm::vec3(hi.x, lo.y, hi.z),
+            glm::vec3(lo.x, hi.y, hi.z), glm::vec3(hi.x, hi.y, hi.z)};
+}
+}  // namespace
+
+CameraView camera_view(const Scene& scene, int width, int height, double time) {
+    CameraView view;
+    view.width = width;
+    view.height = height;
+    view.eye = scene.camera.position;
+    view.view_from_world = scene.camera.view_from_world();
+    // Near and far planes around the scene's bounding sphere; the background is drawn at the far plane
+    // whatever its distance.
+    glm::vec3 lo(0.0f), hi(0.0f);
+    if (!scene.objects.empty()) scene.bounds_at(time, lo, hi);
+    const float radius = 0.5f * glm::length(hi - lo) + 1e-3f;
+    const float distance = glm::length(0.5f * (lo + hi) - view.eye);
+    const float far_plane = (distance + radius) * 1.01f;
+    const float near_plane = std::max(distance - radius, far_plane * 1e-4f);
+    view.clip_from_view = scene.camera.clip_from_view(float(width) / float(height), near_plane, far_plane);
+    return view;
+}
+
+bool uses_tile_lists(const RenderSettings& settings) {
+    return settings.shadow_tile_lists && settings.depth_prepass;
+}
+
+glm::vec3 flat_receiver_sum(std::span<const LightRecord> lights, const glm::vec3& k_d, const glm::vec3& normal) {
+    glm::dvec3 sum(0.0);
+    for (const LightRecord& light : lights)
+        sum += glm::dvec3(light.radiance) *
+               (glm::dvec3(k_d) * double(std::max(glm::dot(normal, glm::vec3(light.direction)), 0.0f)));
+    return glm::vec3(sum);
+}
+
+void FramePlanner::set_lights(std::span<const WorldLight> lights) {
+    lights_.assign(lights.begin(), lights.end());
+    frames_.clear();
+    for (const WorldLight& light : lights_) frames_.push_back(light_frame(light.direction));
+}
+
+const FramePlan& FramePlanner::plan(double time, const CameraView& view, const AtlasLayout& layout,
+                                    const RenderSettings& settings) {
+    place_objects(time);
+    fit_lights(layout, settings);
+    fit_caster_rects(layout);
+    shade_objects(view, settings);
+    return plan_;
+}
+
+void FramePlanner::place_objects(double time) {
+    plan_.objects.resize(objects_.size());
+    caster_points_.clear();
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
+        const PlannedObject& planned = objects_[i];
+        ObjectFrame& frame = plan_.objects[i];
+        frame.world_from_object = planned.object.world_from_object(time);
+        frame.world_normal_from_object = glm::inverseTranspose(glm::mat3(frame.world_from_object));
+        frame.casts_shadows = planned.object.casts_shadows;
+        if (!frame.casts_shadows) continue;
+        // The object's box corners in the world: tighter in the light's frame than the world box.
+        for (const glm::vec3& corner : box_corners(planned.bounds_min, planned.bounds_max))
+            caster_points_.push_back(glm::vec3(frame.world_from_object * glm::vec4(corner, 1.0f)));
+    }
+}
+
+void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& settings) {
+    const glm::vec2 tile_uv(1.0f / float(layout.columns), 1.0f / float(layout.rows));
+    const bool weighted = settings.cap == CapKind::weighted;
+    plan_.lights.resize(lights_.size());
+    plan_.min_texel_world = std::numeric_limits<float>::infinity();
+    for (std::size_t k = 0; k < lights_.size(); ++k) {
+        const WorldLight& light = lights_[k];
+        const OrthographicFit fit = fit_orthographic(frames_[k], caster_points_, layout.tile_size, kTileMarginTexels);
+        LightRecord& record = plan_.lights[k];
+        record.direction = glm::vec4(light.direction, weighted ? light.cos_radius_weighted : light.cos_radius);
+        record.radiance = glm::vec4(light.radiance, 0.0f);
+        record.clip_from_world = fit.clip_from_world;
+        const int column = int(k) % layout.columns, row = int(k) / layout.columns;
+        record.tile = glm::vec4(float(column) * tile_uv.x, float(row) * tile_uv.y, tile_uv.x, tile_uv.y);
+        record.bias = glm::vec4(settings.depth_bias * fit.texel_world / fit.depth_range,
+                                settings.normal_offset * fit.texel_world, 0.0f, 0.0f);
+        plan_.min_texel_world = std::min(plan_.min_texel_world, fit.texel_world);
+    }
+    if (plan_.lights.empty()) plan_.min_texel_world = 0.0f;
+    // Position reconstruction and rounding; V = 1 for 2 texels inside the border anyway.
+    plan_.receiver_pad = plan_.min_texel_world;
+    for (const LightRecord& record : plan_.lights)
+        plan_.receiver_pad = std::max(plan_.receiver_pad, record.bias.y + plan_.min_texel_world);
+}
+
+void FramePlanner::fit_caster_rects(const AtlasLayout& layout) {
+    const std::size_t casters = caster_points_.size() / 8;
+    const bool each = casters >= 1 && casters <= std::size_t(kMaxCasterRects);
+    plan_.caster_rects_per_light = each ? int(casters) : 1;
+    plan_.caster_rects.assign(plan_.lights.size() * std::size_t(plan_.caster_rects_per_light),
+                              glm::vec4(-1.0f, -1.0f, 1.0f, 1.0f));
+    if (each) {
+        const float pad = 2.0f * 2.0f / float(layout.tile_size);  // 2 texels in clip units
+        for (std::size_t k = 0; k < plan_.lights.size(); ++k)
+            for (std::size_t c = 0; c < casters; ++c) {
+                glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+                for (std::size_t j = 0; j < 8; ++j) {
+                    const glm::vec2 xy(plan_.lights[k].clip_from_world * glm::vec4(caster_points_[8 * c + j], 1.0f));
+                    lo = glm::min(lo, xy);
+                    hi = glm::max(hi, xy);
+                }
+                plan_.caster_rects[k * casters + c] = glm::vec4(lo - pad, hi + pad);
+            }
+    }
+    if (plan_.caster_rects.empty()) plan_.caster_rects.push_back(glm::vec4(0.0f));
+}
+
+void FramePlanner::shade_objects(const CameraView& view, const RenderSettings& settings) {
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
+        const PlannedObject& planned = objects_[i];
+        ObjectFrame& frame = plan_.objects[i];
+        const Material& material = planned.object.material;
+        frame.k_d = glm::vec3(brdf::diffuse_coefficient(material.rho_d.r), brdf::diffuse_coefficient(material.rho_d.g),
+                              brdf::diffuse_coefficient(material.rho_d.b));
+        frame.k_s = brdf::specular_coefficient(material.rho_s, material.shininess);
+        frame.shininess = material.shininess;
+        frame.unshadowed = glm::vec3(0.0f);
+        // Materials without a specular part get the shader compiled without it (shade.frag DIFFUSE_ONLY).
+        const bool diffuse_only = settings.specialise_shaders && !(frame.k_s > 0.0f);
+        frame.program = diffuse_only ? ShadeProgram::diffuse_only : ShadeProgram::full;
+        if (!diffuse_only || !settings.flat_receivers || !uses_tile_lists(settings) ||
+            settings.diffuse != DiffuseMode::center || !planned.flat_normal)
+            continue;
+        // A plane with a diffuse material (the ground): the normal the shader would use, turned to the
+        // eye as shade.frag turns it, gives every a_i once for all its pixels. Seen edge-on it is
+        // shaded per pixel.
+        const glm::vec3 n = glm::normalize(frame.world_normal_from_object * *planned.flat_normal);
+        const glm::vec3 point(frame.world_from_object * glm::vec4(planned.bounds_min, 1.0f));
+        const float side = glm::dot(n, view.eye - point);
+        if (!std::isfinite(side) || !(std::abs(side) > 1e-4f)) continue;
+        frame.program = ShadeProgram::flat_receiver;
+        frame.unshadowed = flat_receiver_sum(plan_.lights, frame.k_d, side < 0.0f ? -n : n);
+    }
+}
+
+}  // namespace envshadow::render

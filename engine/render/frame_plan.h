@@ -1,0 +1,113 @@
+#pragma once
+// What one frame draws, decided on the CPU before any GL call: each object's transforms and shading
+// inputs, each light's orthographic projection fitted to the shadow casters (Barsi et al. §2.2: one
+// depth map per cell) with its tile in the atlas and its biases, each caster's rectangle in each
+// light's tile (glsl/shadow_tiles.comp), and the unshadowed sum of the flat receivers. Plain C++, no
+// GL: tested headless (tests/render/frame_plan_test.cpp). Renderer uploads the plan and draws it.
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "render/lights.h"
+#include "render/render_settings.h"
+#include "render/shadow_atlas_layout.h"
+#include "scene/scene.h"
+
+namespace envshadow::render {
+
+// Where the camera is and the image it makes.
+struct CameraView {
+    glm::mat4 view_from_world{1.0f};
+    glm::mat4 clip_from_view{1.0f};
+    glm::vec3 eye{0.0f};
+    int width = 0;
+    int height = 0;
+};
+
+// The scene's camera for an image of width x height (near and far planes from the scene bounds).
+CameraView camera_view(const Scene& scene, int width, int height, double time = 0.0);
+
+// Texels between the casters and a tile's border: the wide PCF reaches 1.5 texels from its centre.
+inline constexpr float kTileMarginTexels = 3.0f;
+// Caster rectangles per light at most; with more casters one rectangle, the whole tile, stands for all.
+inline constexpr int kMaxCasterRects = 16;
+
+// Whether the screen-tile light lists run (glsl/shadow_tiles.comp): they need the depth pre-pass.
+bool uses_tile_lists(const RenderSettings& settings);
+
+// One drawn object as the plan sees it.
+struct PlannedObject {
+    Object object;                                 // transform, animation, material (the mesh pointer is not used)
+    glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // its mesh's box, object space
+    std::optional<glm::vec3> flat_normal;          // its mesh is a plane with this normal (object space)
+};
+
+// The variants of glsl/shade.frag.
+enum class ShadeProgram {
+    full,
+    diffuse_only,   // DIFFUSE_ONLY: k_s = 0
+    flat_receiver,  // FLAT_RECEIVER: a diffuse plane, its unshadowed sum from the CPU
+};
+
+struct ObjectFrame {
+    glm::mat4 world_from_object{1.0f};
+    glm::mat3 world_normal_from_object{1.0f};  // inverse transpose
+    bool casts_shadows = true;
+    ShadeProgram program = ShadeProgram::full;
+    glm::vec3 k_d{0.0f};  // rho_d / pi
+    float k_s = 0.0f;     // rho_s (n + 2) / (2 pi)
+    float shininess = 1.0f;
+    glm::vec3 unshadowed{0.0f};  // flat_receiver: sum of L~_i a_i, the same for all its pixels
+};
+
+struct FramePlan {
+    std::vector<ObjectFrame> objects;  // one per PlannedObject
+    std::vector<LightRecord> lights;   // one per light: the GPU's light buffer
+    // Per light, caster_rects_per_light rectangles in its clip space (xy lower left, zw upper right),
+    // each caster's box widened by 2 texels; never empty (one zero rectangle without lights).
+    std::vector<glm::vec4> caster_rects;
+    int caster_rects_per_light = 1;
+    float min_texel_world = 0.0f;  // smallest atlas texel of the fits (world units); 0 without lights
+    float receiver_pad = 0.0f;     // tile lists: how far the receivers' bounds are pushed out (world)
+};
+
+// The unshadowed diffuse sum sum_i L~_i k_d max(n . w_i, 0) of a plane with normal `normal`
+// (FLAT_RECEIVER: shade.frag's centre sample, DiffuseMode::center), accumulated in double.
+glm::vec3 flat_receiver_sum(std::span<const LightRecord> lights, const glm::vec3& k_d, const glm::vec3& normal);
+
+// Keeps the objects and the lights between frames and rewrites one plan per frame in place (its
+// vectors keep their storage).
+class FramePlanner {
+public:
+    void set_objects(std::vector<PlannedObject> objects) { objects_ = std::move(objects); }
+    std::span<const PlannedObject> objects() const { return objects_; }
+    void set_material(std::size_t object, const Material& material) { objects_.at(object).object.material = material; }
+    // World-space lights (select_lights); their frames are made here, once.
+    void set_lights(std::span<const WorldLight> lights);
+    std::size_t light_count() const { return lights_.size(); }
+
+    // The frame at animation time `time` seen from `view`, for the atlas `layout`.
+    const FramePlan& plan(double time, const CameraView& view, const AtlasLayout& layout,
+                          const RenderSettings& settings);
+    const FramePlan& last() const { return plan_; }
+
+private:
+    void place_objects(double time);
+    void fit_lights(const AtlasLayout& layout, const RenderSettings& settings);
+    void fit_caster_rects(const AtlasLayout& layout);
+    void shade_objects(const CameraView& view, const RenderSettings& settings);
+
+    std::vector<PlannedObject> objects_;
+    std::vector<WorldLight> lights_;
+    std::vector<LightFrame> frames_;
+    std::vector<glm::vec3> caster_points_;  // 8 box corners per shadow caster, world space
+    FramePlan plan_;
+};
+
+}  // namespace envshadow::render

@@ -1,0 +1,110 @@
+#pragma once
+// The numbers C++ and the shaders of glsl/ share, written once: uniform locations, texture and image
+// units, buffer bindings, vertex attributes, work-group and array sizes. embedded_shaders() injects
+// every entry into every stage as a #define (LOC_EYE, UNIT_ATLAS, BINDING_LIGHTS, ATTRIB_POSITION,
+// MAX_LIGHTS, ...); the GLSL writes `layout(location = LOC_EYE) uniform vec3 u_eye;` and C++ passes
+// shader::loc::eye, so neither side holds a copy. tests/render/shader_interface_test.cpp checks every
+// active uniform of every program against this table.
+#include <span>
+#include <string>
+#include <vector>
+
+#include "env/cells.h"
+
+namespace envshadow::render::shader {
+
+// X(kind, name, value). Kinds and their #define:
+//   loc      LOC_<NAME>, the explicit location of uniform u_<name> (per program: programs that use
+//            the same name agree on it, different names may share a number);
+//   unit     UNIT_<NAME>, the texture unit of sampler u_<name>;
+//   image    IMAGE_<NAME>, the image unit of image u_<name>;
+//   binding  BINDING_<NAME>, a shader storage or uniform block's binding point;
+//   attrib   ATTRIB_<NAME>, a vertex attribute (render/gpu_mesh.h);
+//   size     <NAME>, a count the shaders size arrays or work groups by.
+#define ENVSHADOW_SHADER_INTERFACE(X)                                                                  \
+    /* shadow_atlas.vert */                                                                            \
+    X(loc, world_from_object, 0) /* also shade.vert */                                                 \
+    X(loc, first_tile, 4)                                                                              \
+    X(loc, atlas_tiles, 5)                                                                             \
+    /* shade.vert, shade.frag */                                                                       \
+    X(loc, world_normal_from_object, 4)                                                                \
+    X(loc, clip_from_world, 8)                                                                         \
+    X(loc, eye, 12)                                                                                    \
+    X(loc, light_count, 13) /* also shadow_tiles.comp */                                               \
+    X(loc, atlas_texel, 14)                                                                            \
+    X(loc, k_d, 15)                                                                                    \
+    X(loc, k_s, 16)                                                                                    \
+    X(loc, shininess, 17)                                                                              \
+    X(loc, tiles_x, 18)                                                                                \
+    X(loc, unshadowed, 19)                                                                             \
+    /* background.frag */                                                                              \
+    X(loc, direction_from_clip, 0)                                                                     \
+    X(loc, map_from_world, 4)                                                                          \
+    /* shadow_tiles.comp */                                                                            \
+    X(loc, world_from_clip, 0)                                                                         \
+    X(loc, pad, 5)                                                                                     \
+    X(loc, caster_count, 6)                                                                            \
+    /* fs_sampler.geom, fs_lights.comp */                                                              \
+    X(loc, expected_samples, 0)                                                                        \
+    X(loc, capacity, 1)                                                                                \
+    X(loc, weights, 2)                                                                                 \
+    X(loc, world_from_map, 0)                                                                          \
+    X(loc, radiance_scale, 1)                                                                          \
+    /* present.frag */                                                                                 \
+    X(loc, exposure_scale, 0)                                                                          \
+    /* texture units */                                                                                \
+    X(unit, atlas, 0)       /* shade.frag (depth compare), atlas_preview.frag */                       \
+    X(unit, environment, 1) /* background.frag, fs_importance.comp */                                  \
+    X(unit, depth, 2)       /* shadow_tiles.comp: the image's depth after the pre-pass */              \
+    X(unit, importance, 0)  /* fs_sampler.geom */                                                      \
+    X(unit, radiance, 0)    /* fs_lights.comp */                                                       \
+    X(unit, moments, 1)     /* fs_lights.comp */                                                       \
+    X(unit, linear, 0)      /* present.frag */                                                         \
+    /* image units (fs_importance.comp) */                                                             \
+    X(image, importance, 0)                                                                            \
+    X(image, radiance, 1)                                                                              \
+    X(image, moments, 2)                                                                               \
+    /* buffer bindings */                                                                              \
+    X(binding, lights, 0)       /* cells.glsl: uniform or storage block of LightRecord */              \
+    X(binding, tile_lists, 1)   /* shadow_tiles.comp writes, shade.frag reads */                       \
+    X(binding, caster_rects, 3) /* shadow_tiles.comp */                                                \
+    X(binding, fs_row_sums, 0)  /* fs_importance.comp writes, fs_sampler.geom reads */                 \
+    X(binding, fs_counts, 1)    /* fs_sampler.geom writes, fs_lights.comp reads */                     \
+    X(binding, fs_samples, 0)   /* fs_lights.comp (transform feedback of fs_sampler.geom) */           \
+    X(binding, fs_lights, 2)    /* fs_lights.comp */                                                   \
+    /* vertex attributes */                                                                            \
+    X(attrib, position, 0)                                                                             \
+    X(attrib, normal, 1)                                                                               \
+    /* sizes */                                                                                        \
+    X(size, max_lights, kMaxLights) /* light records the uniform block and the tile lists hold */      \
+    X(size, screen_tile, 16)        /* pixels: shadow_tiles.comp's work group, shade.frag's tile */    \
+    X(size, fs_work_group, 64)      /* fs_importance.comp, fs_lights.comp (a power of two) */          \
+    X(size, fs_scan_run, 16)        /* fs_sampler.geom's unrolled run: the width must be a multiple */ \
+    X(size, fs_texel_bits, 21)      /* a packed sample: texel index bits, multiplicity above them */
+
+#define ENVSHADOW_SHADER_CONSTANT(kind, name, value) \
+    namespace kind {                                 \
+    inline constexpr int name = value;               \
+    }
+ENVSHADOW_SHADER_INTERFACE(ENVSHADOW_SHADER_CONSTANT)
+#undef ENVSHADOW_SHADER_CONSTANT
+
+// A captured Floyd-Steinberg sample is one uint: the texel index in the low fs_texel_bits, the
+// multiplicity above (glsl/fs_common.glsl fs_pack_sample).
+inline constexpr int kFsMaxTexels = 1 << size::fs_texel_bits;
+inline constexpr int kFsMaxMultiplicity = (1 << (32 - size::fs_texel_bits)) - 1;
+
+struct Constant {
+    const char* kind;  // "loc", "unit", "image", "binding", "attrib" or "size"
+    const char* name;  // as in C++: "world_from_object"
+    int value;
+    std::string define_name() const;  // "LOC_WORLD_FROM_OBJECT"; a size: "MAX_LIGHTS"
+};
+
+// The table, in its order.
+std::span<const Constant> constants();
+
+// "NAME VALUE" for every entry: gl::ShaderLibrary::define takes them.
+std::vector<std::string> defines();
+
+}  // namespace envshadow::render::shader

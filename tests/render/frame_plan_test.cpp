@@ -1,0 +1,259 @@
+// The frame plan without GL: casters inside their lights' tiles, caster rectangles, tiles apart,
+// the flat receivers' unshadowed sum against one written out by hand, which shade.frag variant
+// each object gets.
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <glm/ext/matrix_transform.hpp>
+#include <glm/geometric.hpp>
+
+#include "render/frame_plan.h"
+
+namespace envshadow::render {
+namespace {
+
+constexpr int kTile = 256;
+
+PlannedObject box_at(glm::vec3 position, glm::vec3 half_size, bool casts = true) {
+    PlannedObject planned;
+    planned.object.transform = glm::translate(glm::mat4(1.0f), position);
+    planned.object.casts_shadows = casts;
+    planned.bounds_min = -half_size;
+    planned.bounds_max = half_size;
+    return planned;
+}
+
+// A 20 m ground of the given albedo: a plane with normal +Y at y = 0.
+PlannedObject ground(float albedo) {
+    PlannedObject planned;
+    planned.object.material = {glm::vec3(albedo), 0.0f, 1.0f};
+    planned.bounds_min = glm::vec3(-10.0f, 0.0f, -10.0f);
+    planned.bounds_max = glm::vec3(10.0f, 0.0f, 10.0f);
+    planned.flat_normal = glm::vec3(0.0f, 1.0f, 0.0f);
+    return planned;
+}
+
+WorldLight light(glm::vec3 direction, glm::vec3 radiance = glm::vec3(1.0f)) {
+    return {glm::normalize(direction), radiance, 0.9f, 0.95f};
+}
+
+std::vector<WorldLight> some_lights(int count) {
+    std::vector<WorldLight> lights;
+    for (int i = 0; i < count; ++i) {
+        const float angle = 2.4f * float(i);
+        const float y = 1.0f - 1.9f * (float(i) + 0.5f) / float(count);  // down to below the horizon
+        const float r = std::sqrt(1.0f - y * y);
+        lights.push_back(light({r * std::cos(angle), y, r * std::sin(angle)}));
+    }
+    return lights;
+}
+
+CameraView eye_at(glm::vec3 eye) {
+    CameraView view;
+    view.eye = eye;
+    return view;
+}
+
+// Three casters (one flying on an orbit) and a receiver that casts nothing, under `lights`.
+FramePlanner three_casters(std::span<const WorldLight> lights) {
+    std::vector<PlannedObject> objects = {box_at({0, 0.5f, 0}, {0.5f, 0.5f, 0.5f}),
+                                          box_at({2, 1, -1}, {0.2f, 1.0f, 0.3f}), box_at({0, 0, 0}, {0.1f, 0.1f, 0.1f}),
+                                          box_at({-3, 0, 2}, {1, 1, 1}, /*casts=*/false)};
+    objects[2].object.animation.kind = Animation::Kind::orbit;
+    objects[2].object.animation.radius = 3.0f;
+    objects[2].object.animation.height = 2.0f;
+    FramePlanner planner;
+    planner.set_objects(std::move(objects));
+    planner.set_lights(lights);
+    return planner;
+}
+
+std::vector<glm::vec3> world_corners(const PlannedObject& planned, const ObjectFrame& frame) {
+    std::vector<glm::vec3> corners;
+    for (int k = 0; k < 8; ++k) {
+        const glm::vec3 local((k & 1) ? planned.bounds_max.x : planned.bounds_min.x,
+                              (k & 2) ? planned.bounds_max.y : planned.bounds_min.y,
+                              (k & 4) ? planned.bounds_max.z : planned.bounds_min.z);
+        corners.push_back(glm::vec3(frame.world_from_object * glm::vec4(local, 1.0f)));
+    }
+    return corners;
+}
+
+TEST(FramePlan, EveryCastersBoxLandsInsideEachLightsClipCube) {
+    const std::vector<WorldLight> lights = some_lights(23);
+    FramePlanner planner = three_casters(lights);
+    const AtlasLayout layout = plan_atlas(23, kTile, 16384);
+    const FramePlan& plan = planner.plan(1.5, eye_at({0, 2, 6}), layout, RenderSettings{});
+    ASSERT_EQ(plan.lights.size(), lights.size());
+    const float limit = 1.0f - 2.0f * kTileMarginTexels / float(kTile) + 1e-5f;
+    for (std::size_t k = 0; k < plan.lights.size(); ++k)
+        for (std::size_t i = 0; i < planner.objects().size(); ++i) {
+            if (!planner.objects()[i].object.casts_shadows) continue;
+            for (const glm::vec3& p : world_corners(planner.objects()[i], plan.objects[i])) {
+                const glm::vec4 clip = plan.lights[k].clip_from_world * glm::vec4(p, 1.0f);
+                EXPECT_NEAR(clip.w, 1.0f, 1e-6f);
+                EXPECT_LE(std::abs(clip.x), limit) << "light " << k << " object " << i;
+                EXPECT_LE(std::abs(clip.y), limit) << "light " << k << " object " << i;
+                EXPECT_LT(std::abs(clip.z), 1.0f) << "light " << k << " object " << i;
+            }
+        }
+    // The flying caster at t = 1.5 is where its orbit puts it, not at rest.
+    EXPECT_EQ(plan.objects[2].world_from_object, planner.objects()[2].object.world_from_object(1.5));
+    EXPECT_NE(plan.objects[2].world_from_object, planner.objects()[2].object.transform);
+}
+
+TEST(FramePlan, CasterRectanglesHoldTheirCasterAndStayInTheTile) {
+    const std::vector<WorldLight> lights = some_lights(9);
+    FramePlanner planner = three_casters(lights);
+    const FramePlan& plan = planner.plan(0.0, eye_at({0, 2, 6}), plan_atlas(9, kTile, 16384), RenderSettings{});
+    ASSERT_EQ(plan.caster_rects_per_light, 3);  // the receiver that casts nothing has none
+    ASSERT_EQ(plan.caster_rects.size(), 9u * 3u);
+    const float two_texels = 2.0f * 2.0f / float(kTile);
+    for (std::size_t k = 0; k < plan.lights.size(); ++k) {
+        int caster = 0;
+        for (std::size_t i = 0; i < planner.objects().size(); ++i) {
+            if (!planner.objects()[i].object.casts_shadows) continue;
+            const glm::vec4 rect = plan.caster_rects[k * 3 + std::size_t(caster++)];
+            EXPECT_GE(rect.x, -1.0f);
+            EXPECT_GE(rect.y, -1.0f);
+            EXPECT_LE(rect.z, 1.0f);
+            EXPECT_LE(rect.w, 1.0f);
+            for (const glm::vec3& p : world_corners(planner.objects()[i], plan.objects[i])) {
+                const glm::vec4 clip = plan.lights[k].clip_from_world * glm::vec4(p, 1.0f);
+                EXPECT_GE(clip.x, rect.x + two_texels - 1e-5f);
+                EXPECT_GE(clip.y, rect.y + two_texels - 1e-5f);
+                EXPECT_LE(clip.x, rect.z - two_texels + 1e-5f);
+                EXPECT_LE(clip.y, rect.w - two_texels + 1e-5f);
+            }
+        }
+    }
+}
+
+TEST(FramePlan, MoreCastersThanRectanglesShareTheWholeTile) {
+    std::vector<PlannedObject> objects;
+    for (int i = 0; i <= kMaxCasterRects; ++i) objects.push_back(box_at({float(i), 0, 0}, glm::vec3(0.25f)));
+    FramePlanner planner;
+    planner.set_objects(std::move(objects));
+    const std::vector<WorldLight> lights = some_lights(4);
+    planner.set_lights(lights);
+    const FramePlan& plan = planner.plan(0.0, eye_at({0, 2, 6}), plan_atlas(4, kTile, 16384), RenderSettings{});
+    ASSERT_EQ(plan.caster_rects_per_light, 1);
+    ASSERT_EQ(plan.caster_rects.size(), 4u);
+    for (const glm::vec4& rect : plan.caster_rects) EXPECT_EQ(rect, glm::vec4(-1.0f, -1.0f, 1.0f, 1.0f));
+}
+
+TEST(FramePlan, TilesDoNotOverlapAndStayInTheAtlas) {
+    for (int count : {1, 2, 5, 37, 128, kMaxLights}) {
+        const std::vector<WorldLight> lights = some_lights(count);
+        FramePlanner planner = three_casters(lights);
+        const AtlasLayout layout = plan_atlas(count, 128, 16384);
+        const FramePlan& plan = planner.plan(0.0, eye_at({0, 2, 6}), layout, RenderSettings{});
+        ASSERT_EQ(int(plan.lights.size()), count);
+        for (std::size_t a = 0; a < plan.lights.size(); ++a) {
+            const glm::vec4 t = plan.lights[a].tile;
+            EXPECT_GE(t.x, 0.0f);
+            EXPECT_GE(t.y, 0.0f);
+            EXPECT_LE(t.x + t.z, 1.0f + 1e-6f);
+            EXPECT_LE(t.y + t.w, 1.0f + 1e-6f);
+            EXPECT_NEAR(t.z * float(layout.width()), 128.0f, 1e-3f);  // one tile of 128^2 texels
+            EXPECT_NEAR(t.w * float(layout.height()), 128.0f, 1e-3f);
+            for (std::size_t b = a + 1; b < plan.lights.size(); ++b) {
+                const glm::vec4 u = plan.lights[b].tile;
+                const bool apart = t.x + t.z <= u.x + 1e-6f || u.x + u.z <= t.x + 1e-6f || t.y + t.w <= u.y + 1e-6f ||
+                                   u.y + u.w <= t.y + 1e-6f;
+                EXPECT_TRUE(apart) << "tiles " << a << " and " << b << " of " << count;
+            }
+        }
+    }
+}
+
+TEST(FramePlan, FlatReceiverSumIsTheCentreSamplesSummedByHand) {
+    // rho_d = 0.5 under three lights: overhead, 45 degrees up, straight below.
+    const std::vector<WorldLight> lights = {light({0, 1, 0}, {1, 2, 3}), light({1, 1, 0}, {4, 4, 4}),
+                                            light({0, -1, 0}, {9, 9, 9})};
+    FramePlanner planner;
+    planner.set_objects({ground(0.5f), box_at({0, 0.5f, 0}, glm::vec3(0.5f))});
+    planner.set_lights(lights);
+    const AtlasLayout layout = plan_atlas(3, kTile, 16384);
+    const float k_d = 0.5f / std::numbers::pi_v<float>;  // rho_d / pi
+
+    // Seen from above: L1 cos 0 + L2 cos 45 degrees; the light below is under the plane.
+    const FramePlan& above = planner.plan(0.0, eye_at({0, 2, 6}), layout, RenderSettings{});
+    ASSERT_EQ(above.objects[0].program, ShadeProgram::flat_receiver);
+    const glm::vec3 expected_above = k_d * (glm::vec3(1, 2, 3) + glm::vec3(4.0f) * std::sqrt(0.5f));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(above.objects[0].unshadowed[c], expected_above[c], 1e-6f);
+    // Seen from below, the normal turns to the eye as shade.frag turns it: only the light below.
+    const FramePlan& below = planner.plan(0.0, eye_at({0, -2, 6}), layout, RenderSettings{});
+    ASSERT_EQ(below.objects[0].program, ShadeProgram::flat_receiver);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(below.objects[0].unshadowed[c], 9.0f * k_d, 1e-6f);
+    // The box is no plane: shaded per pixel.
+    EXPECT_EQ(below.objects[1].program, ShadeProgram::diffuse_only);
+    EXPECT_EQ(below.objects[1].unshadowed, glm::vec3(0.0f));
+}
+
+TEST(FramePlan, FlatReceiversOnlyWhereTheShaderTakesTheirSum) {
+    FramePlanner planner;
+    planner.set_objects({ground(0.5f)});
+    const std::vector<WorldLight> lights = some_lights(5);
+    planner.set_lights(lights);
+    const AtlasLayout layout = plan_atlas(5, kTile, 16384);
+    auto program = [&](const RenderSettings& settings, glm::vec3 eye = {0, 2, 6}) {
+        return planner.plan(0.0, eye_at(eye), layout, settings).objects[0].program;
+    };
+    RenderSettings settings;
+    EXPECT_EQ(program(settings), ShadeProgram::flat_receiver);
+    EXPECT_EQ(program(settings, {0, 0, 6}), ShadeProgram::diffuse_only);  // edge-on
+    settings.diffuse = DiffuseMode::cap;
+    EXPECT_EQ(program(settings), ShadeProgram::diffuse_only);
+    settings = RenderSettings{};
+    settings.depth_prepass = false;  // no tile lists without the pre-pass
+    EXPECT_EQ(program(settings), ShadeProgram::diffuse_only);
+    settings = RenderSettings{};
+    settings.specialise_shaders = false;
+    EXPECT_EQ(program(settings), ShadeProgram::full);
+    planner.set_material(0, {glm::vec3(0.5f), 0.3f, 20.0f});
+    EXPECT_EQ(program(RenderSettings{}), ShadeProgram::full);
+    const ObjectFrame& glossy = planner.last().objects[0];
+    EXPECT_NEAR(glossy.k_s, 0.3f * 22.0f / (2.0f * std::numbers::pi_v<float>), 1e-6f);  // rho_s (n + 2) / (2 pi)
+    EXPECT_FLOAT_EQ(glossy.shininess, 20.0f);
+}
+
+TEST(FramePlan, BiasesFollowTheSettingsInTexelsOfEachFit) {
+    const std::vector<WorldLight> lights = some_lights(6);
+    FramePlanner planner = three_casters(lights);
+    const AtlasLayout layout = plan_atlas(6, kTile, 16384);
+    RenderSettings settings;
+    settings.depth_bias = 1.0f;
+    settings.normal_offset = 1.0f;
+    const std::vector<LightRecord> one = planner.plan(0.0, eye_at({0, 2, 6}), layout, settings).lights;
+    settings.depth_bias = 2.5f;
+    settings.normal_offset = 3.0f;
+    settings.cap = CapKind::solid_angle;
+    const FramePlan& plan = planner.plan(0.0, eye_at({0, 2, 6}), layout, settings);
+    float min_texel = one[0].bias.y, max_offset = 0.0f;
+    for (std::size_t k = 0; k < lights.size(); ++k) {
+        EXPECT_NEAR(plan.lights[k].bias.x, 2.5f * one[k].bias.x, 1e-6f * one[k].bias.x + 1e-12f);
+        EXPECT_NEAR(plan.lights[k].bias.y, 3.0f * one[k].bias.y, 1e-6f);
+        EXPECT_EQ(one[k].direction.w, lights[k].cos_radius_weighted);  // the default cap
+        EXPECT_EQ(plan.lights[k].direction.w, lights[k].cos_radius);
+        min_texel = std::min(min_texel, one[k].bias.y);  // normal offset 1: one texel of the fit
+        max_offset = std::max(max_offset, plan.lights[k].bias.y);
+    }
+    EXPECT_NEAR(plan.min_texel_world, min_texel, 1e-7f);
+    EXPECT_NEAR(plan.receiver_pad, max_offset + min_texel, 1e-6f);
+}
+
+TEST(FramePlan, WithoutLightsThereIsOneEmptyRectangleAndNoTexel) {
+    FramePlanner planner = three_casters({});
+    const FramePlan& plan = planner.plan(0.0, eye_at({0, 2, 6}), plan_atlas(1, kTile, 16384), RenderSettings{});
+    EXPECT_TRUE(plan.lights.empty());
+    EXPECT_EQ(plan.caster_rects.size(), 1u);  // a storage buffer may not be empty
+    EXPECT_EQ(plan.min_texel_world, 0.0f);
+    EXPECT_EQ(plan.receiver_pad, 0.0f);
+    EXPECT_EQ(plan.objects.size(), 4u);
+}
+
+}  // namespace
+}  // namespace envshadow::render
