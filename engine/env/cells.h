@@ -29,6 +29,9 @@ inline constexpr std::array<Method, 5> kMethods = {Method::lloyd, Method::ccvt, 
 std::string_view to_string(Method method);
 Method parse_method(std::string_view name);  // throws UsageError
 
+std::string_view to_string(Hemisphere hemisphere);   // "full", "upper"
+Hemisphere parse_hemisphere(std::string_view name);  // throws UsageError
+
 inline constexpr int kMaxLights = 256;
 
 struct DecomposeOptions {
@@ -36,14 +39,21 @@ struct DecomposeOptions {
     int lights = 128;        // 1..kMaxLights (mediancut rounds down to a power of two; fs gives N or N - 1)
     std::uint64_t seed = 1;  // random and lloyd draw their initial sites with it (ccvt's start needs none)
     SiteSearch search = SiteSearch::tiles;
+    // upper: only the texels above the horizon (DESIGN.md §3.1), for a scene with a ground plane.
+    Hemisphere hemisphere = Hemisphere::full;
 };
+
+// Decomposition::texel_cell of a texel outside the hemisphere decomposed (below the horizon).
+inline constexpr std::uint16_t kNoCell = 0xFFFF;
 
 struct Decomposition {
     Method method = Method::lloyd;
+    Hemisphere hemisphere = Hemisphere::full;
     int width = 0, height = 0;
     std::vector<Cell> cells;
-    std::vector<std::uint16_t> texel_cell;  // cell index of every texel (j * width + i)
-    glm::dvec3 integral{0.0};               // integral of L dw computed directly from the map
+    std::vector<std::uint16_t> texel_cell;  // cell index of every texel (j * width + i); kNoCell outside
+                                            // the hemisphere (the middle row of an odd map is inside)
+    glm::dvec3 integral{0.0};               // integral of L dw over the hemisphere, directly from the map
     double seconds = 0.0;
     int iterations = 0;               // Lloyd / CCVT iterations run, at every resolution
     int coarse_iterations = 0;        // of those, the ones run at a lower resolution (Lloyd)
@@ -54,11 +64,13 @@ struct Decomposition {
     bool uniform_importance = false;  // the map was black: importance fell back to solid angle
 };
 
-// Throws UsageError for lights outside 1..kMaxLights and InputError when the map has fewer texels than
-// lights. Deterministic for a given seed, whatever the number of threads.
+// Throws UsageError for lights outside 1..kMaxLights and InputError when the hemisphere has fewer
+// texels than lights. Deterministic for a given seed, whatever the number of threads. With
+// Hemisphere::upper every cell is made of texels above the horizon only (its L~, dw, centre and caps).
 Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& options);
 
-// The per-cell integration every method ends with (docs/DESIGN.md §3), from the texel -> cell assignment:
+// The per-cell integration every method ends with (docs/DESIGN.md §3), from the texel -> cell assignment of
+// the texels `importance` holds (its rows; solid angles as it has them):
 // radiance = sum L dw (RGB), solid_angle = sum dw, direction = normalised sum I w (sum dw w where the
 // cell has no importance), cos_radius = 1 - dw_i / (2 pi), cos_radius_weighted = 2 (sum I (w . c) / sum I) - 1
 // (solid-angle weighted where the cell has no importance). A cell whose mean direction vanishes (one

@@ -39,6 +39,16 @@ Method parse_method(std::string_view name) {
     throw UsageError("unknown decomposition method '" + std::string(name) + "' (" + names + ")");
 }
 
+std::string_view to_string(Hemisphere hemisphere) {
+    return hemisphere == Hemisphere::upper ? "upper" : "full";
+}
+
+Hemisphere parse_hemisphere(std::string_view name) {
+    for (Hemisphere h : {Hemisphere::full, Hemisphere::upper})
+        if (to_string(h) == name) return h;
+    throw UsageError("unknown hemisphere '" + std::string(name) + "' (full or upper)");
+}
+
 std::vector<Cell> integrate_cells(const EnvironmentMap& map, const ImportanceMap& importance,
                                   std::span<const std::uint16_t> texel_cell, std::span<const glm::dvec3> sites) {
     const int count = int(sites.size());
@@ -46,11 +56,12 @@ std::vector<Cell> integrate_cells(const EnvironmentMap& map, const ImportanceMap
 
     // Radiance per cell: rows in fixed chunks, reduced in order (independent of the thread count).
     constexpr int kRowsPerChunk = 8;
-    const int chunks = (map.height + kRowsPerChunk - 1) / kRowsPerChunk;
+    const int rows = importance.height;
+    const int chunks = (rows + kRowsPerChunk - 1) / kRowsPerChunk;
     std::vector<std::vector<glm::dvec3>> partial(static_cast<size_t>(chunks),
                                                  std::vector<glm::dvec3>(static_cast<size_t>(count), glm::dvec3(0.0)));
     tbb::parallel_for(0, chunks, [&](int chunk) {
-        for (int j = chunk * kRowsPerChunk; j < std::min(map.height, (chunk + 1) * kRowsPerChunk); ++j) {
+        for (int j = chunk * kRowsPerChunk; j < std::min(rows, (chunk + 1) * kRowsPerChunk); ++j) {
             const double dw = importance.row_solid_angle[size_t(j)];
             for (int i = 0; i < map.width; ++i)
                 partial[size_t(chunk)][texel_cell[size_t(j) * size_t(map.width) + size_t(i)]] +=
@@ -84,13 +95,15 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
     if (options.lights < 1 || options.lights > kMaxLights)
         throw UsageError("a decomposition into " + std::to_string(options.lights) + " cells: the count must be 1.." +
                          std::to_string(kMaxLights));
-    const long long texels = (long long)map.width * map.height;
+    const long long texels = (long long)map.width * hemisphere_rows(map.height, options.hemisphere);
     if (texels < options.lights)
         throw InputError(map.source + ": a " + std::to_string(map.width) + "x" + std::to_string(map.height) +
-                         " map has fewer texels than the " + std::to_string(options.lights) + " lights asked for");
+                         " map has " +
+                         (options.hemisphere == Hemisphere::upper ? "fewer texels above the horizon" : "fewer texels") +
+                         " than the " + std::to_string(options.lights) + " lights asked for");
     const auto start = std::chrono::steady_clock::now();
 
-    const ImportanceMap importance = build_importance(map);
+    const ImportanceMap importance = build_importance(map, options.hemisphere);
     const Partition partition(importance, options.search);
 
     SiteSet sites;
@@ -114,6 +127,7 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
 
     Decomposition result;
     result.method = options.method;
+    result.hemisphere = options.hemisphere;
     result.width = map.width;
     result.height = map.height;
     if (sites.texel_cell.size() == importance.texel_count()) {
@@ -121,9 +135,11 @@ Decomposition decompose(const EnvironmentMap& map, const DecomposeOptions& optio
     } else {
         result.texel_cell.resize(importance.texel_count());
         partition.assign(sites.sites, sites.bias, result.texel_cell);
+        fill_empty_cells(importance, partition, sites.sites, sites.bias, result.texel_cell);
     }
     result.cells = integrate_cells(map, importance, result.texel_cell, sites.sites);
-    result.integral = integrate_radiance(map);
+    result.texel_cell.resize(map.texels.size(), kNoCell);  // the rows below the horizon: no cell
+    result.integral = integrate_radiance(map, options.hemisphere);
     result.iterations = sites.iterations;
     result.coarse_iterations = sites.coarse_iterations;
     result.final_movement = sites.final_movement;

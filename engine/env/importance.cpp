@@ -6,11 +6,25 @@
 
 namespace envshadow {
 
-TexelDirections::TexelDirections(int width, int height)
-    : row_sin_(size_t(height)), row_cos_(size_t(height)), column_cos_(size_t(width)), column_sin_(size_t(width)) {
+int hemisphere_rows(int height, Hemisphere hemisphere) {
+    return hemisphere == Hemisphere::full ? height : (height + 1) / 2;
+}
+
+double hemisphere_texel_solid_angle(int j, int width, int height, Hemisphere hemisphere) {
+    if (hemisphere == Hemisphere::full) return latlong::texel_solid_angle(j, width, height);
+    if (2 * j + 1 == height) return 0.5 * latlong::texel_solid_angle(j, width, height);  // cut by the horizon
+    return j < hemisphere_rows(height, hemisphere) ? latlong::texel_solid_angle(j, width, height) : 0.0;
+}
+
+TexelDirections::TexelDirections(int width, int height, int rows) {
+    if (rows < 0) rows = height;
+    row_sin_.resize(size_t(rows));
+    row_cos_.resize(size_t(rows));
+    column_cos_.resize(size_t(width));
+    column_sin_.resize(size_t(width));
     // latlong::direction(u, v) = (sin(pi v) cos(2 pi u), cos(pi v), sin(pi v) sin(2 pi u)): at u = 0 it
     // yields (sin theta, cos theta, 0) and at v = 1/2 (sin = 1 exactly) it yields (cos phi, ., sin phi).
-    for (int j = 0; j < height; ++j) {
+    for (int j = 0; j < rows; ++j) {
         const glm::dvec3 d = latlong::direction(0.0, (j + 0.5) / height);
         row_sin_[size_t(j)] = d.x;
         row_cos_[size_t(j)] = d.y;
@@ -22,18 +36,19 @@ TexelDirections::TexelDirections(int width, int height)
     }
 }
 
-ImportanceMap build_importance(const EnvironmentMap& map) {
+ImportanceMap build_importance(const EnvironmentMap& map, Hemisphere hemisphere) {
     ImportanceMap result;
     result.width = map.width;
-    result.height = map.height;
-    result.directions = TexelDirections(map.width, map.height);
-    result.row_solid_angle.resize(size_t(map.height));
-    for (int j = 0; j < map.height; ++j)
-        result.row_solid_angle[size_t(j)] = latlong::texel_solid_angle(j, map.width, map.height);
-    result.importance.resize(map.texels.size());
+    result.height = hemisphere_rows(map.height, hemisphere);
+    result.map_height = map.height;
+    result.directions = TexelDirections(map.width, map.height, result.height);
+    result.row_solid_angle.resize(size_t(result.height));
+    for (int j = 0; j < result.height; ++j)
+        result.row_solid_angle[size_t(j)] = hemisphere_texel_solid_angle(j, map.width, map.height, hemisphere);
+    result.importance.resize(size_t(map.width) * size_t(result.height));
 
-    std::vector<double> row_total(static_cast<size_t>(map.height), 0.0);
-    tbb::parallel_for(0, map.height, [&](int j) {
+    std::vector<double> row_total(static_cast<size_t>(result.height), 0.0);
+    tbb::parallel_for(0, result.height, [&](int j) {
         const double dw = result.row_solid_angle[size_t(j)];
         double sum = 0.0;
         for (int i = 0; i < map.width; ++i) {
@@ -48,7 +63,7 @@ ImportanceMap build_importance(const EnvironmentMap& map) {
     if (!(result.total > 0.0)) {
         result.uniform_fallback = true;
         result.total = 0.0;
-        for (int j = 0; j < map.height; ++j) {
+        for (int j = 0; j < result.height; ++j) {
             const float dw = float(result.row_solid_angle[size_t(j)]);
             for (int i = 0; i < map.width; ++i) result.importance[size_t(j) * size_t(map.width) + size_t(i)] = dw;
             result.total += double(dw) * map.width;
@@ -61,12 +76,13 @@ ImportanceMap downsample_importance(const ImportanceMap& fine, int factor) {
     ImportanceMap coarse;
     coarse.width = fine.width / factor;
     coarse.height = fine.height / factor;
-    coarse.directions = TexelDirections(coarse.width, coarse.height);
+    coarse.map_height = fine.lat_long_height() / factor;
+    coarse.directions = TexelDirections(coarse.width, coarse.map_height, coarse.height);
     coarse.uniform_fallback = fine.uniform_fallback;
     coarse.row_solid_angle.resize(size_t(coarse.height));
     coarse.importance.assign(size_t(coarse.width) * size_t(coarse.height), 0.0f);
     for (int j = 0; j < coarse.height; ++j) {
-        coarse.row_solid_angle[size_t(j)] = latlong::texel_solid_angle(j, coarse.width, coarse.height);
+        coarse.row_solid_angle[size_t(j)] = latlong::texel_solid_angle(j, coarse.width, coarse.map_height);
         for (int i = 0; i < coarse.width; ++i) {
             double sum = 0.0;
             for (int b = 0; b < factor; ++b)
@@ -78,12 +94,13 @@ ImportanceMap downsample_importance(const ImportanceMap& fine, int factor) {
     return coarse;
 }
 
-glm::dvec3 integrate_radiance(const EnvironmentMap& map) {
-    std::vector<glm::dvec3> row_sum(size_t(map.height), glm::dvec3(0.0));
-    tbb::parallel_for(0, map.height, [&](int j) {
+glm::dvec3 integrate_radiance(const EnvironmentMap& map, Hemisphere hemisphere) {
+    const int rows = hemisphere_rows(map.height, hemisphere);
+    std::vector<glm::dvec3> row_sum(size_t(rows), glm::dvec3(0.0));
+    tbb::parallel_for(0, rows, [&](int j) {
         glm::dvec3 sum(0.0);
         for (int i = 0; i < map.width; ++i) sum += glm::dvec3(map.at(i, j));
-        row_sum[size_t(j)] = sum * latlong::texel_solid_angle(j, map.width, map.height);
+        row_sum[size_t(j)] = sum * hemisphere_texel_solid_angle(j, map.width, map.height, hemisphere);
     });
     glm::dvec3 total(0.0);
     for (const glm::dvec3& s : row_sum) total += s;

@@ -69,7 +69,7 @@ std::vector<glm::dvec3> initial_sites(const ImportanceMap& importance, std::span
         for (const glm::dvec3& s : sites) {
             const glm::dvec2 uv = latlong::uv(s);
             const int i = std::min(importance.width - 1, int(uv.x * importance.width));
-            const int j = std::min(importance.height - 1, int(uv.y * importance.height));
+            const int j = std::min(importance.height - 1, int(uv.y * importance.lat_long_height()));
             taken[size_t(j) * size_t(importance.width) + size_t(i)] = true;
         }
         std::vector<std::size_t> order(importance.texel_count());
@@ -442,9 +442,11 @@ struct Resolution {
     std::optional<Partition> partition;
 };
 
-// Whether the map can be taken to 1/factor of its resolution: factor divides it and leaves at least 16 rows.
+// Whether the map can be taken to 1/factor of its resolution: factor divides it (the rows held and the
+// whole map's) and leaves at least 16 rows.
 bool coarsens(const ImportanceMap& fine, int factor) {
-    return factor > 1 && fine.width % factor == 0 && fine.height % factor == 0 && fine.height / factor >= 16;
+    return factor > 1 && fine.width % factor == 0 && fine.height % factor == 0 &&
+           fine.lat_long_height() % factor == 0 && fine.height / factor >= 16;
 }
 
 // At full resolution where the map does not coarsen by `factor`.
@@ -483,6 +485,48 @@ void relax_lloyd(const Partition& partition, SiteSet& result) {
 }
 
 }  // namespace
+
+int fill_empty_cells(const ImportanceMap& importance, const Partition& partition, std::vector<glm::dvec3>& sites,
+                     std::vector<double>& bias, std::span<std::uint16_t> texel_cell, int max_rounds) {
+    const std::size_t count = sites.size();
+    int rounds = 0;
+    for (; rounds < max_rounds; ++rounds) {
+        std::vector<long> texels(count, 0);
+        for (std::uint16_t k : texel_cell) ++texels[k];
+        if (std::find(texels.begin(), texels.end(), 0L) == texels.end()) break;
+        // The texel each site stands on, which its cell keeps.
+        std::vector<std::size_t> own(count);
+        for (std::size_t k = 0; k < count; ++k) {
+            const glm::dvec2 uv = latlong::uv(sites[k]);
+            const int i = std::min(importance.width - 1, int(uv.x * importance.width));
+            const int j = std::min(importance.height - 1, int(uv.y * importance.lat_long_height()));
+            own[k] = std::size_t(j) * std::size_t(importance.width) + std::size_t(i);
+        }
+        std::vector<double> mass(count, 0.0), solid_angle(count, 0.0);
+        std::vector<std::size_t> heaviest(count, texel_cell.size());
+        for (std::size_t t = 0; t < texel_cell.size(); ++t) {
+            const std::size_t k = texel_cell[t];
+            mass[k] += importance.importance[t];
+            solid_angle[k] += importance.row_solid_angle[t / std::size_t(importance.width)];
+            if (t != own[k] &&
+                (heaviest[k] == texel_cell.size() || importance.importance[t] > importance.importance[heaviest[k]]))
+                heaviest[k] = t;
+        }
+        std::vector<double> weight(count);
+        for (std::size_t k = 0; k < count; ++k)
+            weight[k] = texels[k] >= 2 && heaviest[k] < texel_cell.size() ? mass[k] * solid_angle[k] + 1e-300 : -1.0;
+        for (std::size_t k = 0; k < count; ++k) {
+            if (texels[k] > 0) continue;
+            const std::size_t donor = std::size_t(std::max_element(weight.begin(), weight.end()) - weight.begin());
+            if (weight[donor] < 0.0) break;  // no cell left to give a texel this round
+            weight[donor] = -1.0;            // one texel per donor and round
+            sites[k] = texel_centres(importance, std::span(&heaviest[donor], 1)).front();
+            if (!bias.empty()) bias[k] = bias[donor];
+        }
+        partition.assign(sites, bias, texel_cell);
+    }
+    return rounds;
+}
 
 SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition) {
     // Start at Lloyd's asymptotic site density, sqrt of the importance density (Gersho 1979: rho^(d/(d+2))
@@ -620,6 +664,7 @@ SiteSet sites_ccvt(const ImportanceMap& full_importance, int count, const Partit
     // are passed across them to even out what is left.
     result.texel_cell.resize(importance.texel_count());
     partition.assign(result.sites, result.bias, result.texel_cell);
+    fill_empty_cells(importance, partition, result.sites, result.bias, result.texel_cell);
     balance_texels(importance, result.texel_cell, count);
     return result;
 }

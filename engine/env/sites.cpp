@@ -197,9 +197,9 @@ struct Region {
 // single texel.
 bool split_region(const Region& r, int left, int right, const ImportanceTable& table, const ImportanceMap& importance,
                   Region& a, Region& b) {
-    const double theta_mid = std::numbers::pi * 0.5 * (r.j0 + r.j1) / importance.height;
+    const double theta_mid = std::numbers::pi * 0.5 * (r.j0 + r.j1) / importance.lat_long_height();
     const double angular_width = (r.i1 - r.i0) * (2.0 * std::numbers::pi / importance.width) * std::sin(theta_mid);
-    const double angular_height = (r.j1 - r.j0) * (std::numbers::pi / importance.height);
+    const double angular_height = (r.j1 - r.j0) * (std::numbers::pi / importance.lat_long_height());
     const double total = table.sum(r.i0, r.i1, r.j0, r.j1);
     const double fraction = double(left) / double(left + right);
 

@@ -113,6 +113,16 @@ inline constexpr double kCcvtBalanceTolerance = 0.02;
 TexelBalance balance_texels(const ImportanceMap& importance, std::span<std::uint16_t> texel_cell, int cell_count,
                             int max_passes = kCcvtBalancePasses);
 
+// Cells left without a texel (sites closer than a texel, a power cell squeezed out, a median-cut region
+// too small for its cells): each such cell's site moves onto the heaviest texel of the cell with the
+// largest importance x solid angle (as the relaxations reseed empty cells; a donor with two texels at
+// least, its heaviest texel other than the one its own site stands on), takes the donor's bias, and the
+// texels are assigned again, until every cell holds a texel or `max_rounds` are run. A site on a texel
+// centre wins that texel, so each round fills every empty cell it began with. `bias` is empty or one
+// per site. Returns the rounds that moved a site (0 when no cell was empty).
+int fill_empty_cells(const ImportanceMap& importance, const Partition& partition, std::vector<glm::dvec3>& sites,
+                     std::vector<double>& bias, std::span<std::uint16_t> texel_cell, int max_rounds = 8);
+
 inline constexpr double kLloydEnergyTolerance = 1e-4;
 inline constexpr int kLloydMaxIterations = 500;    // per resolution
 inline constexpr int kLloydCoarseFactors[] = {2};  // Lloyd converges at 1/2 of the resolution first

@@ -129,6 +129,43 @@ TEST_F(EnvContractCli, JsonHasTheKeysOfDesignAndConservesTheIntegral) {
     }
 }
 
+// --hemisphere upper (issue 14): the JSON says so, its integral is the upper hemisphere's (rows 0 ..
+// H/2 - 1 of the 512), every light lies above the horizon and the cells cover 2 pi. The default is full.
+TEST_F(EnvContractCli, UpperHemisphereIsSaidAndIntegrated) {
+    const ExrContents exr = read_exr(kCourtyard);
+    double integral[3] = {0.0, 0.0, 0.0};
+    for (int j = 0; j < exr.image.height / 2; ++j)
+        for (int i = 0; i < exr.image.width; ++i)
+            for (int c = 0; c < 3; ++c)
+                integral[c] += double(std::max(0.0f, exr.image.at(i, j)[c])) *
+                               latlong::texel_solid_angle(j, exr.image.width, exr.image.height);
+    const fs::path json_file = file("upper.json"), full_file = file("full.json");
+    const CommandRun run = decompose("--env " + shell_quoted(kCourtyard) + " --lights 32 --hemisphere upper --json " +
+                                     shell_quoted(json_file));
+    ASSERT_EQ(run.status, 0) << run.out << run.err;
+    EXPECT_NE(run.out.find("upper hemisphere"), std::string::npos) << run.out;
+    const nlohmann::json j = nlohmann::json::parse(slurp(json_file));
+    EXPECT_EQ(j["hemisphere"], "upper");
+    ASSERT_EQ(j["lights"].size(), 32u);
+    double radiance_sum[3] = {0.0, 0.0, 0.0}, solid_angle_sum = 0.0;
+    for (const auto& light : j["lights"]) {
+        EXPECT_GT(light["dir"][1].get<double>(), 0.0) << light.dump();
+        for (int c = 0; c < 3; ++c) radiance_sum[c] += light["radiance"][c].get<double>();
+        solid_angle_sum += light["solid_angle"].get<double>();
+    }
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(j["integral"][c].get<double>(), integral[c], 1e-5 * integral[c]) << "integral channel " << c;
+        EXPECT_NEAR(radiance_sum[c], integral[c], 1e-4 * integral[c]) << "Σ radiance channel " << c;
+    }
+    EXPECT_NEAR(solid_angle_sum, 2.0 * std::numbers::pi, 1e-4 * 2.0 * std::numbers::pi);
+
+    ASSERT_EQ(decompose("--env " + shell_quoted(kCourtyard) + " --lights 32 --json " + shell_quoted(full_file)).status,
+              0);
+    EXPECT_EQ(nlohmann::json::parse(slurp(full_file))["hemisphere"], "full");
+    const CommandRun bad = decompose("--env builtin:constant --lights 4 --hemisphere lower");
+    EXPECT_EQ(bad.status, 2) << bad.out << bad.err;
+}
+
 TEST_F(EnvContractCli, BadUsageExitsTwoAndWritesNothing) {
     for (const std::string bad : std::initializer_list<const char*>{
              "--lights 0 --method lloyd", "--lights 1000 --method lloyd", "--lights 16 --method bogus"}) {
