@@ -62,6 +62,11 @@ struct Variant {
     std::unique_ptr<render::Renderer> renderer;
 };
 
+// A ground hides every direction below the horizon: only the upper hemisphere is decomposed.
+Hemisphere visible_hemisphere(const Scene& scene) {
+    return scene.has_ground ? Hemisphere::upper : Hemisphere::full;
+}
+
 // One row per variant for this sweep point; the variants' frames are interleaved.
 // With `sampler` (fs-gpu) the lights are sampled on the GPU before every frame; the sampling is part of
 // the frame's wall time and reported as its own column (wall time, up to the lights' read-back).
@@ -77,9 +82,11 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
     auto found = decompositions.find(common.lights);
     if (found == decompositions.end())
         found = decompositions
-                    .emplace(common.lights,
-                             sampler ? Decomposition{}
-                                     : decompose(map, DecomposeOptions{parse_method(o.method), common.lights, o.seed}))
+                    .emplace(common.lights, sampler ? Decomposition{}
+                                                    : decompose(map, {.method = parse_method(o.method),
+                                                                      .lights = common.lights,
+                                                                      .seed = o.seed,
+                                                                      .hemisphere = visible_hemisphere(scene)}))
                     .first;
     common.decompose_ms = found->second.seconds * 1000.0;
 
@@ -105,7 +112,9 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
             std::vector<gl::PassTime> sampling;
             if (sampler) {  // wall time: GL_TIME_ELAPSED around the sampler's compute and transform feedback is
                             // unreliable on llvmpipe and spoils the renderer's next query (docs/PERFORMANCE.md)
-                sampler->sample(variants[v].renderer->environment_texture(), render::FsSampleRequest{common.lights});
+                sampler->sample(
+                    variants[v].renderer->environment_texture(),
+                    render::FsSampleRequest{.samples = common.lights, .upper_hemisphere = scene.has_ground});
                 variants[v].renderer->set_lights(sampler->read_lights());  // waits for the sampler
                 sampling.push_back(
                     {render::kFsSamplingPass,
@@ -154,11 +163,13 @@ const char* pass_timing_name(gl::PassTiming timing) {
 }
 
 void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std::string& renderer_name,
-                 std::size_t triangles, gl::PassTiming timing) {
+                 std::size_t triangles, gl::PassTiming timing, Hemisphere hemisphere) {
     std::printf(
-        "envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s\n",
+        "envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s  |  "
+        "lights of the %s\n",
         o.scene.c_str(), renderer_name.c_str(), o.backend.c_str(), triangles, o.frames, o.warmup,
-        timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries");
+        timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries",
+        hemisphere == Hemisphere::upper ? "upper hemisphere" : "full sphere");
     std::vector<std::string> pass_names;  // union over the rows, in pipeline order
     for (const Row& r : rows)
         for (std::size_t i = 0; i < r.pass_order.size(); ++i)
@@ -306,7 +317,7 @@ int run_bench(const BenchOptions& o) {
         for (Row& row : measure(o, point, scene, map, variants, decompositions, sampler ? &*sampler : nullptr))
             rows.push_back(std::move(row));
     }
-    print_table(rows, o, renderer_name, scene.triangle_count(), timing);
+    print_table(rows, o, renderer_name, scene.triangle_count(), timing, visible_hemisphere(scene));
     if (!o.json.empty())
         write_file_atomically(o.json, to_json(rows, o, renderer_name, scene.triangle_count(), timing).dump(2) + "\n");
     return 0;

@@ -18,7 +18,7 @@ namespace envshadow::app {
 namespace {
 
 struct DecomposeArguments {
-    std::string env, method = "lloyd", json, png;
+    std::string env, method = "lloyd", json, png, hemisphere = "full";
     int lights = 128;
     std::uint64_t seed = 1;
     bool clamp_invalid = false;
@@ -34,6 +34,7 @@ nlohmann::ordered_json to_json(const Decomposition& d) {
                                                 {"cos_radius", c.cos_radius},
                                                 {"cos_radius_weighted", c.cos_radius_weighted}});
     return {{"method", std::string(to_string(d.method))},
+            {"hemisphere", std::string(to_string(d.hemisphere))},
             {"width", d.width},
             {"height", d.height},
             {"lights", lights},
@@ -49,6 +50,7 @@ int run_decompose(const DecomposeArguments& args) {
     options.method = parse_method(args.method);
     options.lights = args.lights;
     options.seed = args.seed;
+    options.hemisphere = parse_hemisphere(args.hemisphere);
     if (options.lights < 1 || options.lights > kMaxLights)
         throw UsageError("--lights " + std::to_string(options.lights) + " is outside 1.." + std::to_string(kMaxLights));
 
@@ -64,8 +66,9 @@ int run_decompose(const DecomposeArguments& args) {
     if (!args.json.empty()) write_file_atomically(args.json, to_json(d).dump(2) + "\n");
     if (!args.png.empty()) write_png(args.png, draw_cells(map, d));
 
-    std::printf("decompose: %s %dx%d, %s, %zu lights, %.3f s", args.env.c_str(), d.width, d.height,
-                std::string(to_string(d.method)).c_str(), d.cells.size(), d.seconds);
+    std::printf("decompose: %s %dx%d, %s, %s, %zu lights, %.3f s", args.env.c_str(), d.width, d.height,
+                std::string(to_string(d.method)).c_str(),
+                d.hemisphere == Hemisphere::upper ? "upper hemisphere" : "full sphere", d.cells.size(), d.seconds);
     if (options.method == Method::lloyd || options.method == Method::ccvt) {
         std::printf(", %d iterations", d.iterations);
         if (d.coarse_iterations > 0) std::printf(" (%d of them at a lower resolution)", d.coarse_iterations);
@@ -73,8 +76,9 @@ int run_decompose(const DecomposeArguments& args) {
     }
     glm::dvec3 sum(0.0);
     for (const Cell& c : d.cells) sum += glm::dvec3(c.radiance);
-    std::printf("\nintegral of L dw = (%.6g, %.6g, %.6g), sum over the cells = (%.6g, %.6g, %.6g)\n", d.integral.r,
-                d.integral.g, d.integral.b, sum.r, sum.g, sum.b);
+    std::printf("\nintegral of L dw%s = (%.6g, %.6g, %.6g), sum over the cells = (%.6g, %.6g, %.6g)\n",
+                d.hemisphere == Hemisphere::upper ? " over the upper hemisphere" : "", d.integral.r, d.integral.g,
+                d.integral.b, sum.r, sum.g, sum.b);
     return 0;
 }
 
@@ -89,6 +93,9 @@ Command add_decompose_command(CLI::App& parent) {
     app->add_option("--method", args->method, "lloyd (default), ccvt, mediancut, random or fs")
         ->check(CLI::IsMember({"lloyd", "ccvt", "mediancut", "random", "fs"}));
     app->add_option("--seed", args->seed, "Seed of the random choices (random; lloyd's start)");
+    app->add_option("--hemisphere", args->hemisphere,
+                    "full (default) or upper: only the directions above the horizon (a scene with a ground)")
+        ->check(CLI::IsMember({"full", "upper"}));
     app->add_option("--json", args->json, "Write the cells as JSON here");
     app->add_option("--png", args->png, "Write a picture of the cells over the map here");
     app->add_flag("--clamp-invalid", args->clamp_invalid, "Set NaN and infinite texels to 0 instead of failing");

@@ -77,8 +77,11 @@ int run_render(const RenderOptions& o) {
     Scene scene = load_scene(o.scene);
     if (!o.env.empty()) scene.environment.source = o.env;
     const EnvironmentMap map = load_environment(environment_at_time(scene.environment.source, o.time));
+    // A ground hides every direction below the horizon: only the upper hemisphere is decomposed.
+    const Hemisphere hemisphere = scene.has_ground ? Hemisphere::upper : Hemisphere::full;
     const Decomposition decomposition =
-        fs_gpu ? Decomposition{} : decompose(map, DecomposeOptions{method, o.lights, o.seed});
+        fs_gpu ? Decomposition{}
+               : decompose(map, {.method = method, .lights = o.lights, .seed = o.seed, .hemisphere = hemisphere});
 
     auto context = gl::create_context(gl::parse_backend(o.backend));
     render::Renderer renderer(settings);
@@ -104,7 +107,8 @@ int run_render(const RenderOptions& o) {
             renderer.set_settings(settings);
             const auto start = std::chrono::steady_clock::now();
             if (fs_sampler) {  // the lights are regenerated every frame; in map space, as cells are
-                fs_sampler->sample(renderer.environment_texture(), render::FsSampleRequest{o.lights});
+                fs_sampler->sample(renderer.environment_texture(),
+                                   render::FsSampleRequest{.samples = o.lights, .upper_hemisphere = scene.has_ground});
                 renderer.set_lights(fs_sampler->read_lights());
                 const std::chrono::duration<double, std::milli> sampled = std::chrono::steady_clock::now() - start;
                 if (frame >= warmup) times[mode]["fs-gpu sampling wall"].push_back(sampled.count());
@@ -121,14 +125,17 @@ int run_render(const RenderOptions& o) {
     std::printf("scene %s, %dx%d, %s on %s\n", o.scene.c_str(), o.width, o.height,
                 std::string(gl::to_string(context->backend())).c_str(), context->renderer().c_str());
     if (fs_sampler)
-        std::printf("fs-gpu: %u lights of %u samples from a %dx%d importance map of %s, every frame, %.2f ms wall\n",
-                    fs_sampler->read_counts().light_count, fs_sampler->read_counts().samples,
-                    fs_sampler->importance_size().x, fs_sampler->importance_size().y, map.source.c_str(),
-                    summarize(times[modes.front()]["fs-gpu sampling wall"]).median);
+        std::printf(
+            "fs-gpu: %u lights of %u samples from a %dx%d importance map of %s, %s, every frame, %.2f ms wall\n",
+            fs_sampler->read_counts().light_count, fs_sampler->read_counts().samples, fs_sampler->importance_size().x,
+            fs_sampler->importance_size().y, map.source.c_str(),
+            hemisphere == Hemisphere::upper ? "upper hemisphere" : "full sphere",
+            summarize(times[modes.front()]["fs-gpu sampling wall"]).median);
     else
-        std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n",
+        std::printf("decomposition: %s, %zu cells of %dx%d %s, %s, %.3f s\n",
                     std::string(to_string(decomposition.method)).c_str(), decomposition.cells.size(),
-                    decomposition.width, decomposition.height, map.source.c_str(), decomposition.seconds);
+                    decomposition.width, decomposition.height, map.source.c_str(),
+                    hemisphere == Hemisphere::upper ? "upper hemisphere" : "full sphere", decomposition.seconds);
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,

@@ -37,6 +37,7 @@ layout(std430, binding = 1) writeonly buffer FsCounts { FS_COUNTS_MEMBERS };
 layout(location = 0) uniform int u_expected_samples;  // M
 layout(location = 1) uniform int u_capacity;          // samples the capture buffer holds
 layout(location = 2) uniform dvec3 u_weights;         // error to: next texel, below, below the next
+layout(location = 3) uniform int u_scan_rows;         // rows scanned: all, or those above the horizon
 
 out uint fs_texel;  // fs_pack_sample(j * width + i, multiplicity)
 
@@ -122,7 +123,7 @@ void visit(int column, int row) {
     visit(first + ((k) + 3) * step, row);
 
 void main() {
-    const int height = textureSize(u_importance, 0).y;
+    const int height = u_scan_rows;
     importance_height = height;
     double sum = 0.0;  // S, from the importance pass's row sums (Listing 1.1 sums every texel here)
     for (int row = 0; row < height; ++row) sum += row_sum[row];

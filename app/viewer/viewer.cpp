@@ -180,8 +180,12 @@ private:
         selected_object_ = 0;
     }
 
+    // A ground hides every direction below the horizon: only the upper hemisphere is decomposed.
+    Hemisphere visible_hemisphere() const { return scene_.has_ground ? Hemisphere::upper : Hemisphere::full; }
+
     void start_environment(const std::string& source) {
-        const DecomposeOptions decompose_options{method_, lights_, seed_};
+        const DecomposeOptions decompose_options{
+            .method = method_, .lights = lights_, .seed = seed_, .hemisphere = visible_hemisphere()};
         environment_job_.start("loading " + source, [source, decompose_options] {
             EnvironmentLoadReport report;
             auto map = std::make_shared<const EnvironmentMap>(load_environment(source, {}, &report));
@@ -191,7 +195,8 @@ private:
 
     void start_decomposition() {
         if (!environment_) return;
-        const DecomposeOptions decompose_options{method_, lights_, seed_};
+        const DecomposeOptions decompose_options{
+            .method = method_, .lights = lights_, .seed = seed_, .hemisphere = visible_hemisphere()};
         environment_job_.start(
             std::string("decomposing (") + std::string(to_string(method_)) + ", N = " + std::to_string(lights_) + ")",
             [map = environment_->map, decompose_options] { return load_and_decompose(map, decompose_options); });
@@ -213,7 +218,9 @@ private:
         if (auto model = model_job_.poll(error_)) {
             Scene scene = std::move(model->scene);
             scene.environment = scene_.environment;  // a dropped model keeps the current environment
+            const bool ground_changed = scene.has_ground != scene_.has_ground;
             set_scene(std::move(scene));
+            if (ground_changed) start_decomposition();  // the other hemisphere
             error_.clear();
         }
     }
@@ -351,7 +358,8 @@ private:
         try {
             if (!fs_sampler_) fs_sampler_.emplace(render::embedded_shaders());
             const auto start = std::chrono::steady_clock::now();
-            fs_sampler_->sample(renderer_->environment_texture(), render::FsSampleRequest{lights_});
+            fs_sampler_->sample(renderer_->environment_texture(),
+                                render::FsSampleRequest{.samples = lights_, .upper_hemisphere = scene_.has_ground});
             fs_lights_ = fs_sampler_->read_lights();
             renderer_->set_lights(fs_lights_);
             fs_sampling_ms_ =
@@ -431,7 +439,8 @@ private:
                 }
             } else if (environment_) {
                 const Decomposition& d = environment_->decomposition;
-                ImGui::Text("%zu cells, decomposed in %.1f ms (%d iterations)", d.cells.size(), d.seconds * 1000.0,
+                ImGui::Text("%zu cells of the %s, decomposed in %.1f ms (%d iterations)", d.cells.size(),
+                            d.hemisphere == Hemisphere::upper ? "upper hemisphere" : "full sphere", d.seconds * 1000.0,
                             d.iterations);
             }
             if (environment_) {
@@ -581,7 +590,8 @@ private:
                 const ImVec2 mouse = ImGui::GetMousePos();
                 const int i = std::clamp(int((mouse.x - origin.x) / w * float(d.width)), 0, d.width - 1);
                 const int j = std::clamp(int((mouse.y - origin.y) / h * float(d.height)), 0, d.height - 1);
-                selected_cell_ = d.texel_cell[size_t(j) * size_t(d.width) + size_t(i)];
+                const std::uint16_t cell = d.texel_cell[size_t(j) * size_t(d.width) + size_t(i)];
+                if (cell != kNoCell) selected_cell_ = cell;  // below the horizon of an upper-hemisphere decomposition
             }
             if (!d.cells.empty()) {
                 ImGui::SliderInt("cell", &selected_cell_, 0, int(d.cells.size()) - 1);
