@@ -138,11 +138,13 @@ const char* pass_timing_name(gl::PassTiming timing) {
 }
 
 void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std::string& renderer_name,
-                 std::size_t triangles, gl::PassTiming timing) {
+                 std::size_t triangles, gl::PassTiming timing, Hemisphere hemisphere) {
     std::printf(
-        "envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s\n",
+        "envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s  |  "
+        "lights from the %s\n",
         o.common.scene.c_str(), renderer_name.c_str(), o.common.backend.c_str(), triangles, o.frames, o.warmup,
-        timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries");
+        timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries",
+        hemisphere_words(hemisphere));
     std::vector<std::string> pass_names;  // union over the rows, in pipeline order
     for (const Row& r : rows)
         for (std::size_t i = 0; i < r.pass_order.size(); ++i)
@@ -257,6 +259,7 @@ int run_bench(const BenchOptions& o) {
     const Scene& scene = inputs.scene;
     const EnvironmentMap& map = inputs.map;
     const render::LightMethod& method = render::light_method(c.method);
+    const Hemisphere hemisphere = hemisphere_for(c.hemisphere, scene);
     render::FsSamplerOptions fs_options;
     if (method.kind == render::LightSourceKind::gpu_fs) {
         const glm::ivec2 size = fs_importance_size(o.fs_importance, map);
@@ -282,11 +285,12 @@ int run_bench(const BenchOptions& o) {
         const int lights = point.lights ? point.lights : c.lights;
         auto found = light_sources.find(lights);
         if (found == light_sources.end())
-            found =
-                light_sources.emplace(lights, render::make_light_source(method, map, lights, c.seed, fs_options)).first;
+            found = light_sources
+                        .emplace(lights, render::make_light_source(method, map, lights, c.seed, hemisphere, fs_options))
+                        .first;
         for (Row& row : measure(o, point, scene, variants, found->second)) rows.push_back(std::move(row));
     }
-    print_table(rows, o, renderer_name, scene.triangle_count(), timing);
+    print_table(rows, o, renderer_name, scene.triangle_count(), timing, hemisphere);
     if (!o.json.empty())
         write_file_atomically(o.json, to_json(rows, o, renderer_name, scene.triangle_count(), timing).dump(2) + "\n");
     return 0;

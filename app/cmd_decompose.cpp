@@ -19,7 +19,7 @@ namespace {
 
 struct DecomposeArguments {
     CommonOptions common;  // --env, --lights, --method, --seed
-    std::string json, png;
+    std::string json, png, hemisphere = "full";
     bool clamp_invalid = false;
 };
 
@@ -33,6 +33,7 @@ nlohmann::ordered_json to_json(const Decomposition& d) {
                                                 {"cos_radius", c.cos_radius},
                                                 {"cos_radius_weighted", c.cos_radius_weighted}});
     return {{"method", std::string(to_string(d.method))},
+            {"hemisphere", std::string(to_string(d.hemisphere))},
             {"width", d.width},
             {"height", d.height},
             {"lights", lights},
@@ -45,7 +46,8 @@ nlohmann::ordered_json to_json(const Decomposition& d) {
 
 int run_decompose(const DecomposeArguments& args) {
     const std::string& env = args.common.env;
-    const DecomposeOptions options{parse_method(args.common.method), args.common.lights, args.common.seed};
+    DecomposeOptions options{parse_method(args.common.method), args.common.lights, args.common.seed};
+    options.hemisphere = parse_hemisphere(args.hemisphere);
 
     EnvironmentLoadReport report;
     const EnvironmentMap map = load_environment(env, {args.clamp_invalid}, &report);
@@ -59,8 +61,8 @@ int run_decompose(const DecomposeArguments& args) {
     if (!args.json.empty()) write_file_atomically(args.json, to_json(d).dump(2) + "\n");
     if (!args.png.empty()) write_png(args.png, draw_cells(map, d));
 
-    std::printf("decompose: %s %dx%d, %s, %zu lights, %.3f s", env.c_str(), d.width, d.height,
-                std::string(to_string(d.method)).c_str(), d.cells.size(), d.seconds);
+    std::printf("decompose: %s %dx%d, %s, %s, %zu lights, %.3f s", env.c_str(), d.width, d.height,
+                std::string(to_string(d.method)).c_str(), hemisphere_words(d.hemisphere), d.cells.size(), d.seconds);
     if (options.method == Method::lloyd || options.method == Method::ccvt) {
         std::printf(", %d iterations", d.iterations);
         if (d.coarse_iterations > 0) std::printf(" (%d of them at a lower resolution)", d.coarse_iterations);
@@ -68,8 +70,9 @@ int run_decompose(const DecomposeArguments& args) {
     }
     glm::dvec3 sum(0.0);
     for (const Cell& c : d.cells) sum += glm::dvec3(c.radiance);
-    std::printf("\nintegral of L dw = (%.6g, %.6g, %.6g), sum over the cells = (%.6g, %.6g, %.6g)\n", d.integral.r,
-                d.integral.g, d.integral.b, sum.r, sum.g, sum.b);
+    std::printf("\nintegral of L dw%s = (%.6g, %.6g, %.6g), sum over the cells = (%.6g, %.6g, %.6g)\n",
+                d.hemisphere == Hemisphere::upper ? " over the upper hemisphere" : "", d.integral.r, d.integral.g,
+                d.integral.b, sum.r, sum.g, sum.b);
     return 0;
 }
 
@@ -83,7 +86,11 @@ Command add_decompose_command(CLI::App& parent) {
     set.gpu_method = false;
     set.size = false;
     set.backend = false;
+    set.hemisphere = false;  // its own --hemisphere full|upper: there is no scene
     add_common_options(app, &args->common, set);
+    app->add_option("--hemisphere", args->hemisphere,
+                    "full (default) or upper: only the directions above the horizon (a scene with a ground)")
+        ->check(CLI::IsMember({"full", "upper"}));
     app->add_option("--json", args->json, "Write the cells as JSON here");
     app->add_option("--png", args->png, "Write a picture of the cells over the map here");
     app->add_flag("--clamp-invalid", args->clamp_invalid, "Set NaN and infinite texels to 0 instead of failing");

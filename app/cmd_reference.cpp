@@ -42,7 +42,8 @@ Command add_reference_command(CLI::App& parent) {
     o->common.height = o->render.height;
     o->common.seed = o->render.seed;
     CommonOptionSet set;
-    set.lights = false;  // nor --method: the reference integrates the map itself
+    set.hemisphere = false;  // the reference integrates the whole environment, hiding what the ground hides
+    set.lights = false;      // nor --method: the reference integrates the map itself
     set.backend = false;
     add_common_options(app, &o->common, set);
     add_time_option(app, &o->render.time);

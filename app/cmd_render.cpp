@@ -80,7 +80,8 @@ int run_render(const RenderOptions& o) {
     renderer.set_environment(map);
     // fs-gpu: Floyd-Steinberg samples of the environment texture made on the GPU every frame
     // (docs/FS_GPU.md), instead of a decomposition at load time.
-    render::LightSource lights = render::make_light_source(render::light_method(c.method), map, c.lights, c.seed);
+    render::LightSource lights = render::make_light_source(render::light_method(c.method), map, c.lights, c.seed,
+                                                           hemisphere_for(c.hemisphere, scene));
     lights.attach(renderer);
     const render::CameraView view = render::camera_view(scene, c.width, c.height, o.time);
 
@@ -109,18 +110,18 @@ int run_render(const RenderOptions& o) {
                 std::string(gl::to_string(context->backend())).c_str(), context->renderer().c_str());
     if (const render::FsSampler* sampler = lights.sampler()) {
         const render::FsCounts counts = sampler->read_counts();
-        std::printf("%s: %u lights of %u samples from a %dx%d importance map of %s, every frame, %.2f ms wall",
+        std::printf("%s: %u lights of %u samples from a %dx%d importance map of %s, %s, every frame, %.2f ms wall",
                     std::string(lights.method().name()).c_str(), counts.light_count, counts.samples,
                     sampler->importance_size().x, sampler->importance_size().y, map.source.c_str(),
-                    summarize(times[modes.front()][kSamplingWall]).median);
+                    hemisphere_words(lights.hemisphere()), summarize(times[modes.front()][kSamplingWall]).median);
         if (lights.lights_folded() > 0)
             std::printf(" (%d beyond the %d the renderer takes folded into the brightest)", lights.lights_folded(),
                         kMaxLights);
         std::printf("\n");
     } else {
         const Decomposition& d = lights.decomposition();
-        std::printf("decomposition: %s, %zu cells of %dx%d %s, %.3f s\n", std::string(to_string(d.method)).c_str(),
-                    d.cells.size(), d.width, d.height, map.source.c_str(), d.seconds);
+        std::printf("decomposition: %s, %zu cells of %dx%d %s, %s, %.3f s\n", std::string(to_string(d.method)).c_str(),
+                    d.cells.size(), d.width, d.height, map.source.c_str(), hemisphere_words(d.hemisphere), d.seconds);
     }
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);

@@ -41,6 +41,11 @@ void add_common_options(CLI::App* app, CommonOptions* o, const CommonOptionSet& 
         app->add_option("--height", o->height, "Image height")->check(CLI::Range(kMinImageSize, kMaxImageHeight));
     }
     if (set.backend) app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
+    if (set.hemisphere)
+        app->add_option("--hemisphere", o->hemisphere,
+                        "Directions the lights come from: full (default, the whole sphere), upper (above the "
+                        "horizon), or auto (upper where the scene has a ground)")
+            ->check(CLI::IsMember({"full", "upper", "auto"}));
 }
 
 const CLI::Validator& finite_number() {
@@ -94,6 +99,15 @@ render::RenderSettings apply(const OptimisationFlags& flags, render::RenderSetti
         });
     if (!flags.prepass.empty()) settings.depth_prepass = parse_on_off(flags.prepass);
     return settings;
+}
+
+Hemisphere hemisphere_for(const std::string& choice, const Scene& scene) {
+    if (choice == "auto") return scene.has_ground ? Hemisphere::upper : Hemisphere::full;
+    return naming_flag("--hemisphere", [&] { return parse_hemisphere(choice); });
+}
+
+const char* hemisphere_words(Hemisphere hemisphere) {
+    return hemisphere == Hemisphere::upper ? "upper hemisphere" : "full sphere";
 }
 
 }  // namespace envshadow::app

@@ -9,8 +9,10 @@
 #include <CLI/CLI.hpp>
 
 #include "core/error.h"
+#include "env/cells.h"
 #include "gl/timer.h"
 #include "render/render_settings.h"
+#include "scene/scene.h"
 
 namespace envshadow::app {
 
@@ -19,13 +21,14 @@ inline constexpr int kMinImageSize = 16;
 
 // The options of every command that renders (decompose takes the lights part only).
 struct CommonOptions {
-    std::string scene;              // --scene: scene JSON or .gltf/.glb
-    std::string env;                // --env: overrides the scene's environment (decompose: the map)
-    int lights = 128;               // --lights: 1..kMaxLights
-    std::string method = "lloyd";   // --method: a name of render::light_methods()
-    std::uint64_t seed = 1;         // --seed
-    int width = 960, height = 540;  // --width, --height: kMinImageSize..kMaxImageWidth/Height
-    std::string backend = "egl";    // --backend: egl or osmesa
+    std::string scene;                // --scene: scene JSON or .gltf/.glb
+    std::string env;                  // --env: overrides the scene's environment (decompose: the map)
+    int lights = 128;                 // --lights: 1..kMaxLights
+    std::string method = "lloyd";     // --method: a name of render::light_methods()
+    std::uint64_t seed = 1;           // --seed
+    int width = 960, height = 540;    // --width, --height: kMinImageSize..kMaxImageWidth/Height
+    std::string backend = "egl";      // --backend: egl or osmesa
+    std::string hemisphere = "full";  // --hemisphere: full, upper, or auto (upper where the scene has a ground)
 };
 
 // Which of CommonOptions a command takes.
@@ -37,10 +40,17 @@ struct CommonOptionSet {
     bool seed = true;
     bool size = true;  // --width, --height
     bool backend = true;
+    bool hemisphere = true;  // --hemisphere full|upper|auto (decompose has its own: full|upper)
 };
 
 // Adds the options `set` names to `app`, stored in `options` (whose values are the defaults).
 void add_common_options(CLI::App* app, CommonOptions* options, const CommonOptionSet& set);
+
+// The directions to decompose for `scene` by --hemisphere: "auto" is the upper hemisphere where the
+// scene has a ground (which hides every direction below its horizon, docs/DESIGN.md §3.1).
+Hemisphere hemisphere_for(const std::string& choice, const Scene& scene);
+// "full sphere" or "upper hemisphere", as the commands print it.
+const char* hemisphere_words(Hemisphere hemisphere);
 
 // A number that is neither NaN nor infinite (CLI::Range lets NaN through: every comparison with it fails).
 const CLI::Validator& finite_number();

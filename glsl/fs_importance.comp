@@ -14,6 +14,10 @@ layout(binding = IMAGE_RADIANCE, rgba32f) uniform writeonly image2D u_radiance; 
 layout(binding = IMAGE_MOMENTS, rgba32f) uniform writeonly image2D u_moments;    // sum of lum(L) dw w (xyz), sum dw (w)
 layout(std430, binding = BINDING_FS_ROW_SUMS) writeonly buffer FsRowSums { double row_sum[]; };
 
+// A ground hides the directions below the horizon: only the environment texels above it count (for an
+// odd height, the upper half of the middle row's solid angle), so no sample falls below the ground.
+layout(location = LOC_UPPER_HEMISPHERE) uniform bool u_upper_hemisphere;
+
 shared double partial_sums[FS_WORK_GROUP];
 
 // First fine index whose texel centre lies in coarse texel `coarse`: ceil(coarse * fine / coarse_size - 0.5).
@@ -35,7 +39,8 @@ void main() {
         vec3 radiance = vec3(0.0), importance_direction = vec3(0.0);
         float solid_angle = 0.0;
         for (int y = env_row_begin; y < env_row_end; ++y) {
-            const float texel_solid_angle = fs_texel_solid_angle(y, env_size);
+            const float above = !u_upper_hemisphere || 2 * y + 2 <= env_size.y ? 1.0 : 2 * y + 1 == env_size.y ? 0.5 : 0.0;
+            const float texel_solid_angle = above * fs_texel_solid_angle(y, env_size);
             vec3 row_radiance = vec3(0.0), row_direction = vec3(0.0);
             for (int x = env_column_begin; x < env_column_end; ++x) {
                 const vec3 texel = max(texelFetch(u_environment, ivec2(x, y), 0).rgb, vec3(0.0));  // docs/DESIGN.md §2: clamp negatives

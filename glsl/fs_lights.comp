@@ -2,11 +2,12 @@
 // Turns the Floyd-Steinberg samples (fs_sampler.geom) into lights once their number K is known
 // (docs/DESIGN.md §5). A light of multiplicity m (m of the K samples on one texel) gets the texel's
 // importance-weighted mean direction (its centre where it has no importance: as the CPU's
-// centroid_direction does, falling back on the centre rather than the solid-angle mean); radiance of luminance m S / K in the texel's colour (the estimator L / p of seed 000 §1.2
-// for a texel chosen with p = I / S, over K samples); a cap of solid angle m 4 pi / K (cos_radius);
-// and, as its radiance-weighted cap, the solid angle over which the texel's own radiance integrates
-// to that luminance, m (S / K) dw / I, at most m 4 pi / K: a texel-sized cap for a sun, 4 pi / K
-// where importance is uniform.
+// centroid_direction does, falling back on the centre rather than the solid-angle mean); radiance of
+// luminance m S / K in the texel's colour (the estimator L / p of seed 000 §1.2 for a texel chosen with
+// p = I / S, over K samples); a cap of solid angle m 4 pi / K (cos_radius; m 2 pi / K when only the
+// upper hemisphere is sampled); and, as its radiance-weighted cap, the solid angle over which the
+// texel's own radiance integrates to that luminance, m (S / K) dw / I, at most that cap's: a
+// texel-sized cap for a sun, 4 pi / K where importance is uniform.
 #include "fs_common.glsl"
 
 layout(local_size_x = FS_WORK_GROUP) in;
@@ -19,6 +20,7 @@ layout(std430, binding = BINDING_FS_LIGHTS) writeonly buffer FsLights { FsLight 
 
 layout(location = LOC_WORLD_FROM_MAP) uniform mat3 u_world_from_map;
 layout(location = LOC_RADIANCE_SCALE) uniform float u_radiance_scale;  // exposure
+layout(location = LOC_SAMPLED_SOLID_ANGLE) uniform float u_sampled_solid_angle;  // 4 pi, or 2 pi for the upper hemisphere
 
 void main() {
     const uint index = gl_GlobalInvocationID.x;
@@ -31,7 +33,7 @@ void main() {
     const float texel_importance = texel_radiance.a;  // lum(rgb)
     // A texel may be chosen by carried error alone while itself black: give it a neutral colour.
     const vec3 chromaticity = texel_importance > 0.0 ? texel_radiance.rgb / texel_importance : vec3(1.0);
-    const float solid_angle = 4.0 * PI * share;
+    const float solid_angle = u_sampled_solid_angle * share;
     const float light_importance = importance_sum * share;
     const float local_solid_angle = texel_importance > 0.0
         ? min(solid_angle, light_importance * fs_texel_solid_angle(texel.y, size) / texel_importance)

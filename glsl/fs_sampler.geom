@@ -39,6 +39,7 @@ layout(std430, binding = BINDING_FS_COUNTS) writeonly buffer FsCounts { FS_COUNT
 layout(location = LOC_EXPECTED_SAMPLES) uniform int u_expected_samples;  // M
 layout(location = LOC_CAPACITY) uniform int u_capacity;                  // samples the capture buffer holds
 layout(location = LOC_WEIGHTS) uniform dvec3 u_weights;                  // error to: next texel, below, below the next
+layout(location = LOC_SCAN_ROWS) uniform int u_scan_rows;                  // rows scanned: all, or those above the horizon
 
 out uint fs_texel;  // fs_pack_sample(j * width + i, multiplicity)
 
@@ -124,7 +125,7 @@ void visit(int column, int row) {
     visit(first + ((k) + 3) * step, row);
 
 void main() {
-    const int height = textureSize(u_importance, 0).y;
+    const int height = u_scan_rows;
     importance_height = height;
     double sum = 0.0;  // S, from the importance pass's row sums (Listing 1.1 sums every texel here)
     for (int row = 0; row < height; ++row) sum += row_sum[row];

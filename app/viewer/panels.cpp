@@ -253,7 +253,8 @@ void Panels::cells_panel(ViewerControls& controls, const PanelInputs& in) {
             const ImVec2 mouse = ImGui::GetMousePos();
             const int i = std::clamp(int((mouse.x - origin.x) / w * float(d.width)), 0, d.width - 1);
             const int j = std::clamp(int((mouse.y - origin.y) / h * float(d.height)), 0, d.height - 1);
-            controls.selected_cell = d.texel_cell[std::size_t(j) * std::size_t(d.width) + std::size_t(i)];
+            const std::uint16_t cell = d.texel_cell[std::size_t(j) * std::size_t(d.width) + std::size_t(i)];
+            if (cell != kNoCell) controls.selected_cell = cell;  // kNoCell: below an upper hemisphere's horizon
         }
         if (!d.cells.empty()) {
             controls.selected_cell = std::min(controls.selected_cell, int(d.cells.size()) - 1);

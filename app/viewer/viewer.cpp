@@ -175,7 +175,10 @@ private:
 
     // The map of `spec` at the animation time now, and its cells.
     void start_environment(const std::string& spec) {
-        const DecomposeOptions decompose_options{controls_.method, controls_.lights, controls_.seed};
+        const DecomposeOptions decompose_options{.method = controls_.method,
+                                                 .lights = controls_.lights,
+                                                 .seed = controls_.seed,
+                                                 .hemisphere = hemisphere_for(options_.common.hemisphere, scene_)};
         environment_job_.start("loading " + spec, [spec, time = controls_.time, decompose_options] {
             auto map = std::make_shared<const EnvironmentMap>(load_environment_at(spec, time));
             return load_and_decompose(spec, std::move(map), decompose_options);
@@ -184,7 +187,10 @@ private:
 
     void start_decomposition() {
         if (!environment_) return;
-        const DecomposeOptions decompose_options{controls_.method, controls_.lights, controls_.seed};
+        const DecomposeOptions decompose_options{.method = controls_.method,
+                                                 .lights = controls_.lights,
+                                                 .seed = controls_.seed,
+                                                 .hemisphere = hemisphere_for(options_.common.hemisphere, scene_)};
         environment_job_.start(std::string("decomposing (") + std::string(to_string(controls_.method)) +
                                    ", N = " + std::to_string(controls_.lights) + ")",
                                [spec = environment_->spec, map = environment_->map, decompose_options] {
@@ -207,7 +213,9 @@ private:
         if (auto model = model_job_.poll(error_)) {
             Scene scene = std::move(model->scene);
             scene.environment = scene_.environment;  // a dropped model keeps the current environment
+            const bool ground_changed = scene.has_ground != scene_.has_ground;
             set_scene(std::move(scene));
+            if (ground_changed) start_decomposition();  // the other hemisphere
             error_.clear();
         }
     }
@@ -368,7 +376,9 @@ private:
             if (auto sky = sky_job_.wait(error_)) show_sky(*sky);
         }
         try {
-            if (!gpu_fs_) gpu_fs_.emplace(controls_.lights, render::FsSamplerOptions{});
+            if (!gpu_fs_ || gpu_fs_->hemisphere() != hemisphere_for(options_.common.hemisphere, scene_))
+                gpu_fs_.emplace(controls_.lights, render::FsSamplerOptions{},
+                                hemisphere_for(options_.common.hemisphere, scene_));
             gpu_fs_->set_requested_lights(controls_.lights);
             gpu_fs_->update(*renderer_);
         } catch (const std::exception& e) {  // e.g. a GL without storage blocks in geometry shaders

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "core/error.h"
@@ -50,6 +51,18 @@ int fs_block_size(int width, int height, int samples) {
         block *= 2;
     }
     return block;
+}
+
+int fs_scan_rows(int importance_height, int environment_height, bool upper_hemisphere) {
+    if (!upper_hemisphere) return importance_height;
+    // Importance row r sums the environment rows from ceil(r H / h - 1/2) (glsl/fs_importance.comp,
+    // block_start); it holds light from above the horizon when that is one of the upper ceil(H / 2).
+    const int upper_rows = (environment_height + 1) / 2;
+    int rows = 0;
+    while (rows < importance_height &&
+           (2LL * rows * environment_height + importance_height - 1) / (2LL * importance_height) < upper_rows)
+        ++rows;
+    return rows;
 }
 
 int fs_capacity(int samples) {
@@ -142,10 +155,12 @@ void FsSampler::sample(const gl::Texture& environment, const FsSampleRequest& re
     const int capacity = fs_capacity(request.samples);
     invocations_ = (capacity + vertices - 1) / vertices;
     const gl::Program& sampler = sampler_program(width, std::min(vertices, capacity));
+    const int scan_rows = fs_scan_rows(height, environment.height(), request.upper_hemisphere);
 
     {
         gl::ScopedPass pass(timer, "fs importance");
         importance_program_.use();
+        glUniform1i(loc::upper_hemisphere, request.upper_hemisphere ? 1 : 0);
         environment.bind(unit::environment);
         glBindSampler(unit::environment, 0);
         glBindImageTexture(image::importance, importance_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
@@ -160,8 +175,9 @@ void FsSampler::sample(const gl::Texture& environment, const FsSampleRequest& re
         sampler.use();
         glUniform1i(loc::expected_samples, request.samples);
         glUniform1i(loc::capacity, capacity);
-        const FsDiffusionWeights weights = fs_diffusion_weights(options_.weighting, request.samples, width, height);
+        const FsDiffusionWeights weights = fs_diffusion_weights(options_.weighting, request.samples, width, scan_rows);
         glUniform3d(loc::weights, weights.next, weights.below, weights.below_next);
+        glUniform1i(loc::scan_rows, scan_rows);
         importance_.bind(unit::importance);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_row_sums, row_sums_.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_counts, counts_.id());
@@ -184,6 +200,7 @@ void FsSampler::sample(const gl::Texture& environment, const FsSampleRequest& re
         lights_program_.use();
         glUniformMatrix3fv(loc::world_from_map, 1, GL_FALSE, &request.world_from_map[0][0]);
         glUniform1f(loc::radiance_scale, request.radiance_scale);
+        glUniform1f(loc::sampled_solid_angle, float((request.upper_hemisphere ? 2.0 : 4.0) * std::numbers::pi));
         radiance_.bind(unit::radiance);
         moments_.bind(unit::moments);
         glBindSampler(unit::radiance, 0);

@@ -43,7 +43,7 @@ struct FsCounts {
     std::uint32_t samples = 0;      // K: the samples those lights carry (multiplicities summed)
     float importance_sum = 0.0f;    // S
     std::uint32_t capacity = 0;
-    std::uint32_t rows_scanned = 0;  // the importance map's height unless the scan was cut short
+    std::uint32_t rows_scanned = 0;  // fs_scan_rows unless the scan was cut short
     std::uint32_t lights_found = 0;  // above capacity: lights were dropped (K counts only those kept)
     std::uint32_t unused[2] = {};
 };
@@ -116,6 +116,10 @@ struct FsSampleRequest {
     int samples = 128;               // M, the number of samples wanted (1 .. shader::kFsMaxMultiplicity, 2047)
     glm::mat3 world_from_map{1.0f};  // applied to the lights; the default identity keeps map space
     float radiance_scale = 1.0f;     // exposure
+    // A scene with a ground: only the environment above the horizon is sampled (DESIGN.md §3.1): the
+    // texels below it weigh nothing and the scan stops at the horizon (fs_scan_rows); each light's cap is
+    // m 2 pi / K.
+    bool upper_hemisphere = false;
 };
 
 class FsSampler {
@@ -169,6 +173,10 @@ private:
     gl::Framebuffer no_attachments_;  // draws need a complete framebuffer, even with rasterizer discard
     int capacity_ = 0, invocations_ = 0;
 };
+
+// The importance rows the scan visits: all `importance_height`, or with upper_hemisphere those holding
+// environment rows above the horizon (half of them when both heights are even: the horizon is a row border).
+int fs_scan_rows(int importance_height, int environment_height, bool upper_hemisphere);
 
 // Capacity reserved for M wanted samples: the scan produces M give or take a few (the error left at
 // the map's edges), so there is headroom.

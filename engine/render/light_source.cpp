@@ -51,7 +51,8 @@ const LightMethod& light_method(LightSourceKind kind, Method decomposition) {
 
 LightSource::LightSource(Decomposition decomposition) : decomposition_(std::move(decomposition)) {}
 
-LightSource::LightSource(int lights, FsSamplerOptions options) : kind_(LightSourceKind::gpu_fs) {
+LightSource::LightSource(int lights, FsSamplerOptions options, Hemisphere hemisphere)
+    : kind_(LightSourceKind::gpu_fs), hemisphere_(hemisphere) {
     set_requested_lights(lights);
     sampler_ = std::make_unique<FsSampler>(embedded_shaders(), options);
 }
@@ -78,7 +79,8 @@ void LightSource::attach(Renderer& renderer) const {
 void LightSource::update(Renderer& renderer) {
     if (!per_frame()) return;
     const auto start = std::chrono::steady_clock::now();
-    sampler_->sample(renderer.environment_texture(), FsSampleRequest{requested_});
+    sampler_->sample(renderer.environment_texture(),
+                     FsSampleRequest{.samples = requested_, .upper_hemisphere = hemisphere_ == Hemisphere::upper});
     sampled_ = sampler_->read_lights();  // waits for the sampler
     folded_ = fold_to_max_lights(sampled_);
     renderer.set_lights(sampled_);  // in map space, as cells are
@@ -86,9 +88,11 @@ void LightSource::update(Renderer& renderer) {
 }
 
 LightSource make_light_source(const LightMethod& method, const EnvironmentMap& map, int lights, std::uint64_t seed,
-                              const FsSamplerOptions& fs_options) {
-    if (method.kind == LightSourceKind::gpu_fs) return LightSource(lights, fs_options);
-    return LightSource(decompose(map, DecomposeOptions{method.decomposition, lights, seed}));
+                              Hemisphere hemisphere, const FsSamplerOptions& fs_options) {
+    if (method.kind == LightSourceKind::gpu_fs) return LightSource(lights, fs_options, hemisphere);
+    return LightSource(decompose(
+        map,
+        DecomposeOptions{.method = method.decomposition, .lights = lights, .seed = seed, .hemisphere = hemisphere}));
 }
 
 int fold_to_max_lights(std::vector<Cell>& lights) {

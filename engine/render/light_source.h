@@ -50,12 +50,14 @@ public:
     explicit LightSource(Decomposition decomposition);
     // `lights` samples (1..kMaxLights) of the renderer's environment texture every frame. A GL 4.5
     // context must be current; PlatformError where the GL cannot run the sampler.
-    LightSource(int lights, FsSamplerOptions options);
+    // With Hemisphere::upper only the directions above the horizon are sampled (a scene with a ground).
+    LightSource(int lights, FsSamplerOptions options, Hemisphere hemisphere = Hemisphere::full);
     ~LightSource();
     LightSource(LightSource&&) noexcept;
     LightSource& operator=(LightSource&&) noexcept;
 
     LightSourceKind kind() const { return kind_; }
+    Hemisphere hemisphere() const { return per_frame() ? hemisphere_ : decomposition_.hemisphere; }
     bool per_frame() const { return kind_ == LightSourceKind::gpu_fs; }
     const LightMethod& method() const;
 
@@ -87,6 +89,7 @@ private:
     Decomposition decomposition_;
     std::unique_ptr<FsSampler> sampler_;
     int requested_ = 0;
+    Hemisphere hemisphere_ = Hemisphere::full;  // gpu_fs: what is sampled; cells: decomposition_.hemisphere
     std::vector<Cell> sampled_;
     double sampling_ms_ = 0.0;
     int folded_ = 0;
@@ -94,8 +97,9 @@ private:
 
 // `method` for `map`: a decomposition into `lights` cells with `seed` now (cells), or a GPU sampler of
 // `lights` samples per frame (a GL context must be current; `fs_options` configure it).
+// `hemisphere`: the whole sphere, or only the directions above the horizon (docs/DESIGN.md §3.1).
 LightSource make_light_source(const LightMethod& method, const EnvironmentMap& map, int lights, std::uint64_t seed,
-                              const FsSamplerOptions& fs_options = {});
+                              Hemisphere hemisphere = Hemisphere::full, const FsSamplerOptions& fs_options = {});
 
 // At most kMaxLights of `lights`: the brightest, each scaled so that their sum keeps the radiance of
 // all (the renderer's atlas and light buffer hold kMaxLights). Returns how many were folded in.

@@ -50,6 +50,9 @@ namespace envshadow::render::shader {
     X(loc, weights, 2)                                                                                 \
     X(loc, world_from_map, 0)                                                                          \
     X(loc, radiance_scale, 1)                                                                          \
+    X(loc, scan_rows, 3)           /* fs_sampler.geom: rows scanned, all or those above the horizon */ \
+    X(loc, sampled_solid_angle, 2) /* fs_lights.comp: 4 pi, or 2 pi for the upper hemisphere */        \
+    X(loc, upper_hemisphere, 0)    /* fs_importance.comp */                                            \
     /* present.frag */                                                                                 \
     X(loc, exposure_scale, 0)                                                                          \
     /* texture units */                                                                                \
