@@ -2,6 +2,7 @@
 #include "env/environment.h"
 
 #include <stb_image.h>
+#include <tbb/parallel_for.h>
 
 #include <array>
 #include <charconv>
@@ -34,18 +35,28 @@ void check_shape(const std::string& name, long long width, long long height) {
 
 // Negative components (real photographs carry small ones) become 0; NaN, infinite and absurdly large
 // ones are an error unless the caller asked to clamp them too.
+// Row by row in parallel: also the process's first parallel work, so the thread pool starts here
+// rather than inside the decomposition that follows (2.5 ms on the 2-core VM).
 void sanitise(EnvironmentMap& map, const EnvironmentLoadOptions& options, EnvironmentLoadReport& report) {
-    for (glm::vec3& texel : map.texels)
-        for (int c = 0; c < 3; ++c) {
-            float& v = texel[c];
-            if (!std::isfinite(v) || v > kMaxRadiance) {
-                ++report.invalid_clamped;
-                v = 0.0f;
-            } else if (v < 0.0f) {
-                ++report.negative_clamped;
-                v = 0.0f;
+    std::vector<EnvironmentLoadReport> rows(static_cast<size_t>(map.height));
+    tbb::parallel_for(0, map.height, [&](int j) {
+        EnvironmentLoadReport& row = rows[size_t(j)];
+        for (int i = 0; i < map.width; ++i)
+            for (int c = 0; c < 3; ++c) {
+                float& v = map.at(i, j)[c];
+                if (!std::isfinite(v) || v > kMaxRadiance) {
+                    ++row.invalid_clamped;
+                    v = 0.0f;
+                } else if (v < 0.0f) {
+                    ++row.negative_clamped;
+                    v = 0.0f;
+                }
             }
-        }
+    });
+    for (const EnvironmentLoadReport& row : rows) {
+        report.invalid_clamped += row.invalid_clamped;
+        report.negative_clamped += row.negative_clamped;
+    }
     if (report.invalid_clamped > 0 && !options.clamp_invalid)
         throw InputError(map.source + ": " + std::to_string(report.invalid_clamped) +
                          " texel values are NaN, infinite or above 1e30 (--clamp-invalid sets them to 0)");

@@ -14,8 +14,11 @@ namespace {
 
 constexpr int kTopTileSize = 128;   // texels per side of the coarsest tiles
 constexpr int kChunkTileSize = 32;  // a row of these tiles is one unit of parallel work
-constexpr int kLeafTileSize = 4;    // below this, texels are scored one by one against the candidates
-constexpr int kLevels = 6;          // 128, 64, 32, 16, 8, 4
+// Below the leaf size, texels are scored one by one against the candidates. 8 x 8 rather than 4 x 4:
+// a quarter of the tiles' caps and moments (1.1 MB instead of 4.4 MB at 1024 x 512, fresh pages that a
+// first run pays for), the same cells, and no slower (docs/PERFORMANCE.md, issue 14).
+constexpr int kLeafTileSize = 8;
+constexpr int kLevels = 5;  // 128, 64, 32, 16, 8
 constexpr int kChunkLevel = 2;
 static_assert(kTopTileSize >> (kLevels - 1) == kLeafTileSize && kTopTileSize >> kChunkLevel == kChunkTileSize);
 constexpr int kRowsPerChunk = 8;  // partition_moments: rows summed together before the ordered reduction
@@ -343,12 +346,15 @@ std::vector<CellMoments> NearestSiteSearch::moments(std::span<const glm::dvec3> 
     return total;
 }
 
-Partition::Partition(const ImportanceMap& importance, SiteSearch search) : importance_(&importance), search_(search) {
-    if (search == SiteSearch::tiles) tiles_.emplace(importance);
+Partition::Partition(const ImportanceMap& importance, SiteSearch search) : importance_(&importance), search_(search) {}
+
+const NearestSiteSearch& Partition::tiles() const {
+    if (!tiles_) tiles_.emplace(*importance_);
+    return *tiles_;
 }
 
 std::vector<CellMoments> Partition::moments(std::span<const glm::dvec3> sites, std::span<const double> bias) const {
-    if (tiles_) return tiles_->moments(sites, bias);
+    if (search_ == SiteSearch::tiles) return tiles().moments(sites, bias);
     std::vector<std::uint16_t> texel_cell(importance_->texel_count());
     assign_nearest_brute_force(*importance_, sites, bias, texel_cell);
     return partition_moments(*importance_, texel_cell, int(sites.size()));
@@ -356,8 +362,8 @@ std::vector<CellMoments> Partition::moments(std::span<const glm::dvec3> sites, s
 
 void Partition::assign(std::span<const glm::dvec3> sites, std::span<const double> bias,
                        std::span<std::uint16_t> texel_cell) const {
-    if (tiles_)
-        tiles_->assign(sites, bias, texel_cell);
+    if (search_ == SiteSearch::tiles)
+        tiles().assign(sites, bias, texel_cell);
     else
         assign_nearest_brute_force(*importance_, sites, bias, texel_cell);
 }

@@ -92,7 +92,9 @@ private:
 enum class SiteSearch { tiles, brute_force };
 
 // The nearest-site partition of one importance map (which must outlive it) by either search: what the
-// relaxations evaluate at every iteration.
+// relaxations evaluate at every iteration. The tile hierarchy is built on first use, so that a method
+// that starts at a lower resolution (Lloyd) has freed that stage's memory by then: fresh pages are
+// what a decomposition's first run in a process costs most (docs/PERFORMANCE.md, issue 14).
 class Partition {
 public:
     Partition(const ImportanceMap& importance, SiteSearch search);
@@ -103,9 +105,11 @@ public:
                 std::span<std::uint16_t> texel_cell) const;
 
 private:
+    const NearestSiteSearch& tiles() const;
+
     const ImportanceMap* importance_;
     SiteSearch search_;
-    std::optional<NearestSiteSearch> tiles_;  // with SiteSearch::tiles
+    mutable std::optional<NearestSiteSearch> tiles_;  // with SiteSearch::tiles, once used
 };
 
 }  // namespace envshadow

@@ -530,15 +530,18 @@ int fill_empty_cells(const ImportanceMap& importance, const Partition& partition
 
 SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition) {
     // Start at Lloyd's asymptotic site density, sqrt of the importance density (Gersho 1979: rho^(d/(d+2))
-    // in d = 2 dimensions), well stratified: weight sqrt(lum) dw = sqrt(I dw).
-    std::vector<float> weight(importance.texel_count());
-    for (int j = 0; j < importance.height; ++j)
-        for (int i = 0; i < importance.width; ++i) {
-            const size_t t = size_t(j) * size_t(importance.width) + size_t(i);
-            weight[t] = float(std::sqrt(double(importance.importance[t]) * importance.row_solid_angle[size_t(j)]));
-        }
+    // in d = 2 dimensions), well stratified: weight sqrt(lum) dw = sqrt(I dw). (The weights are freed
+    // before the coarse stage allocates.)
     SiteSet result;
-    result.sites = initial_sites(importance, weight, count, seed);
+    {
+        std::vector<float> weight(importance.texel_count());
+        for (int j = 0; j < importance.height; ++j)
+            for (int i = 0; i < importance.width; ++i) {
+                const size_t t = size_t(j) * size_t(importance.width) + size_t(i);
+                weight[t] = float(std::sqrt(double(importance.importance[t]) * importance.row_solid_angle[size_t(j)]));
+            }
+        result.sites = initial_sites(importance, weight, count, seed);
+    }
     // Coarse to fine: converged at a lower resolution, where an iteration costs a fraction, the sites
     // need few iterations more at full resolution.
     for (int factor : kLloydCoarseFactors) {
