@@ -39,7 +39,7 @@ struct DecomposeOptions {
     int lights = 128;        // 1..kMaxLights (mediancut rounds down to a power of two; fs gives N or N - 1)
     std::uint64_t seed = 1;  // random and lloyd draw their initial sites with it (ccvt's start needs none)
     SiteSearch search = SiteSearch::tiles;
-    // upper: only the texels above the horizon (DESIGN.md §3.1), for a scene with a ground plane.
+    // upper: only the texels above the horizon (docs/DESIGN.md §3.1), for a scene with a ground plane.
     Hemisphere hemisphere = Hemisphere::full;
 };
 

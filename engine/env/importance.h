@@ -9,7 +9,7 @@
 
 namespace envshadow {
 
-// Which directions a decomposition covers (DESIGN.md §3.1): the whole sphere, or the hemisphere above
+// Which directions a decomposition covers (docs/DESIGN.md §3.1): the whole sphere, or the hemisphere above
 // the horizon (y >= 0), all that reaches an object standing on a ground plane.
 enum class Hemisphere { full, upper };
 

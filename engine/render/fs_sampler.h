@@ -116,7 +116,7 @@ struct FsSampleRequest {
     int samples = 128;               // M, the number of samples wanted (1 .. shader::kFsMaxMultiplicity, 2047)
     glm::mat3 world_from_map{1.0f};  // applied to the lights; the default identity keeps map space
     float radiance_scale = 1.0f;     // exposure
-    // A scene with a ground: only the environment above the horizon is sampled (DESIGN.md §3.1): the
+    // A scene with a ground: only the environment above the horizon is sampled (docs/DESIGN.md §3.1): the
     // texels below it weigh nothing and the scan stops at the horizon (fs_scan_rows); each light's cap is
     // m 2 pi / K.
     bool upper_hemisphere = false;

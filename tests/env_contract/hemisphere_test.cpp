@@ -1,4 +1,4 @@
-// Issue 14, part 1: with a ground plane only the upper hemisphere is decomposed (DESIGN.md §3.1). For
+// Issue 14, part 1: with a ground plane only the upper hemisphere is decomposed (docs/DESIGN.md §3.1). For
 // every method and N of {1, 16, 64, 128, 256}: Σ L̃_i equals the integral over the upper hemisphere,
 // every texel below the horizon is in no cell, every cell is non-empty, lies above the horizon and is
 // integrated from its texels above it. Reference values are recomputed here from the map's texels with
@@ -53,7 +53,7 @@ const EnvironmentMap& test_map(const std::string& spec) {
     return spec == "odd" ? odd : cached_map(spec);
 }
 
-// Everything DESIGN.md §3.1 promises about one upper-hemisphere decomposition.
+// Everything docs/DESIGN.md §3.1 promises about one upper-hemisphere decomposition.
 void expect_upper_hemisphere_cells(const EnvironmentMap& map, const Decomposition& d, Method method, int lights,
                                    const std::string& context) {
     SCOPED_TRACE(context);
