@@ -173,12 +173,18 @@ private:
         controls_.selected_object = 0;
     }
 
+    // The directions the lights come from for the scene on screen (--hemisphere).
+    Hemisphere hemisphere() const { return hemisphere_for(options_.common.hemisphere, scene_); }
+
+    // The decomposition the controls ask for.
+    DecomposeOptions current_decompose_options() const {
+        return {
+            .method = controls_.method, .lights = controls_.lights, .seed = controls_.seed, .hemisphere = hemisphere()};
+    }
+
     // The map of `spec` at the animation time now, and its cells.
     void start_environment(const std::string& spec) {
-        const DecomposeOptions decompose_options{.method = controls_.method,
-                                                 .lights = controls_.lights,
-                                                 .seed = controls_.seed,
-                                                 .hemisphere = hemisphere_for(options_.common.hemisphere, scene_)};
+        const DecomposeOptions decompose_options = current_decompose_options();
         environment_job_.start("loading " + spec, [spec, time = controls_.time, decompose_options] {
             auto map = std::make_shared<const EnvironmentMap>(load_environment_at(spec, time));
             return load_and_decompose(spec, std::move(map), decompose_options);
@@ -187,10 +193,7 @@ private:
 
     void start_decomposition() {
         if (!environment_) return;
-        const DecomposeOptions decompose_options{.method = controls_.method,
-                                                 .lights = controls_.lights,
-                                                 .seed = controls_.seed,
-                                                 .hemisphere = hemisphere_for(options_.common.hemisphere, scene_)};
+        const DecomposeOptions decompose_options = current_decompose_options();
         environment_job_.start(std::string("decomposing (") + std::string(to_string(controls_.method)) +
                                    ", N = " + std::to_string(controls_.lights) + ")",
                                [spec = environment_->spec, map = environment_->map, decompose_options] {
@@ -376,9 +379,8 @@ private:
             if (auto sky = sky_job_.wait(error_)) show_sky(*sky);
         }
         try {
-            if (!gpu_fs_ || gpu_fs_->hemisphere() != hemisphere_for(options_.common.hemisphere, scene_))
-                gpu_fs_.emplace(controls_.lights, render::FsSamplerOptions{},
-                                hemisphere_for(options_.common.hemisphere, scene_));
+            if (!gpu_fs_ || gpu_fs_->hemisphere() != hemisphere())
+                gpu_fs_.emplace(controls_.lights, render::FsSamplerOptions{}, hemisphere());
             gpu_fs_->set_requested_lights(controls_.lights);
             gpu_fs_->update(*renderer_);
         } catch (const std::exception& e) {  // e.g. a GL without storage blocks in geometry shaders
