@@ -43,8 +43,8 @@ void add_common_options(CLI::App* app, CommonOptions* o, const CommonOptionSet& 
     if (set.backend) app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
     if (set.hemisphere)
         app->add_option("--hemisphere", o->hemisphere,
-                        "Directions the lights come from: full (default, the whole sphere), upper (above the "
-                        "horizon), or auto (upper where the scene has a ground)")
+                        "Directions the lights come from: full (the whole sphere), upper (above the horizon), or "
+                        "auto (default: upper where the scene has a ground, else full)")
             ->check(CLI::IsMember({"full", "upper", "auto"}));
 }
 

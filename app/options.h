@@ -28,7 +28,7 @@ struct CommonOptions {
     std::uint64_t seed = 1;           // --seed
     int width = 960, height = 540;    // --width, --height: kMinImageSize..kMaxImageWidth/Height
     std::string backend = "egl";      // --backend: egl or osmesa
-    std::string hemisphere = "full";  // --hemisphere: full, upper, or auto (upper where the scene has a ground)
+    std::string hemisphere = "auto";  // --hemisphere: full, upper, or auto (upper where the scene has a ground)
 };
 
 // Which of CommonOptions a command takes.

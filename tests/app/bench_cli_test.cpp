@@ -70,6 +70,10 @@ TEST_P(BenchCli, SweepTableAndJsonAgree) {
     }
     EXPECT_EQ(result["rows"][0]["lights"].get<int>(), 8);
     EXPECT_EQ(result["rows"][1]["lights"].get<int>(), 16);
+    // Flyover stands on a ground, so by default (--hemisphere auto) only the upper hemisphere is cut
+    // into cells and every cell asked for is drawn (with the full sphere about 40% lie below it).
+    EXPECT_NE(table.find("upper hemisphere"), std::string::npos) << table;
+    for (const auto& row : result["rows"]) EXPECT_EQ(row["lights_drawn"].get<int>(), row["lights"].get<int>());
 }
 
 // --method fs-gpu: no decomposition; the GPU sampler runs before every frame at the importance size asked
