@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "core/image.h"
 #include "inputs.h"
+#include "progress.h"
 #include "reference/reference.h"
 
 namespace envshadow::app {
@@ -63,7 +64,16 @@ Command add_reference_command(CLI::App& parent) {
                 // The map at --time, as `render` lights it: builtin:sky's sun moves with the animation.
                 const Inputs inputs = load_inputs(o->common.scene, o->common.env, o->render.time);
                 const Scene& scene = inputs.scene;
-                const reference::ReferenceImage result = reference::render_reference(scene, inputs.map, o->render);
+                // Ctrl-C stops the render and nothing is written; once the render is done, the files
+                // are written whole (a Ctrl-C then waits for them).
+                const StopOnInterrupt stop_on_interrupt;
+                reference::ReferenceImage result;
+                {
+                    ProgressLine progress("reference", "rows");
+                    o->render.stop = StopOnInterrupt::flag();
+                    o->render.on_row_done = [&](int done, int total) { progress.update(done, total); };
+                    result = reference::render_reference(scene, inputs.map, o->render);
+                }
                 print_statistics(o->render, result.statistics);
                 write_exr(o->exr, result.image);
                 std::printf("wrote %s\n", o->exr.c_str());

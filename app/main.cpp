@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
     } catch (const PlatformError& e) {
         std::fprintf(stderr, "envshadow: %s\n", e.what());
         return 4;
+    } catch (const Interrupted& e) {
+        std::fprintf(stderr, "envshadow: %s, nothing written\n", e.what());
+        return 130;  // the shell's code for a command stopped by SIGINT
     } catch (const std::exception& e) {
         std::fprintf(stderr, "envshadow: internal error: %s\n", e.what());
         return 1;

@@ -50,4 +50,10 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// The user asked to stop (Ctrl-C) before the work was done; nothing was written. Exit code 130.
+class Interrupted : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
 }  // namespace envshadow

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <glm/geometric.hpp>
@@ -14,6 +15,7 @@
 #include <numbers>
 #include <vector>
 
+#include "core/error.h"
 #include "env/brdf.h"
 #include "env/latlong.h"
 #include "reference/environment_sampler.h"
@@ -209,8 +211,11 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
 
     std::vector<PixelResult> pixels(std::size_t(width) * std::size_t(height));
     std::vector<long long> rays_per_row(std::size_t(height), 0);
+    std::atomic<int> rows_done{0};
+    const auto stopping = [&] { return options.stop && options.stop->load(std::memory_order_relaxed); };
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
         for (int y = rows.begin(); y < rows.end(); ++y) {
+            if (stopping()) return;  // the rows left stay black; the result is thrown away below
             long long rays = 0;
             for (int x = 0; x < width; ++x) {
                 PixelResult& out = pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)];
@@ -303,8 +308,11 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                 }
             }
             rays_per_row[std::size_t(y)] = rays;
+            const int done = rows_done.fetch_add(1, std::memory_order_relaxed) + 1;
+            if (options.on_row_done) options.on_row_done(done, height);
         }
     });
+    if (rows_done.load() < height) throw Interrupted("interrupted");
 
     ReferenceImage result;
     result.image = Image(width, height);

@@ -16,7 +16,9 @@
 // the plan fell short). Pixels that need many rounds take finer ones (12 x 12, 24 x 24 per strategy).
 // The reported error adds value / N (N samples in those rounds) to the rounds' spread: what no sample met
 // leaves no spread, and a feature of weight 1/N can go unseen.
+#include <atomic>
 #include <cstdint>
+#include <functional>
 
 #include "core/image.h"
 #include "env/environment.h"
@@ -31,6 +33,11 @@ struct ReferenceOptions {
     double target_error = 0.0025;     // relative standard error at which a pixel stops (half the 0.5% promise,
                                       // so that the noise of the error estimate itself cannot break it)
     std::uint64_t seed = 1;
+    // Called after each image row, from the worker threads (so at the same time from several):
+    // rows finished so far out of `rows_total`. For a progress line; may be empty.
+    std::function<void(int rows_done, int rows_total)> on_row_done;
+    // When it reads true, the render stops after the rows in flight and throws Interrupted (Ctrl-C).
+    const std::atomic<bool>* stop = nullptr;
 };
 
 struct ReferenceStatistics {
@@ -54,6 +61,7 @@ struct ReferenceImage {
 };
 
 // `map` is the scene's environment (or its override); its rotation is scene.environment.rotation_degrees.
+// Throws Interrupted when options.stop is set before the last row is done.
 ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, const ReferenceOptions& options);
 
 }  // namespace envshadow::reference

@@ -6,11 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <numbers>
 #include <optional>
 
+#include "core/error.h"
 #include "reference/test_scenes.h"
 
 namespace envshadow::testing {
@@ -285,6 +287,36 @@ TEST(Reference, SameSeedSameImage) {
     const ReferenceImage a = reference::render_reference(scene, uniform_map(), options);
     const ReferenceImage b = reference::render_reference(scene, uniform_map(), options);
     EXPECT_EQ(a.image.pixels, b.image.pixels);  // deterministic whatever the thread schedule
+}
+
+// The progress callback sees every row once, ending at the row count; a stop request, whenever it
+// comes, ends the render with Interrupted rather than a half-rendered image.
+TEST(Reference, ReportsEveryRowAndStopsWhenAsked) {
+    Scene scene = scene_looking_at({0.0f, 1.0f, 3.0f}, {0.0f, 0.0f, 0.0f});
+    scene.objects.push_back(object(sphere(0.7f, 24, 12), glm::mat4(1.0f), Material{}));
+    ReferenceOptions options = small(24);
+    options.max_samples = 1024;
+    std::atomic<int> calls{0}, most{0};
+    options.on_row_done = [&](int done, int total) {
+        EXPECT_EQ(total, options.height);
+        calls.fetch_add(1);
+        int seen = most.load();
+        while (done > seen && !most.compare_exchange_weak(seen, done)) {
+        }
+    };
+    reference::render_reference(scene, uniform_map(), options);
+    EXPECT_EQ(calls.load(), options.height);
+    EXPECT_EQ(most.load(), options.height);
+
+    std::atomic<bool> stop{true};
+    options.stop = &stop;
+    EXPECT_THROW(reference::render_reference(scene, uniform_map(), options), Interrupted);
+
+    stop = false;  // asked for part-way through: after the fifth row
+    options.on_row_done = [&](int done, int) {
+        if (done >= 5) stop = true;
+    };
+    EXPECT_THROW(reference::render_reference(scene, uniform_map(), options), Interrupted);
 }
 
 }  // namespace
