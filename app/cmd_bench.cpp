@@ -32,9 +32,8 @@ namespace envshadow::app {
 namespace {
 
 struct BenchOptions {
-    CommonOptions common;  // --scene, --env, --lights, --method, --seed, --width, --height, --backend
+    CommonOptions common;  // --scene, --env, --lights, --method, --seed, --width, --height, --backend, --fs-importance
     std::string json, sweep, atlas = "clip-distances", variants, pass_timing = "auto";
-    std::string fs_importance = "256x128";  // GPU sampler: the importance map, WxH or "full" (the environment's)
     OptimisationFlags optimisations;
     int frames = 100, warmup = 10, tile = 256, depth_bits = 16;
     double time_step = 1.0 / 60.0;  // animation seconds per frame
@@ -191,7 +190,7 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
                           {"method", o.common.method},
                           {"frames", o.frames},
                           {"warmup", o.warmup},
-                          {"fs_importance", gpu_sampler ? o.fs_importance : ""},
+                          {"fs_importance", gpu_sampler ? o.common.fs_importance : ""},
                           {"triangles", triangles},
                           {"atlas_mode", o.atlas},
                           {"variants", o.variants},
@@ -221,20 +220,6 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
     return out;
 }
 
-// --fs-importance: "full" (0 x 0: the environment's own size) or W x H, within the map, W a multiple of 16
-// (the sampler's unrolled scan).
-glm::ivec2 fs_importance_size(const std::string& text, const EnvironmentMap& map) {
-    if (text == "full") return {0, 0};
-    int width = 0, height = 0;
-    char x = 0, rest = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width < 16 ||
-        height < 1 || width % 16 != 0 || width > map.width || height > map.height)
-        throw UsageError("--fs-importance " + text +
-                         ": give 'full' or WxH with W a multiple of 16, at most the map's " +
-                         std::to_string(map.width) + "x" + std::to_string(map.height));
-    return {width, height};
-}
-
 int run_bench(const BenchOptions& o) {
     const CommonOptions& c = o.common;
     const std::vector<SweepPoint> points =
@@ -260,12 +245,9 @@ int run_bench(const BenchOptions& o) {
     const EnvironmentMap& map = inputs.map;
     const render::LightMethod& method = render::light_method(c.method);
     const Hemisphere hemisphere = hemisphere_for(c.hemisphere, scene);
-    render::FsSamplerOptions fs_options;
-    if (method.kind == render::LightSourceKind::gpu_fs) {
-        const glm::ivec2 size = fs_importance_size(o.fs_importance, map);
-        fs_options.importance_width = size.x;
-        fs_options.importance_height = size.y;
-    }
+    const render::FsSamplerOptions fs_options = method.kind == render::LightSourceKind::gpu_fs
+                                                    ? fs_sampler_options(c.fs_importance, map)
+                                                    : render::FsSamplerOptions{};
 
     auto context = gl::create_context(gl::parse_backend(c.backend));
     const std::string renderer_name = context->renderer();
@@ -304,8 +286,6 @@ Command add_bench_command(CLI::App& parent) {
     o->common.width = 1280;
     o->common.height = 720;
     add_common_options(app, &o->common, CommonOptionSet{});
-    app->add_option("--fs-importance", o->fs_importance,
-                    "GPU sampler: importance map size, WxH or full (default 256x128)");
     app->add_option("--frames", o->frames, "Timed frames")->check(CLI::Range(1, 100000));
     app->add_option("--warmup", o->warmup, "Untimed frames first")->check(CLI::Range(0, 100000));
     add_atlas_options(app, &o->tile, &o->depth_bits);

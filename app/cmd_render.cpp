@@ -80,8 +80,11 @@ int run_render(const RenderOptions& o) {
     renderer.set_environment(map);
     // fs-gpu: Floyd-Steinberg samples of the environment texture made on the GPU every frame
     // (docs/FS_GPU.md), instead of a decomposition at load time.
-    render::LightSource lights = render::make_light_source(render::light_method(c.method), map, c.lights, c.seed,
-                                                           hemisphere_for(c.hemisphere, scene));
+    const render::LightMethod& method = render::light_method(c.method);
+    render::LightSource lights = render::make_light_source(
+        method, map, c.lights, c.seed, hemisphere_for(c.hemisphere, scene),
+        method.kind == render::LightSourceKind::gpu_fs ? fs_sampler_options(c.fs_importance, map)
+                                                       : render::FsSamplerOptions{});
     lights.attach(renderer);
     const render::CameraView view = render::camera_view(scene, c.width, c.height, o.time);
 

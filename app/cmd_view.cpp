@@ -27,6 +27,7 @@ Command add_view_command(CLI::App& parent) {
     app->add_option("--screenshot", options->screenshot, "With --frames: write the window, UI included, to this PNG");
     return {app, [options] {
                 if (options->common.scene.empty()) options->common.scene = ENVSHADOW_DEFAULT_SCENE;
+                parse_fs_importance(options->common.fs_importance);  // a bad value fails before the window opens
                 if (!options->screenshot.empty() && options->frames == 0)
                     throw UsageError("--screenshot needs --frames (the window is captured after the last frame)");
                 if (!gl::display_available())

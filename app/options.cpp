@@ -1,11 +1,13 @@
 #include "options.h"
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "core/image.h"
 #include "env/cells.h"
 #include "render/light_source.h"
+#include "render/shader_interface.h"
 #include "render/shadow_atlas_layout.h"
 #include "variants.h"
 
@@ -33,6 +35,11 @@ void add_common_options(CLI::App* app, CommonOptions* o, const CommonOptionSet& 
             help += (help.empty() ? "" : "; ") + names.back() + ": " + std::string(method.help);
         }
         app->add_option("--method", o->method, help)->check(CLI::IsMember(names));
+        if (set.gpu_method)
+            app->add_option("--fs-importance", o->fs_importance,
+                            "fs-gpu's importance map: blocks (default: the CPU method fs's), full (the "
+                            "environment's size) or WxH")
+                ->type_name("blocks|full|WxH");
     }
     if (set.seed)
         app->add_option("--seed", o->seed, "Random seed (of the decomposition's sites; of the reference's samples)");
@@ -46,6 +53,34 @@ void add_common_options(CLI::App* app, CommonOptions* o, const CommonOptionSet& 
                         "Directions the lights come from: full (the whole sphere), upper (above the horizon), or "
                         "auto (default: upper where the scene has a ground, else full)")
             ->check(CLI::IsMember({"full", "upper", "auto"}));
+}
+
+render::FsSamplerOptions parse_fs_importance(const std::string& text) {
+    render::FsSamplerOptions options;
+    if (text == "blocks") return options;  // FsWeighting::adaptive_blocks, the default
+    options.weighting = render::FsWeighting::warmup_matched;
+    if (text == "full") {
+        options.importance_width = options.importance_height = 0;  // the environment's
+        return options;
+    }
+    int width = 0, height = 0;
+    char x = 0, rest = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width < 16 ||
+        height < 1 || width % render::shader::size::fs_scan_run != 0)
+        throw UsageError("--fs-importance " + text + ": give blocks, full or WxH with W a multiple of " +
+                         std::to_string(render::shader::size::fs_scan_run));
+    options.importance_width = width;
+    options.importance_height = height;
+    return options;
+}
+
+render::FsSamplerOptions fs_sampler_options(const std::string& text, const EnvironmentMap& map) {
+    const render::FsSamplerOptions options = parse_fs_importance(text);
+    if (options.weighting != render::FsWeighting::adaptive_blocks &&
+        (options.importance_width > map.width || options.importance_height > map.height))
+        throw UsageError("--fs-importance " + text + ": at most the map's " + std::to_string(map.width) + "x" +
+                         std::to_string(map.height));
+    return options;
 }
 
 const CLI::Validator& finite_number() {

@@ -10,7 +10,9 @@
 
 #include "core/error.h"
 #include "env/cells.h"
+#include "env/environment.h"
 #include "gl/timer.h"
+#include "render/fs_sampler.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
 
@@ -21,14 +23,15 @@ inline constexpr int kMinImageSize = 16;
 
 // The options of every command that renders (decompose takes the lights part only).
 struct CommonOptions {
-    std::string scene;                // --scene: scene JSON or .gltf/.glb
-    std::string env;                  // --env: overrides the scene's environment (decompose: the map)
-    int lights = 128;                 // --lights: 1..kMaxLights
-    std::string method = "lloyd";     // --method: a name of render::light_methods()
-    std::uint64_t seed = 1;           // --seed
-    int width = 960, height = 540;    // --width, --height: kMinImageSize..kMaxImageWidth/Height
-    std::string backend = "egl";      // --backend: egl or osmesa
-    std::string hemisphere = "auto";  // --hemisphere: full, upper, or auto (upper where the scene has a ground)
+    std::string scene;                     // --scene: scene JSON or .gltf/.glb
+    std::string env;                       // --env: overrides the scene's environment (decompose: the map)
+    int lights = 128;                      // --lights: 1..kMaxLights
+    std::string method = "lloyd";          // --method: a name of render::light_methods()
+    std::uint64_t seed = 1;                // --seed
+    int width = 960, height = 540;         // --width, --height: kMinImageSize..kMaxImageWidth/Height
+    std::string backend = "egl";           // --backend: egl or osmesa
+    std::string hemisphere = "auto";       // --hemisphere: full, upper, or auto (upper where the scene has a ground)
+    std::string fs_importance = "blocks";  // --fs-importance (--method fs-gpu): blocks, full or WxH
 };
 
 // Which of CommonOptions a command takes.
@@ -36,7 +39,8 @@ struct CommonOptionSet {
     bool scene = true;           // --scene and --env overriding its map; false: --env alone, required
     bool scene_required = true;  // false: the command has a default scene
     bool lights = true;          // --lights and --method
-    bool gpu_method = true;      // --method also takes fs-gpu (the lights sampled on the GPU every frame)
+    bool gpu_method = true;      // --method also takes fs-gpu (the lights sampled on the GPU every frame),
+                                 // and --fs-importance configures it
     bool seed = true;
     bool size = true;  // --width, --height
     bool backend = true;
@@ -51,6 +55,13 @@ void add_common_options(CLI::App* app, CommonOptions* options, const CommonOptio
 Hemisphere hemisphere_for(const std::string& choice, const Scene& scene);
 // "full sphere" or "upper hemisphere", as the commands print it.
 const char* hemisphere_words(Hemisphere hemisphere);
+
+// --fs-importance, the GPU sampler's importance map (docs/FS_GPU.md): "blocks" (the default) the CPU
+// method fs's blocks and rules, whose lights are fs's; "full" the environment's own resolution, or "WxH"
+// (W a multiple of 16), both with the rules for a chosen size. UsageError naming the flag otherwise.
+render::FsSamplerOptions parse_fs_importance(const std::string& text);
+// The same, and a WxH that fits in `map`.
+render::FsSamplerOptions fs_sampler_options(const std::string& text, const EnvironmentMap& map);
 
 // A number that is neither NaN nor infinite (CLI::Range lets NaN through: every comparison with it fails).
 const CLI::Validator& finite_number();

@@ -17,6 +17,7 @@ layout(binding = UNIT_MOMENTS) uniform sampler2D u_moments;    // sum lum(L) dw 
 layout(std430, binding = BINDING_FS_SAMPLES) readonly buffer FsSamples { uint captured_sample[]; };
 layout(std430, binding = BINDING_FS_COUNTS) readonly buffer FsCounts { FS_COUNTS_MEMBERS };
 layout(std430, binding = BINDING_FS_LIGHTS) writeonly buffer FsLights { FsLight fs_lights[]; };
+layout(std430, binding = BINDING_FS_SITES) writeonly buffer FsSites { vec4 fs_sites[]; };  // map-space directions (cells)
 
 layout(location = LOC_WORLD_FROM_MAP) uniform mat3 u_world_from_map;
 layout(location = LOC_RADIANCE_SCALE) uniform float u_radiance_scale;  // exposure
@@ -45,6 +46,7 @@ void main() {
         ? normalize(importance_direction)
         : fs_texel_direction(texel, size);
     light.direction = normalize(u_world_from_map * map_direction);
+    fs_sites[index] = vec4(map_direction, 0.0);
     light.solid_angle = solid_angle;
     light.radiance = chromaticity * (u_radiance_scale * light_importance);
     light.cos_radius = 1.0 - solid_angle / (2.0 * PI);

@@ -380,7 +380,8 @@ private:
         }
         try {
             if (!gpu_fs_ || gpu_fs_->hemisphere() != hemisphere())
-                gpu_fs_.emplace(controls_.lights, render::FsSamplerOptions{}, hemisphere());
+                gpu_fs_.emplace(controls_.lights, fs_sampler_options(options_.common.fs_importance, *environment_->map),
+                                hemisphere());
             gpu_fs_->set_requested_lights(controls_.lights);
             gpu_fs_->update(*renderer_);
         } catch (const std::exception& e) {  // e.g. a GL without storage blocks in geometry shaders

@@ -5,6 +5,8 @@
 #include <numbers>
 #include <string>
 
+#include <glm/vec4.hpp>
+
 #include "core/error.h"
 #include "render/shader_interface.h"
 
@@ -80,6 +82,10 @@ FsSampler::FsSampler(const gl::ShaderLibrary& shaders, FsSamplerOptions options)
         throw UsageError("Floyd-Steinberg GPU sampler: vertices per invocation must be positive");
     importance_program_ = shaders.build({{GL_COMPUTE_SHADER, "fs_importance.comp"}});
     lights_program_ = shaders.build({{GL_COMPUTE_SHADER, "fs_lights.comp"}});
+    if (options_.light_model == FsLightModel::cells) {
+        cell_assign_program_ = shaders.build({{GL_COMPUTE_SHADER, "fs_cell_assign.comp"}});
+        cell_integrate_program_ = shaders.build({{GL_COMPUTE_SHADER, "fs_cell_integrate.comp"}});
+    }
     counts_ = gl::Buffer::create(sizeof(FsCounts));
     feedback_ = gl::TransformFeedback::create();
     empty_vao_ = gl::VertexArray::create();
@@ -106,7 +112,8 @@ const gl::Program& FsSampler::sampler_program(int width, int vertices) {
     return sampler_program_;
 }
 
-void FsSampler::prepare(const gl::Texture& environment, int samples) {
+void FsSampler::prepare(const gl::Texture& environment, const FsSampleRequest& request) {
+    const int samples = request.samples;
     // One texel may take all M samples: its multiplicity must fit the packed sample.
     if (samples < 1 || samples > kFsMaxMultiplicity)
         throw UsageError("Floyd-Steinberg GPU sampler: " + std::to_string(samples) + " samples asked, 1.." +
@@ -115,11 +122,11 @@ void FsSampler::prepare(const gl::Texture& environment, int samples) {
     int width = native ? environment.width() : options_.importance_width;
     int height = native ? environment.height() : options_.importance_height;
     if (options_.weighting == FsWeighting::adaptive_blocks) {
-        const int block = fs_block_size(environment.width(), environment.height(), samples);
-        if (environment.width() % block != 0 || environment.height() % block != 0)
-            throw UsageError("Floyd-Steinberg GPU sampler: the CPU method's blocks of " + std::to_string(block) + "x" +
-                             std::to_string(block) + " do not divide the environment's " +
-                             std::to_string(environment.width()) + "x" + std::to_string(environment.height()));
+        const int rows = request.upper_hemisphere ? (environment.height() + 1) / 2 : environment.height();
+        // The importance texel is a whole block: where fs's blocks do not divide the map (a map of no
+        // power-of-two size), the largest power of two below them that does.
+        int block = fs_block_size(environment.width(), rows, samples);
+        while (environment.width() % block != 0 || environment.height() % block != 0) block /= 2;
         width = environment.width() / block;
         height = environment.height() / block;
     }
@@ -135,18 +142,20 @@ void FsSampler::prepare(const gl::Texture& environment, int samples) {
         radiance_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
         moments_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
         row_sums_ = gl::Buffer::create(sizeof(double) * size_t(height));
+        nearest_light_ = gl::Buffer::create(sizeof(std::uint32_t) * size_t(width) * size_t(height));
     }
     const int capacity = fs_capacity(samples);
     if (capacity > capacity_) {
         samples_ = gl::Buffer::create(sizeof(std::uint32_t) * size_t(capacity));
         lights_ = gl::Buffer::create(sizeof(FsGpuLight) * size_t(capacity));
+        sites_ = gl::Buffer::create(sizeof(glm::vec4) * size_t(capacity));
         feedback_.attach(0, samples_);
     }
     capacity_ = std::max(capacity_, capacity);
 }
 
 void FsSampler::sample(const gl::Texture& environment, const FsSampleRequest& request, gl::GpuTimer* timer) {
-    prepare(environment, request.samples);
+    prepare(environment, request);
     const int width = importance_.width(), height = importance_.height();
     const int hardware_vertices = limits_.vertices_per_invocation();
     const int vertices = options_.vertices_per_invocation > 0
@@ -208,8 +217,29 @@ void FsSampler::sample(const gl::Texture& environment, const FsSampleRequest& re
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_samples, samples_.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_counts, counts_.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_lights, lights_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_sites, sites_.id());
         glDispatchCompute(GLuint((capacity + size::fs_work_group - 1) / size::fs_work_group), 1, 1);
         // Consumers read the lights from shaders, the count as an indirect command or a copy source.
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    }
+    if (options_.light_model == FsLightModel::cells) {
+        gl::ScopedPass pass(timer, "fs cells");
+        cell_assign_program_.use();
+        glUniform1i(loc::scan_rows, scan_rows);
+        radiance_.bind(unit::radiance);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_counts, counts_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_sites, sites_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_nearest, nearest_light_.id());
+        glDispatchCompute(GLuint((width * scan_rows + size::fs_work_group - 1) / size::fs_work_group), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        cell_integrate_program_.use();
+        glUniformMatrix3fv(loc::world_from_map, 1, GL_FALSE, &request.world_from_map[0][0]);
+        glUniform1f(loc::radiance_scale, request.radiance_scale);
+        glUniform1i(loc::scan_rows, scan_rows);
+        radiance_.bind(unit::radiance);
+        moments_.bind(unit::moments);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::fs_lights, lights_.id());
+        glDispatchCompute(GLuint(capacity), 1, 1);  // one work group per light; those past the count return
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
     glBindVertexArray(0);

@@ -11,7 +11,10 @@
 //                          feedback buffer; it writes K and S into the count buffer;
 //   3. fs_lights.comp      one light per sample texel (m of the K samples): texel centroid,
 //                          radiance of luminance m S / K in the texel's colour, a cap of solid angle
-//                          m 4 pi / K.
+//                          m 4 pi / K;
+//   4. with FsLightModel::cells (the default), fs_cell_assign.comp and fs_cell_integrate.comp replace
+//                          each light's radiance, centre and caps by those of its nearest-light cell of
+//                          the importance map.
 #include <cstdint>
 #include <vector>
 
@@ -85,27 +88,45 @@ enum class FsWeighting {
 };
 
 // The CPU method fs's block size for M samples of a width x height map: a power of two, the largest that
-// keeps at least 64 blocks per sample (engine/env/sites.h kBlocksPerSample).
+// keeps at least 64 blocks per sample (engine/env/sites.h kBlocksPerSample). `height` is the rows
+// decomposed: the map's, or with a ground those above the horizon (ceil(H / 2)), as fs counts them.
 int fs_block_size(int width, int height, int samples);
 
 // The weights `weighting` gives for M samples of a width x height importance map.
 FsDiffusionWeights fs_diffusion_weights(FsWeighting weighting, int samples, int width, int height);
 
+// What a light carries.
+enum class FsLightModel {
+    // The seed's estimator: luminance m S / K in the sample texel's colour, a cap of solid angle
+    // m 4 pi / K. Its sum is S, but each light stands for an area it does not measure: with few samples
+    // the image is as noisy as the samples (9.7% from `fs` on default.json at N = 64).
+    estimator,
+    // The nearest-sample cells of the importance map, each integrated as the CPU methods integrate
+    // theirs (docs/DESIGN.md §3; fs_cell_assign.comp, fs_cell_integrate.comp): L~ = sum L dw over the cell,
+    // centre, both caps. Energy is conserved cell by cell, as with `fs`.
+    cells,
+};
+
 struct FsSamplerOptions {
-    // Importance map resolution; 0 x 0 takes the environment's. Must not exceed it; the width must be a
-    // multiple of 16 (the scan's unrolled runs).
+    // Importance map resolution (listing and warmup_matched; adaptive_blocks takes the CPU method's
+    // blocks); 0 x 0 takes the environment's. Must not exceed it; the width must be a multiple of 16 (the
+    // scan's unrolled runs).
     int importance_width = 256;
     int importance_height = 128;
     // Samples per geometry-shader invocation; 0 takes the most the GL limits allow. Smaller values
     // force the split into several invocations (tested).
     int vertices_per_invocation = 0;
-    FsWeighting weighting = FsWeighting::warmup_matched;
+    // The default: the CPU method's blocks and rules, which with FsLightModel::cells give the lights of
+    // `fs` (0.5% apart on default.json, N = 64, where warmup_matched at 256 x 128 is 4.4% apart with
+    // cells and the estimator 9.7%; docs/FS_GPU.md).
+    FsWeighting weighting = FsWeighting::adaptive_blocks;
     // Accumulate the scan in double (matches a CPU scan in double to the texel) or float (faster where
     // doubles are slow; near-1D diffusion lets float rounding move a sample a few texels along a row).
     bool double_precision_scan = true;
     // Multi-level diffusion: a texel takes every sample its error reaches, as one light (a sun becomes
     // one light instead of a streak of them). false: one sample per texel, as Listing 1.1.
     bool merge_samples_per_texel = true;
+    FsLightModel light_model = FsLightModel::cells;
 };
 
 // The sampler's wall time from dispatch to lights read back, as `bench` and the viewer list it beside
@@ -130,7 +151,7 @@ public:
 
     // Regenerates the lights from `environment`: a lat-long float RGB(A) texture whose texel (i, j) is
     // map texel (i, j) (row 0 the zenith). Issues GPU work only; nothing waits. With `timer`, the three
-    // passes are timed as "fs importance", "fs sampler", "fs lights".
+    // passes are timed as "fs importance", "fs sampler", "fs lights" (and "fs cells").
     void sample(const gl::Texture& environment, const FsSampleRequest& request, gl::GpuTimer* timer = nullptr);
 
     // Valid after sample(), until the next sample(). Bind as shader storage buffers:
@@ -158,16 +179,16 @@ public:
     std::vector<Sample> read_samples() const;  // one per light, scan order
 
 private:
-    void prepare(const gl::Texture& environment, int samples);
+    void prepare(const gl::Texture& environment, const FsSampleRequest& request);
     const gl::Program& sampler_program(int width, int vertices);
 
     gl::ShaderLibrary shaders_;  // a copy: the sampler program is rebuilt when the map's width changes
     FsSamplerOptions options_;
     FsGeometryLimits limits_;
-    gl::Program importance_program_, lights_program_, sampler_program_;
+    gl::Program importance_program_, lights_program_, sampler_program_, cell_assign_program_, cell_integrate_program_;
     int sampler_program_width_ = 0, sampler_program_vertices_ = 0;
     gl::Texture importance_, radiance_, moments_;
-    gl::Buffer row_sums_, counts_, samples_, lights_;
+    gl::Buffer row_sums_, counts_, samples_, lights_, sites_, nearest_light_;
     gl::TransformFeedback feedback_;
     gl::VertexArray empty_vao_;
     gl::Framebuffer no_attachments_;  // draws need a complete framebuffer, even with rasterizer discard

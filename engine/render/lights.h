@@ -44,7 +44,9 @@ inline constexpr double kNegligibleShare = 1e-6;
 // drops the lights that cannot change the image measurably:
 //  - below the ground (scene has a ground plane and w_i.y < 0): the ground hides the cell's centre
 //    from every point above it, so V = 0 wherever a(.) is non-zero (points on the ground face away
-//    from it); dropping it changes nothing, it only saves a tile and the shader's loop;
+//    from it); dropping it changes nothing, it only saves a tile and the shader's loop. Cells of the
+//    upper hemisphere (what a scene with a ground decomposes, docs/DESIGN.md §3.1) are never dropped here;
+//    the check stays for cells of the whole sphere;
 //  - negligible: the dimmest lights, in increasing luminance, as long as together they carry at most
 //    kNegligibleShare of the total luminance (zero-radiance cells always). A pixel changes by at
 //    most that share of what the unshadowed environment would give it (times the ratio of the

@@ -44,13 +44,13 @@ namespace envshadow::render::shader {
     X(loc, world_from_clip, 0)                                                                         \
     X(loc, pad, 5)                                                                                     \
     X(loc, caster_count, 6)                                                                            \
-    /* fs_sampler.geom, fs_lights.comp */                                                              \
+    /* fs_sampler.geom, fs_lights.comp, fs_cell_assign.comp, fs_cell_integrate.comp */                 \
     X(loc, expected_samples, 0)                                                                        \
     X(loc, capacity, 1)                                                                                \
     X(loc, weights, 2)                                                                                 \
     X(loc, world_from_map, 0)                                                                          \
     X(loc, radiance_scale, 1)                                                                          \
-    X(loc, scan_rows, 3)           /* fs_sampler.geom: rows scanned, all or those above the horizon */ \
+    X(loc, scan_rows, 3)           /* fs_sampler.geom, fs_cell_*: all, or those above the horizon */   \
     X(loc, sampled_solid_angle, 2) /* fs_lights.comp: 4 pi, or 2 pi for the upper hemisphere */        \
     X(loc, upper_hemisphere, 0)    /* fs_importance.comp */                                            \
     /* present.frag */                                                                                 \
@@ -60,8 +60,8 @@ namespace envshadow::render::shader {
     X(unit, environment, 1) /* background.frag, fs_importance.comp */                                  \
     X(unit, depth, 2)       /* shadow_tiles.comp: the image's depth after the pre-pass */              \
     X(unit, importance, 0)  /* fs_sampler.geom */                                                      \
-    X(unit, radiance, 0)    /* fs_lights.comp */                                                       \
-    X(unit, moments, 1)     /* fs_lights.comp */                                                       \
+    X(unit, radiance, 0)    /* fs_lights.comp, fs_cell_assign.comp, fs_cell_integrate.comp */          \
+    X(unit, moments, 1)     /* fs_lights.comp, fs_cell_integrate.comp */                               \
     X(unit, linear, 0)      /* present.frag */                                                         \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
@@ -74,14 +74,16 @@ namespace envshadow::render::shader {
     X(binding, fs_row_sums, 0)  /* fs_importance.comp writes, fs_sampler.geom reads */                 \
     X(binding, fs_counts, 1)    /* fs_sampler.geom writes, fs_lights.comp reads */                     \
     X(binding, fs_samples, 0)   /* fs_lights.comp (transform feedback of fs_sampler.geom) */           \
-    X(binding, fs_lights, 2)    /* fs_lights.comp */                                                   \
+    X(binding, fs_lights, 2)    /* fs_lights.comp writes, fs_cell_integrate.comp rewrites */           \
+    X(binding, fs_sites, 3)     /* fs_lights.comp writes the map directions, fs_cell_*.comp read */    \
+    X(binding, fs_nearest, 4)   /* fs_cell_assign.comp: each importance texel's nearest light */       \
     /* vertex attributes */                                                                            \
     X(attrib, position, 0)                                                                             \
     X(attrib, normal, 1)                                                                               \
     /* sizes */                                                                                        \
     X(size, max_lights, kMaxLights) /* light records the uniform block and the tile lists hold */      \
     X(size, screen_tile, 16)        /* pixels: shadow_tiles.comp's work group, shade.frag's tile */    \
-    X(size, fs_work_group, 64)      /* fs_importance.comp, fs_lights.comp (a power of two) */          \
+    X(size, fs_work_group, 64)      /* fs_importance, fs_lights, fs_cell_* (a power of two) */         \
     X(size, fs_scan_run, 16)        /* fs_sampler.geom's unrolled run: the width must be a multiple */ \
     X(size, fs_texel_bits, 21)      /* a packed sample: texel index bits, multiplicity above them */
 

@@ -76,10 +76,10 @@ TEST_P(BenchCli, SweepTableAndJsonAgree) {
     for (const auto& row : result["rows"]) EXPECT_EQ(row["lights_drawn"].get<int>(), row["lights"].get<int>());
 }
 
-// --method fs-gpu: no decomposition; the GPU sampler runs before every frame at the importance size asked
-// for, and its wall time is a column of its own, inside the frame's.
+// --method fs-gpu: no decomposition; the GPU sampler runs before every frame on the importance map asked
+// for (the CPU method's blocks, or a size), and its wall time is a column of its own, inside the frame's.
 TEST_P(BenchCli, GpuSamplingIsTimedEveryFrameAtEachImportanceSize) {
-    for (const std::string size : {"256x128", "1024x512"}) {
+    for (const std::string size : {"blocks", "256x128", "1024x512"}) {
         const fs::path json =
             fs::path(ENVSHADOW_BINARY_DIR) / "bench" / ("bench_fs_" + size + "_" + GetParam() + ".json");
         fs::create_directories(json.parent_path());

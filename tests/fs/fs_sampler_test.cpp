@@ -59,9 +59,14 @@ struct Rules {
     render::FsWeighting weighting;
     bool merge;
 };
-// Listing 1.1 exactly, and the defaults (docs/FS_GPU.md).
+// Listing 1.1 exactly, and the rules for an importance map of a chosen size (docs/FS_GPU.md).
 constexpr Rules kListing{"listing", render::FsWeighting::listing, false};
-constexpr Rules kDefaults{"defaults", render::FsWeighting::warmup_matched, true};
+constexpr Rules kWarmupMatched{"warmup-matched", render::FsWeighting::warmup_matched, true};
+
+// The sampler at a chosen importance resolution (the default is the CPU method's blocks instead).
+FsSamplerOptions at_size(int width, int height, int vertices_per_invocation = 0) {
+    return {width, height, vertices_per_invocation, render::FsWeighting::warmup_matched};
+}
 
 // The GPU sampler on `environment` against the reference scan for M = 32, 64, 128. The reference scans
 // the importance map the GPU built (both scan the same map), after that map has been checked against
@@ -69,7 +74,7 @@ constexpr Rules kDefaults{"defaults", render::FsWeighting::warmup_matched, true}
 void expect_reference_samples(const gl::ShaderLibrary& shaders, const gl::Texture& environment,
                               const std::vector<double>& expected_importance, int width, int height,
                               FsSamplerOptions options, const std::string& what) {
-    for (const Rules& rules : {kListing, kDefaults}) {
+    for (const Rules& rules : {kListing, kWarmupMatched}) {
         options.weighting = rules.weighting;
         options.merge_samples_per_texel = rules.merge;
         FsSampler sampler(shaders, options);
@@ -111,7 +116,7 @@ TEST_P(FsSamplerTest, GeometryLimitsAllowAtLeastTheGlMinimumPerInvocation) {
 
 TEST_P(FsSamplerTest, ImportanceMapIsLuminanceTimesSolidAngleSummedOverTheBlock) {
     const EnvironmentMap fine = analytic_sky(512, sun_at(0.5, 1.0));
-    FsSampler sampler(render::embedded_shaders(), FsSamplerOptions{128, 64});
+    FsSampler sampler(render::embedded_shaders(), at_size(128, 64));
     sampler.sample(upload(fine), FsSampleRequest{64});
     const std::vector<double> gpu = read_importance(sampler);
     const std::vector<double> expected = importance_map(downsample(fine, 128, 64));
@@ -144,11 +149,13 @@ TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnCityAtFullResolution) {
 }
 
 TEST_P(FsSamplerTest, SameSamplesAsTheReferenceScanOnCityDownsampledOnTheGpu) {
-    EXPECT_EQ(FsSamplerOptions{}.importance_width, 256);  // the default
+    EXPECT_EQ(FsSamplerOptions{}.importance_width, 256);  // the default size, where a size is used
     EXPECT_EQ(FsSamplerOptions{}.importance_height, 128);
+    EXPECT_EQ(FsSamplerOptions{}.weighting, render::FsWeighting::adaptive_blocks);  // the default: fs's blocks
+    EXPECT_EQ(FsSamplerOptions{}.light_model, render::FsLightModel::cells);
     const EnvironmentMap city = city_map();
     expect_reference_samples(render::embedded_shaders(), upload(city), importance_map(downsample(city, 256, 128)), 256,
-                             128, FsSamplerOptions{}, "city 1024x512 -> 256x128");
+                             128, at_size(256, 128), "city 1024x512 -> 256x128");
 }
 
 // The CPU method's rules (FsWeighting::adaptive_blocks) against their transcription: same blocks in
@@ -157,6 +164,7 @@ void expect_adaptive_block_samples(const gl::ShaderLibrary& shaders, const Envir
                                    const std::string& what) {
     FsSamplerOptions options;
     options.weighting = render::FsWeighting::adaptive_blocks;
+    options.light_model = render::FsLightModel::estimator;  // each light at its sample's block
     FsSampler sampler(shaders, options);
     const gl::Texture environment = upload(map);
     for (int samples : {32, 64, 128}) {
@@ -209,6 +217,7 @@ void expect_cpu_method_samples(const gl::ShaderLibrary& shaders, const std::stri
     const ImportanceMap importance = build_importance(map);
     FsSamplerOptions options;
     options.weighting = render::FsWeighting::adaptive_blocks;
+    options.light_model = render::FsLightModel::estimator;  // each light at its sample's block
     FsSampler sampler(shaders, options);
     const gl::Texture environment = upload(map);
     for (int samples : {32, 64, 128}) {
@@ -232,12 +241,33 @@ TEST_P(FsSamplerTest, SameSamplesAsTheCpuMethodOnCity) {
     expect_cpu_method_samples(render::embedded_shaders(), kCityExr);
 }
 
+// The default (the CPU method's blocks) on a map its blocks do not divide: 1000 x 500 at M = 64 has fs's
+// blocks of 8 x 8, and 500 is no multiple of 8, so the importance texels are 4 x 4 blocks. The lights
+// are still cells of the whole map: their luminance sums to S and their solid angles to 4 pi.
+TEST_P(FsSamplerTest, BlocksThatDoNotDivideTheMapAreHalvedUntilTheyDo) {
+    const EnvironmentMap sky = analytic_sky(1000, sun_at(0.5, 1.0));
+    ASSERT_EQ(sky.height, 500);
+    FsSampler sampler(render::embedded_shaders());
+    sampler.sample(upload(sky), FsSampleRequest{64});
+    EXPECT_EQ(sampler.importance_size(), glm::ivec2(250, 125));
+    const render::FsCounts counts = sampler.read_counts();
+    const std::vector<Cell> lights = sampler.read_lights();
+    EXPECT_GE(lights.size(), 48u);
+    double luminance = 0.0, solid_angle = 0.0;
+    for (const Cell& light : lights) {
+        luminance += latlong::luminance(glm::dvec3(light.radiance));
+        solid_angle += light.solid_angle;
+    }
+    EXPECT_NEAR(luminance, counts.importance_sum, 1e-3 * counts.importance_sum);
+    EXPECT_NEAR(solid_angle, 4.0 * std::numbers::pi, 1e-3);
+}
+
 // The listing's weights spread the error so thinly when M is far below the texel count that most of
 // it never becomes a sample (the warm-up of seed 000 §1.3.1); the warm-up-matched ones do not.
 TEST_P(FsSamplerTest, ListingWeightsLoseMostSamplesOnCityWhereWarmUpMatchedKeepThem) {
     const gl::Texture environment = upload(city_map());
     FsSampler listing(render::embedded_shaders(), FsSamplerOptions{0, 0, 0, render::FsWeighting::listing, true, false});
-    FsSampler matched(render::embedded_shaders(), FsSamplerOptions{0, 0});
+    FsSampler matched(render::embedded_shaders(), at_size(0, 0));
     listing.sample(environment, FsSampleRequest{64});
     matched.sample(environment, FsSampleRequest{64});
     EXPECT_LT(listing.read_counts().samples, 32u);
@@ -246,8 +276,8 @@ TEST_P(FsSamplerTest, ListingWeightsLoseMostSamplesOnCityWhereWarmUpMatchedKeepT
 
 TEST_P(FsSamplerTest, SplittingTheScanOverInvocationsGivesTheSameSamples) {
     const gl::Texture environment = upload(downsample(city_map(), 256, 128));
-    FsSampler whole(render::embedded_shaders(), FsSamplerOptions{256, 128});
-    FsSampler split(render::embedded_shaders(), FsSamplerOptions{256, 128, /*vertices_per_invocation=*/7});
+    FsSampler whole(render::embedded_shaders(), at_size(256, 128));
+    FsSampler split(render::embedded_shaders(), at_size(256, 128, /*vertices_per_invocation=*/7));
     whole.sample(environment, FsSampleRequest{64});
     split.sample(environment, FsSampleRequest{64});
     EXPECT_EQ(whole.invocations(), 1);
@@ -264,7 +294,10 @@ TEST_P(FsSamplerTest, SplittingTheScanOverInvocationsGivesTheSameSamples) {
 
 TEST_P(FsSamplerTest, LightsCarryTheirShareOfSTheTexelColourAndTheirCaps) {
     const EnvironmentMap sky = analytic_sky(256, sun_at(0.4, -1.0));
-    FsSampler sampler(render::embedded_shaders(), FsSamplerOptions{256, 128});
+    FsSampler sampler(render::embedded_shaders(), FsSamplerOptions{.importance_width = 256,
+                                                                   .importance_height = 128,
+                                                                   .weighting = render::FsWeighting::warmup_matched,
+                                                                   .light_model = render::FsLightModel::estimator});
     const glm::mat3 world_from_map = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.7f, glm::vec3(0.0f, 1.0f, 0.0f)));
     const float exposure = 0.5f;
     sampler.sample(upload(sky), FsSampleRequest{100, world_from_map, exposure});

@@ -69,7 +69,14 @@ TEST(CmdRender, GpuFloydSteinbergGivesTheLights) {
         render(scene("spheres.json") + " " + kSmall + " --method fs-gpu --out '" + png.string() + "'");
     ASSERT_EQ(run.status, 0) << run.output;
     EXPECT_NE(run.output.find("fs-gpu: "), std::string::npos) << run.output;  // lights sampled every frame
+    // interior.exr is 1024 x 512: by default the CPU method fs's blocks, of 32 x 32 texels for 8 samples (the
+    // largest power of two leaving at least 64 blocks per sample).
+    EXPECT_NE(run.output.find("from a 32x16 importance map"), std::string::npos) << run.output;
     EXPECT_TRUE(fs::exists(png));
+    const CommandResult sized = render(scene("spheres.json") + " " + kSmall +
+                                       " --method fs-gpu --fs-importance 256x128 --out '" + png.string() + "'");
+    ASSERT_EQ(sized.status, 0) << sized.output;
+    EXPECT_NE(sized.output.find("from a 256x128 importance map"), std::string::npos) << sized.output;
 }
 
 TEST(CmdRender, BadValuesAreUsageErrors) {
@@ -80,7 +87,9 @@ TEST(CmdRender, BadValuesAreUsageErrors) {
          {std::string("--lights 0"), std::string("--lights 257"), std::string("--tile 64"),
           std::string("--depth-bits 24"), std::string("--pcf 3x3"), std::string("--specular double"),
           std::string("--cap round"), std::string("--diffuse both"), std::string("--method nope"),
-          std::string("--backend vulkan"), std::string("--width 0")}) {
+          std::string("--backend vulkan"), std::string("--width 0"),
+          std::string("--method fs-gpu --fs-importance 100x50"),
+          std::string("--method fs-gpu --fs-importance 2048x1024")}) {  // more than interior.exr's 1024x512
         const CommandResult run = render(scene("spheres.json") + " " + kSmall + " " + bad + out);
         EXPECT_EQ(run.status, 2) << bad << ": " << run.output;
         EXPECT_FALSE(fs::exists(png)) << bad;

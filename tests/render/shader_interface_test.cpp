@@ -44,6 +44,8 @@ std::vector<BuiltProgram> engine_programs() {
     add("shadow_tiles.comp", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, {"LIGHTS_UNIFORM_BLOCK"});
     add("fs_importance.comp", {{GL_COMPUTE_SHADER, "fs_importance.comp"}});
     add("fs_lights.comp", {{GL_COMPUTE_SHADER, "fs_lights.comp"}});
+    add("fs_cell_assign.comp", {{GL_COMPUTE_SHADER, "fs_cell_assign.comp"}});
+    add("fs_cell_integrate.comp", {{GL_COMPUTE_SHADER, "fs_cell_integrate.comp"}});
     add("fs_sampler", {{GL_VERTEX_SHADER, "fs_sampler.vert"}, {GL_GEOMETRY_SHADER, "fs_sampler.geom"}},
         {"FS_IMPORTANCE_WIDTH 32", "FS_MAX_VERTICES 16", "FS_MERGE"}, {"fs_texel"});
     add("present", {{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "present.frag"}});
@@ -150,6 +152,8 @@ TEST_P(ShaderInterfaceTest, WorkGroupsAreTheTablesSizes) {
     EXPECT_EQ(work_group("shadow_tiles.comp"), (std::vector<GLint>{size::screen_tile, size::screen_tile, 1}));
     EXPECT_EQ(work_group("fs_importance.comp"), (std::vector<GLint>{size::fs_work_group, 1, 1}));
     EXPECT_EQ(work_group("fs_lights.comp"), (std::vector<GLint>{size::fs_work_group, 1, 1}));
+    EXPECT_EQ(work_group("fs_cell_assign.comp"), (std::vector<GLint>{size::fs_work_group, 1, 1}));
+    EXPECT_EQ(work_group("fs_cell_integrate.comp"), (std::vector<GLint>{size::fs_work_group, 1, 1}));
 }
 
 TEST_P(ShaderInterfaceTest, EveryStageGetsEveryDefineRightAfterItsVersion) {
@@ -166,7 +170,7 @@ TEST_P(ShaderInterfaceTest, EveryStageGetsEveryDefineRightAfterItsVersion) {
         const std::size_t after_version = text.find('\n') + 1;
         EXPECT_EQ(text.compare(after_version, table_defines.size(), table_defines), 0) << file.name;
     }
-    EXPECT_GE(stages, 14);  // the engine's and the tests' stages
+    EXPECT_GE(stages, 16);  // the engine's and the tests' stages
 }
 
 ENVSHADOW_INSTANTIATE_GL_TEST(ShaderInterfaceTest);
