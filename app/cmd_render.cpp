@@ -126,9 +126,10 @@ int run_render(const RenderOptions& o) {
         std::printf("decomposition: %s, %zu cells of %dx%d %s, %s, %.3f s\n", std::string(to_string(d.method)).c_str(),
                     d.cells.size(), d.width, d.height, map.source.c_str(), hemisphere_words(d.hemisphere), d.seconds);
     }
-    std::printf("shading: %s (specular %s, cap %s, diffuse %s)\n", std::string(render::to_string(settings.shading)).c_str(),
-                std::string(render::to_string(settings.specular)).c_str(), std::string(render::to_string(settings.cap)).c_str(),
-                std::string(render::to_string(settings.diffuse)).c_str());
+    std::printf(
+        "shading: %s (specular %s, cap %s, diffuse %s)\n", std::string(render::to_string(settings.shading)).c_str(),
+        std::string(render::to_string(settings.specular)).c_str(), std::string(render::to_string(settings.cap)).c_str(),
+        std::string(render::to_string(settings.diffuse)).c_str());
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,

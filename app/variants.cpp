@@ -80,7 +80,8 @@ render::RenderSettings apply_variant(render::RenderSettings settings, std::strin
         } else {
             std::string keys = "caster-lod";
             for (const render::OptimisationSwitch& s : switches) keys += ", " + std::string(s.name);
-            throw UsageError("unknown key '" + std::string(key) + "' (" + keys + ", depth-bits, tile, atlas, pcf, shading)");
+            throw UsageError("unknown key '" + std::string(key) + "' (" + keys +
+                             ", depth-bits, tile, atlas, pcf, shading)");
         }
     }
     render::validate(settings);

@@ -30,6 +30,7 @@
 #include "env/cell_overlay.h"
 #include "env/cells.h"
 #include "env/environment.h"
+#include "env/prefilter.h"
 #include "gl/context.h"
 #include "gl/readback.h"
 #include "inputs.h"
@@ -37,7 +38,6 @@
 #include "render/light_source.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
-#include "env/prefilter.h"
 #include "viewer/jobs.h"
 #include "viewer/orbit_camera.h"
 #include "viewer/panels.h"
@@ -68,8 +68,8 @@ struct AnimatedSky {
     std::string source;  // the spec it animates
     EnvironmentMap map;
     std::shared_ptr<const PrefilteredEnvironment> prefiltered;  // of map: ratio shading follows the sun too
-    Image8 picture;     // draw_map(map)
-    double time = 0.0;  // the animation time (seconds) it was made for
+    Image8 picture;                                             // draw_map(map)
+    double time = 0.0;                                          // the animation time (seconds) it was made for
 };
 
 // Files dropped onto the window, collected by GLFW's callback and handled by the frame loop.
@@ -86,8 +86,12 @@ LoadedEnvironment load_and_decompose(std::string spec, std::shared_ptr<const Env
     Image8 map_picture = draw_map(*map);
     if (!prefiltered)
         prefiltered = std::make_shared<const PrefilteredEnvironment>(prefilter_environment(*map, visible));
-    return {std::move(spec),          std::move(map),         render::LightSource(std::move(decomposition)),
-            std::move(cells_picture), std::move(map_picture), std::move(prefiltered),
+    return {std::move(spec),
+            std::move(map),
+            render::LightSource(std::move(decomposition)),
+            std::move(cells_picture),
+            std::move(map_picture),
+            std::move(prefiltered),
             visible};
 }
 
@@ -197,11 +201,11 @@ private:
     // The map of `spec` at the animation time now, and its cells.
     void start_environment(const std::string& spec) {
         const DecomposeOptions decompose_options = current_decompose_options();
-        environment_job_.start("loading " + spec, [spec, time = controls_.time, decompose_options,
-                                                   visible = visible_hemisphere(scene_)] {
-            auto map = std::make_shared<const EnvironmentMap>(load_environment_at(spec, time));
-            return load_and_decompose(spec, std::move(map), decompose_options, visible);
-        });
+        environment_job_.start("loading " + spec,
+                               [spec, time = controls_.time, decompose_options, visible = visible_hemisphere(scene_)] {
+                                   auto map = std::make_shared<const EnvironmentMap>(load_environment_at(spec, time));
+                                   return load_and_decompose(spec, std::move(map), decompose_options, visible);
+                               });
     }
 
     void start_decomposition() {
@@ -430,12 +434,14 @@ private:
         const std::string spec = environment_at_time(source, time);
         if (spec == environment_->map->source && !animated_sky_time_) return;  // not a sky, or still at its time
         if (animated_sky_time_ == time) return;
-        sky_job_.start("sky at " + std::to_string(time) + " s", [source, spec, time, hemisphere = visible_hemisphere(scene_)] {
-            AnimatedSky sky{source, load_environment(spec), nullptr, {}, time};
-            sky.prefiltered = std::make_shared<const PrefilteredEnvironment>(prefilter_environment(sky.map, hemisphere));
-            sky.picture = draw_map(sky.map);
-            return sky;
-        });
+        sky_job_.start(
+            "sky at " + std::to_string(time) + " s", [source, spec, time, hemisphere = visible_hemisphere(scene_)] {
+                AnimatedSky sky{source, load_environment(spec), nullptr, {}, time};
+                sky.prefiltered =
+                    std::make_shared<const PrefilteredEnvironment>(prefilter_environment(sky.map, hemisphere));
+                sky.picture = draw_map(sky.map);
+                return sky;
+            });
     }
 
     // --- output ---------------------------------------------------------------------------------
