@@ -33,7 +33,7 @@ namespace {
 
 struct BenchOptions {
     CommonOptions common;  // --scene, --env, --lights, --method, --seed, --width, --height, --backend, --fs-importance
-    std::string json, sweep, atlas = "clip-distances", variants, pass_timing = "auto";
+    std::string json, sweep, atlas = "clip-distances", variants, pass_timing = "auto", shading = "cells";
     OptimisationFlags optimisations;
     int frames = 100, warmup = 10, tile = 256, depth_bits = 16;
     double time_step = 1.0 / 60.0;  // animation seconds per frame
@@ -140,10 +140,10 @@ void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std:
                  std::size_t triangles, gl::PassTiming timing, Hemisphere hemisphere) {
     std::printf(
         "envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s  |  "
-        "lights from the %s\n",
+        "lights from the %s  |  shading %s\n",
         o.common.scene.c_str(), renderer_name.c_str(), o.common.backend.c_str(), triangles, o.frames, o.warmup,
         timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries",
-        hemisphere_words(hemisphere));
+        hemisphere_words(hemisphere), o.shading.c_str());
     std::vector<std::string> pass_names;  // union over the rows, in pipeline order
     for (const Row& r : rows)
         for (std::size_t i = 0; i < r.pass_order.size(); ++i)
@@ -234,6 +234,7 @@ int run_bench(const BenchOptions& o) {
     settings.depth_bits = o.depth_bits;
     settings.tile_size = o.tile;
     settings.atlas = naming_flag("--atlas", [&] { return render::parse_atlas_mode(o.atlas); });
+    settings.shading = shading_mode(o.shading);
     settings = apply(o.optimisations, settings);
     render::validate(settings);
     // One renderer per variant (each with its own atlas), all in one context.
@@ -257,6 +258,8 @@ int run_bench(const BenchOptions& o) {
         variant.renderer->set_pass_timing(timing);
         variant.renderer->set_scene(scene);
         variant.renderer->set_environment(map);
+        if (variant.variant.settings.shading == render::ShadingMode::ratio)
+            prefilter_for(*variant.renderer, map, visible_hemisphere(scene), false);
     }
 
     // The lights of each N of the sweep, made once.
@@ -294,11 +297,12 @@ Command add_bench_command(CLI::App& parent) {
         ->check(CLI::Range(0.0, 10.0))
         ->check(finite_number());
     add_pass_timing_option(app, &o->pass_timing);
+    add_shading_option(app, &o->shading);
     app->add_option("--json", o->json, "Write the results as JSON");
     app->add_option(
         "--variants", o->variants,
         "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, ubo, "
-        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf); ratios to the first");
+        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf, shading); ratios to the first");
     add_optimisation_options(app, &o->optimisations);
     app->add_option("--sweep", o->sweep, "One row per setting: lights=16,32,…  resolution=640x360,…  tile=128,…");
     return {app, [o] { return run_bench(*o); }};

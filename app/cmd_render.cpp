@@ -30,7 +30,7 @@ constexpr const char* kSamplingWall = "sampling wall";  // the per-frame light s
 struct RenderOptions {
     CommonOptions common;  // --scene, --env, --lights, --method, --seed, --width, --height, --backend
     std::string out, exr;
-    std::string pcf = "2x2", specular = "blended", cap = "weighted", diffuse = "center", atlas;
+    std::string pcf = "2x2", specular = "blended", cap = "weighted", diffuse = "center", shading = "cells", atlas;
     int tile = 256, depth_bits = 16, frames = 1;
     double time = 0.0;
     std::string pass_timing = "auto";
@@ -46,6 +46,7 @@ render::RenderSettings settings_from(const RenderOptions& o) {
     s.specular = naming_flag("--specular", [&] { return render::parse_specular_mode(o.specular); });
     s.cap = naming_flag("--cap", [&] { return render::parse_cap_kind(o.cap); });
     s.diffuse = naming_flag("--diffuse", [&] { return render::parse_diffuse_mode(o.diffuse); });
+    s.shading = shading_mode(o.shading);
     s.background = !o.no_background;
     if (o.per_tile_atlas) s.atlas = render::AtlasMode::per_tile;
     s = apply(o.optimisations, s);
@@ -86,6 +87,8 @@ int run_render(const RenderOptions& o) {
         method.kind == render::LightSourceKind::gpu_fs ? fs_sampler_options(c.fs_importance, map)
                                                        : render::FsSamplerOptions{});
     lights.attach(renderer);
+    // fs-gpu samples the same fixed map every frame: one prefiltering serves every frame.
+    if (settings.shading == render::ShadingMode::ratio) prefilter_for(renderer, map, visible_hemisphere(scene), true);
     const render::CameraView view = render::camera_view(scene, c.width, c.height, o.time);
 
     // Per mode and pass, the GPU milliseconds of every measured frame.
@@ -126,6 +129,10 @@ int run_render(const RenderOptions& o) {
         std::printf("decomposition: %s, %zu cells of %dx%d %s, %s, %.3f s\n", std::string(to_string(d.method)).c_str(),
                     d.cells.size(), d.width, d.height, map.source.c_str(), hemisphere_words(d.hemisphere), d.seconds);
     }
+    std::printf(
+        "shading: %s (specular %s, cap %s, diffuse %s)\n", std::string(render::to_string(settings.shading)).c_str(),
+        std::string(render::to_string(settings.specular)).c_str(), std::string(render::to_string(settings.cap)).c_str(),
+        std::string(render::to_string(settings.diffuse)).c_str());
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
@@ -180,6 +187,7 @@ Command add_render_command(CLI::App& parent) {
         ->check(CLI::IsMember({"solid-angle", "weighted"}));
     app->add_option("--diffuse", o->diffuse, "center (the paper's sample) or cap (exact clamped cosine)")
         ->check(CLI::IsMember({"center", "cap"}));
+    add_shading_option(app, &o->shading);
     app->add_flag("--per-tile-atlas", o->per_tile_atlas, "Draw the shadow atlas one tile at a time (baseline)");
     app->add_option("--atlas", o->atlas, "clip-distances, viewport-array, per-tile, or all (times each, interleaved)")
         ->check(CLI::IsMember({"clip-distances", "viewport-array", "per-tile", "all"}));

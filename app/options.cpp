@@ -6,6 +6,7 @@
 
 #include "core/image.h"
 #include "env/cells.h"
+#include "env/prefilter.h"
 #include "render/light_source.h"
 #include "render/shader_interface.h"
 #include "render/shadow_atlas_layout.h"
@@ -134,6 +135,31 @@ render::RenderSettings apply(const OptimisationFlags& flags, render::RenderSetti
         });
     if (!flags.prepass.empty()) settings.depth_prepass = parse_on_off(flags.prepass);
     return settings;
+}
+
+void add_shading_option(CLI::App* app, std::string* value) {
+    app->add_option("--shading", *value,
+                    "cells (the paper's sum over the cells) or ratio (unshadowed light from the prefiltered map, "
+                    "shadowed fraction from the cells)")
+        ->check(CLI::IsMember({"cells", "ratio"}));
+}
+
+render::ShadingMode shading_mode(const std::string& value) {
+    return naming_flag("--shading", [&] { return render::parse_shading_mode(value); });
+}
+
+Hemisphere visible_hemisphere(const Scene& scene) {
+    return scene.has_ground ? Hemisphere::upper : Hemisphere::full;
+}
+
+void prefilter_for(render::Renderer& renderer, const EnvironmentMap& map, Hemisphere hemisphere, bool print) {
+    const PrefilteredEnvironment prefiltered = prefilter_environment(map, hemisphere);
+    renderer.set_prefiltered(prefiltered);
+    if (print)
+        std::printf("prefiltered: %zu levels n = 1..%g, %dx%d to %dx%d, %s, %.3f s\n", prefiltered.levels.size(),
+                    double(prefiltered.levels.back().shininess), prefiltered.levels.front().width,
+                    prefiltered.levels.front().height, prefiltered.levels.back().width,
+                    prefiltered.levels.back().height, hemisphere_words(hemisphere), prefiltered.seconds);
 }
 
 Hemisphere hemisphere_for(const std::string& choice, const Scene& scene) {

@@ -14,6 +14,7 @@
 #include "gl/timer.h"
 #include "render/fs_sampler.h"
 #include "render/render_settings.h"
+#include "render/renderer.h"
 #include "scene/scene.h"
 
 namespace envshadow::app {
@@ -84,6 +85,17 @@ struct OptimisationFlags {
 void add_optimisation_options(CLI::App* app, OptimisationFlags* flags);
 // `settings` with the flags applied (baseline first); UsageError naming the flag for a bad value.
 render::RenderSettings apply(const OptimisationFlags& flags, render::RenderSettings settings);
+
+// --shading cells|ratio (render, bench, view): the paper's per-cell sum, or the ratio estimator with the
+// unshadowed reflection from the prefiltered map (docs/DESIGN.md §4.1).
+void add_shading_option(CLI::App* app, std::string* value);
+render::ShadingMode shading_mode(const std::string& value);
+// The directions that reach the objects of `scene`: the upper hemisphere where a ground hides the rest
+// (as in the reference), whatever --hemisphere the cells were cut from. Ratio shading prefilters these.
+Hemisphere visible_hemisphere(const Scene& scene);
+// The map prefiltered for ratio shading over `hemisphere` (visible_hemisphere), uploaded to `renderer`;
+// prints its size and time on one line when `print`.
+void prefilter_for(render::Renderer& renderer, const EnvironmentMap& map, Hemisphere hemisphere, bool print);
 
 // `parse()`, and a UsageError it throws (in the engine's words) prefixed by `flag`:
 // "--atlas: 'x' is not one of clip-distances, viewport-array, per-tile".

@@ -75,10 +75,13 @@ render::RenderSettings apply_variant(render::RenderSettings settings, std::strin
             settings.atlas = render::parse_atlas_mode(value);
         } else if (key == "pcf") {
             settings.pcf = render::parse_pcf_kernel(value);
+        } else if (key == "shading") {
+            settings.shading = render::parse_shading_mode(value);
         } else {
             std::string keys = "caster-lod";
             for (const render::OptimisationSwitch& s : switches) keys += ", " + std::string(s.name);
-            throw UsageError("unknown key '" + std::string(key) + "' (" + keys + ", depth-bits, tile, atlas, pcf)");
+            throw UsageError("unknown key '" + std::string(key) + "' (" + keys +
+                             ", depth-bits, tile, atlas, pcf, shading)");
         }
     }
     render::validate(settings);

@@ -10,8 +10,13 @@
 //   FLAT_RECEIVER    (with DIFFUSE_ONLY and SHADOW_TILE_LISTS) the unshadowed sum from u_unshadowed
 //   DIFFUSE_ONLY     for materials with k_s = 0: the specular code left out (a uniform branch on
 //                    u_k_s still costs its whole body on SIMD CPU rasterisers such as llvmpipe)
+//   SHADING_RATIO    the ratio estimator (docs/DESIGN.md §4.1): the unshadowed k_d E(n) + k_s S_n(r) from
+//                    the prefiltered map, times the cells' shadowed fraction sum V L~ a / sum L~ a
 #include "cells.glsl"
 #include "brdf.glsl"
+#if defined(SHADING_RATIO)
+#include "latlong.glsl"
+#endif
 
 layout(location = 0) in vec3 v_world_position;
 layout(location = 1) in vec3 v_world_normal;
@@ -27,6 +32,40 @@ layout(location = LOC_TILES_X) uniform uint u_tiles_x;  // screen tiles per row 
 layout(location = LOC_UNSHADOWED) uniform vec3 u_unshadowed;  // FLAT_RECEIVER: sum of L~_i a_i, the same for every pixel
 
 layout(binding = UNIT_ATLAS) uniform sampler2DShadow u_atlas;
+
+#if defined(SHADING_RATIO)
+// env/prefilter.h's levels: the normalised lobe S_n (n + 1) / (2 pi) on lat-long grids in map space.
+layout(location = LOC_ENV_FROM_WORLD) uniform mat3 u_env_from_world;
+layout(location = LOC_SPECULAR_WEIGHT) uniform float u_specular_weight;  // of the upper level, linear in log n
+layout(binding = UNIT_IRRADIANCE) uniform sampler2D u_irradiance;        // level 0, n = 1: E = pi * it
+layout(binding = UNIT_SPECULAR_LOWER) uniform sampler2D u_specular_lower;
+layout(binding = UNIT_SPECULAR_UPPER) uniform sampler2D u_specular_upper;
+
+// A level's rows run from pole to pole (env/prefilter.h): theta = pi j / (H - 1).
+vec3 prefiltered(sampler2D level, vec2 uv) {
+    float h = float(textureSize(level, 0).y);
+    return texture(level, vec2(uv.x, (uv.y * (h - 1.0) + 0.5) / h)).rgb;
+}
+
+// k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows (S_n
+// not clipped by the tangent plane).
+vec3 unshadowed_radiance(vec3 n, vec3 mirror) {
+    vec3 result = u_k_d * (PI * prefiltered(u_irradiance, latlong_uv(u_env_from_world * n)));
+#if !defined(DIFFUSE_ONLY)
+    if (u_k_s > 0.0) {
+        vec2 uv = latlong_uv(u_env_from_world * mirror);
+        vec3 mean = mix(prefiltered(u_specular_lower, uv), prefiltered(u_specular_upper, uv), u_specular_weight);
+        result += u_k_s * (2.0 * PI / (u_shininess + 1.0)) * mean;
+    }
+#endif
+    return result;
+}
+
+// The shadowed fraction per channel, 1 where no cell reflects (denominator 0).
+vec3 shadowed_fraction(vec3 shadowed, vec3 unshadowed) {
+    return mix(vec3(1.0), clamp(shadowed / max(unshadowed, vec3(1e-30)), 0.0, 1.0), greaterThan(unshadowed, vec3(0.0)));
+}
+#endif
 
 #if defined(SHADOW_TILE_LISTS)
 // glsl/shadow_tiles.comp: per screen tile of SCREEN_TILE^2 pixels, a count and MAX_LIGHTS indices.
@@ -101,10 +140,12 @@ void main() {
     // (glsl/shadow_tiles.comp): the others see V = 1 here. The lists are the same for all pixels of a
     // tile, so on SIMD rasterisers the second loop's trip count is uniform.
 #if defined(FLAT_RECEIVER)
-    radiance = u_unshadowed;  // a plane with a diffuse material: its normal, hence every a_i, is constant
+    vec3 unshadowed = u_unshadowed;  // a plane with a diffuse material: its normal, hence every a_i, is constant
 #else
-    for (int i = 0; i < u_light_count; ++i) radiance += lights[i].radiance.rgb * reflectivity(i, n, mirror);
+    vec3 unshadowed = vec3(0.0);
+    for (int i = 0; i < u_light_count; ++i) unshadowed += lights[i].radiance.rgb * reflectivity(i, n, mirror);
 #endif
+    radiance = unshadowed;
     uvec2 tile = uvec2(gl_FragCoord.xy) / uint(SCREEN_TILE);
     uint base = (tile.y * u_tiles_x + tile.x) * uint(MAX_LIGHTS + 1);
     uint count = tile_lists[base];
@@ -115,6 +156,20 @@ void main() {
         radiance -= (1.0 - visibility(lights[i], p, n, dot(n, lights[i].direction.xyz))) * lights[i].radiance.rgb * a;
     }
     radiance = max(radiance, vec3(0.0));  // fully shadowed pixels: the difference may round below zero
+#if defined(SHADING_RATIO)
+    radiance = unshadowed_radiance(n, mirror) * shadowed_fraction(radiance, unshadowed);
+#endif
+#elif defined(SHADING_RATIO)
+    // Numerator and denominator of the ratio in the one loop over the cells.
+    vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
+    for (int i = 0; i < u_light_count; ++i) {
+        vec3 a = reflectivity(i, n, mirror);
+        if (max(a.r, max(a.g, a.b)) <= 0.0) continue;
+        vec3 la = lights[i].radiance.rgb * a;
+        unshadowed += la;
+        shadowed += visibility(lights[i], p, n, dot(n, lights[i].direction.xyz)) * la;
+    }
+    radiance = unshadowed_radiance(n, mirror) * shadowed_fraction(shadowed, unshadowed);
 #else
     for (int i = 0; i < u_light_count; ++i) {
         vec3 a = reflectivity(i, n, mirror);

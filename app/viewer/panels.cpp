@@ -142,6 +142,9 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
 
     if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) {
         bool changed = false;
+        int shading = int(settings.shading);
+        if (ImGui::Combo("shading", &shading, "cells (Barsi)\0ratio (prefiltered map)\0"))
+            settings.shading = render::ShadingMode(shading), changed = true;
         int specular = int(settings.specular);
         if (ImGui::Combo("specular", &specular, "blended (Barsi)\0single sample\0"))
             settings.specular = render::SpecularMode(specular), changed = true;

@@ -30,6 +30,7 @@
 #include "env/cell_overlay.h"
 #include "env/cells.h"
 #include "env/environment.h"
+#include "env/prefilter.h"
 #include "gl/context.h"
 #include "gl/readback.h"
 #include "inputs.h"
@@ -52,6 +53,11 @@ struct LoadedEnvironment {
     render::LightSource cells;                  // its load-time decomposition
     Image8 cells_picture;                       // the map tone-mapped with cell borders (env/cell_overlay.h)
     Image8 map_picture;                         // the map tone-mapped alone (under the GPU sampler's lights)
+    // For --shading ratio: the map prefiltered over the directions the scene's objects see
+    // (visible_hemisphere: upper with a ground), made with every new map or ground, off the render
+    // thread; a new N or method keeps it.
+    std::shared_ptr<const PrefilteredEnvironment> prefiltered;
+    Hemisphere prefiltered_hemisphere = Hemisphere::full;
 };
 
 struct LoadedModel {
@@ -61,8 +67,9 @@ struct LoadedModel {
 struct AnimatedSky {
     std::string source;  // the spec it animates
     EnvironmentMap map;
-    Image8 picture;     // draw_map(map)
-    double time = 0.0;  // the animation time (seconds) it was made for
+    std::shared_ptr<const PrefilteredEnvironment> prefiltered;  // of map: ratio shading follows the sun too
+    Image8 picture;                                             // draw_map(map)
+    double time = 0.0;                                          // the animation time (seconds) it was made for
 };
 
 // Files dropped onto the window, collected by GLFW's callback and handled by the frame loop.
@@ -72,12 +79,20 @@ struct DropQueue {
 };
 
 LoadedEnvironment load_and_decompose(std::string spec, std::shared_ptr<const EnvironmentMap> map,
-                                     DecomposeOptions options) {
+                                     DecomposeOptions options, Hemisphere visible,
+                                     std::shared_ptr<const PrefilteredEnvironment> prefiltered = nullptr) {
     Decomposition decomposition = decompose(*map, options);
     Image8 cells_picture = draw_cells(*map, decomposition);
     Image8 map_picture = draw_map(*map);
-    return {std::move(spec), std::move(map), render::LightSource(std::move(decomposition)), std::move(cells_picture),
-            std::move(map_picture)};
+    if (!prefiltered)
+        prefiltered = std::make_shared<const PrefilteredEnvironment>(prefilter_environment(*map, visible));
+    return {std::move(spec),
+            std::move(map),
+            render::LightSource(std::move(decomposition)),
+            std::move(cells_picture),
+            std::move(map_picture),
+            std::move(prefiltered),
+            visible};
 }
 
 std::string timestamp() {
@@ -114,6 +129,7 @@ public:
 
         display_ = std::make_unique<render::Display>();
         panels_ = std::make_unique<Panels>(*display_);
+        controls_.settings.shading = shading_mode(options.shading);
         renderer_ = std::make_unique<render::Renderer>(controls_.settings);
         renderer_->set_pass_timing(pass_timing(options.pass_timing, context_->is_software()));
 
@@ -185,10 +201,11 @@ private:
     // The map of `spec` at the animation time now, and its cells.
     void start_environment(const std::string& spec) {
         const DecomposeOptions decompose_options = current_decompose_options();
-        environment_job_.start("loading " + spec, [spec, time = controls_.time, decompose_options] {
-            auto map = std::make_shared<const EnvironmentMap>(load_environment_at(spec, time));
-            return load_and_decompose(spec, std::move(map), decompose_options);
-        });
+        environment_job_.start("loading " + spec,
+                               [spec, time = controls_.time, decompose_options, visible = visible_hemisphere(scene_)] {
+                                   auto map = std::make_shared<const EnvironmentMap>(load_environment_at(spec, time));
+                                   return load_and_decompose(spec, std::move(map), decompose_options, visible);
+                               });
     }
 
     void start_decomposition() {
@@ -196,8 +213,12 @@ private:
         const DecomposeOptions decompose_options = current_decompose_options();
         environment_job_.start(std::string("decomposing (") + std::string(to_string(controls_.method)) +
                                    ", N = " + std::to_string(controls_.lights) + ")",
-                               [spec = environment_->spec, map = environment_->map, decompose_options] {
-                                   return load_and_decompose(spec, map, decompose_options);
+                               [spec = environment_->spec, map = environment_->map, decompose_options,
+                                visible = visible_hemisphere(scene_),
+                                prefiltered = environment_->prefiltered_hemisphere == visible_hemisphere(scene_)
+                                                  ? environment_->prefiltered
+                                                  : nullptr] {
+                                   return load_and_decompose(spec, map, decompose_options, visible, prefiltered);
                                });
     }
 
@@ -205,8 +226,10 @@ private:
         // The last frame of an automated run shows the map it was given, however slow the machine.
         if (auto loaded = last_frame_ ? environment_job_.wait(error_) : environment_job_.poll(error_)) {
             const bool new_map = !environment_ || environment_->map != loaded->map;
+            const bool new_prefiltered = !environment_ || environment_->prefiltered != loaded->prefiltered;
             environment_ = std::make_unique<LoadedEnvironment>(std::move(*loaded));
             if (new_map) renderer_->set_environment(*environment_->map), animated_sky_time_.reset();
+            if (new_map || new_prefiltered) renderer_->set_prefiltered(*environment_->prefiltered);
             if (controls_.light_source == render::LightSourceKind::cells) environment_->cells.attach(*renderer_);
             cells_texture_ = render::Display::upload(environment_->cells_picture);
             map_texture_ = render::Display::upload(environment_->map_picture);
@@ -364,6 +387,7 @@ private:
             environment_->cells.attach(*renderer_);
             if (animated_sky_time_) {
                 renderer_->set_environment(*environment_->map);
+                renderer_->set_prefiltered(*environment_->prefiltered);
                 map_texture_ = render::Display::upload(environment_->map_picture);
                 animated_sky_time_.reset();
             }
@@ -396,6 +420,7 @@ private:
             sky.source != environment_->spec)
             return;
         renderer_->set_environment(sky.map);
+        renderer_->set_prefiltered(*sky.prefiltered);
         map_texture_ = render::Display::upload(sky.picture);
         animated_sky_time_ = sky.time;
     }
@@ -410,11 +435,14 @@ private:
         const std::string spec = environment_at_time(source, time);
         if (spec == environment_->map->source && !animated_sky_time_) return;  // not a sky, or still at its time
         if (animated_sky_time_ == time) return;
-        sky_job_.start("sky at " + std::to_string(time) + " s", [source, spec, time] {
-            AnimatedSky sky{source, load_environment(spec), {}, time};
-            sky.picture = draw_map(sky.map);
-            return sky;
-        });
+        sky_job_.start(
+            "sky at " + std::to_string(time) + " s", [source, spec, time, hemisphere = visible_hemisphere(scene_)] {
+                AnimatedSky sky{source, load_environment(spec), nullptr, {}, time};
+                sky.prefiltered =
+                    std::make_shared<const PrefilteredEnvironment>(prefilter_environment(sky.map, hemisphere));
+                sky.picture = draw_map(sky.map);
+                return sky;
+            });
     }
 
     // --- output ---------------------------------------------------------------------------------
@@ -450,6 +478,7 @@ private:
                 {"specular", render::to_string(s.specular)},
                 {"cap", render::to_string(s.cap)},
                 {"diffuse", render::to_string(s.diffuse)},
+                {"shading", render::to_string(s.shading)},
                 {"slope_bias", s.slope_bias},
                 {"depth_bias", s.depth_bias},
                 {"normal_offset", s.normal_offset},

@@ -15,6 +15,7 @@ struct ViewerOptions {
     int frames = 0;                    // > 0: quit after this many frames (automated runs)
     std::string screenshot;            // with frames: the window, UI included, written here at the end
     std::string pass_timing = "auto";  // pass_timing()
+    std::string shading = "cells";     // --shading: cells or ratio (shading_mode())
 };
 
 int run_viewer(const ViewerOptions& options);

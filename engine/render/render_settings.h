@@ -16,6 +16,9 @@ enum class PcfKernel { hardware_2x2, wide };
 enum class SpecularMode { blended, single };   // Barsi et al.'s blended average, or k_s cos^n psi_c
 enum class CapKind { solid_angle, weighted };  // docs/DESIGN.md §3: cos_radius or cos_radius_weighted
 enum class DiffuseMode { center, cap };        // k_d cos theta_c, or its exact average over the cap
+// The paper's sum over the cells, or the ratio estimator (docs/DESIGN.md §4.1): the unshadowed reflection
+// from the prefiltered map (Renderer::set_prefiltered), the cells' estimate only for the shadowed fraction.
+enum class ShadingMode { cells, ratio };
 
 inline constexpr float kMaxCasterLod = 4.0f;  // shadow texels
 
@@ -32,6 +35,7 @@ struct RenderSettings {
     SpecularMode specular = SpecularMode::blended;
     CapKind cap = CapKind::weighted;
     DiffuseMode diffuse = DiffuseMode::center;
+    ShadingMode shading = ShadingMode::cells;
     bool background = true;
     AtlasMode atlas = AtlasMode::clip_distances;
     bool skip_lights = true;  // drop lights hidden by the ground or negligible (render/lights.h)
@@ -81,13 +85,15 @@ std::string_view to_string(PcfKernel kernel);
 std::string_view to_string(SpecularMode mode);
 std::string_view to_string(CapKind kind);
 std::string_view to_string(DiffuseMode mode);
+std::string_view to_string(ShadingMode mode);
 // Parse the names above ("2x2"/"wide", "blended"/"single", "solid-angle"/"weighted",
-// "center"/"cap", "clip-distances"/"viewport-array"/"per-tile"); UsageError listing the names.
+// "center"/"cap", "cells"/"ratio", "clip-distances"/"viewport-array"/"per-tile"); UsageError listing the names.
 AtlasMode parse_atlas_mode(std::string_view name);
 PcfKernel parse_pcf_kernel(std::string_view name);
 SpecularMode parse_specular_mode(std::string_view name);
 CapKind parse_cap_kind(std::string_view name);
 DiffuseMode parse_diffuse_mode(std::string_view name);
+ShadingMode parse_shading_mode(std::string_view name);
 
 // UsageError if a value is out of range (tile size, depth bits, negative biases, caster LOD).
 void validate(const RenderSettings& settings);

@@ -67,6 +67,7 @@ void Renderer::build_programs() {
     if (settings_.specular == SpecularMode::single) shade_defines.push_back("SPECULAR_SINGLE");
     if (settings_.pcf == PcfKernel::wide) shade_defines.push_back("PCF_WIDE");
     if (uses_tile_lists(settings_)) shade_defines.push_back("SHADOW_TILE_LISTS");
+    if (settings_.shading == ShadingMode::ratio) shade_defines.push_back("SHADING_RATIO");
     shade_program_ =
         library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
     shade_defines.push_back("DIFFUSE_ONLY");
@@ -90,7 +91,8 @@ void Renderer::set_settings(const RenderSettings& settings) {
     use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
     if (old.atlas != settings.atlas || old.diffuse != settings.diffuse || old.specular != settings.specular ||
         old.pcf != settings.pcf || old.lights_uniform_block != settings.lights_uniform_block ||
-        old.shadow_tile_lists != settings.shadow_tile_lists || old.depth_prepass != settings.depth_prepass)
+        old.shadow_tile_lists != settings.shadow_tile_lists || old.depth_prepass != settings.depth_prepass ||
+        old.shading != settings.shading)
         build_programs();
     if (old.skip_lights != settings.skip_lights) select_lights();
 }
@@ -136,6 +138,22 @@ void Renderer::set_environment(const EnvironmentMap& map) {
     glTextureSubImage2D(environment_.id(), 0, 0, 0, map.width, map.height, GL_RGB, GL_FLOAT, map.texels.data());
     environment_.set_filter(GL_LINEAR, GL_LINEAR);
     environment_.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);  // u wraps around the sphere, v stops at the poles
+}
+
+void Renderer::set_prefiltered(const PrefilteredEnvironment& prefiltered) {
+    prefiltered_.clear();
+    prefiltered_levels_ = {};
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (const PrefilteredLevel& level : prefiltered.levels) {
+        gl::Texture& texture = prefiltered_.emplace_back(gl::Texture::create_2d(GL_RGB32F, level.width, level.height));
+        glTextureSubImage2D(texture.id(), 0, 0, 0, level.width, level.height, GL_RGB, GL_FLOAT, level.texels.data());
+        texture.set_filter(GL_LINEAR, GL_LINEAR);
+        texture.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);  // as the map: u wraps, v stops at the poles
+        PrefilteredLevel& kept = prefiltered_levels_.levels.emplace_back();
+        kept.shininess = level.shininess;
+        kept.width = level.width;
+        kept.height = level.height;
+    }
 }
 
 void Renderer::set_environment_rotation(float degrees) {
@@ -335,6 +353,13 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     }
     atlas_depth_.bind(unit::atlas);
     shadow_sampler_.bind(unit::atlas);
+    const bool ratio = settings_.shading == ShadingMode::ratio;
+    if (ratio) {
+        const glm::mat3 env_from_world = map_from_world(rotation_degrees_);
+        for (const gl::Program* shade : {&shade_program_, &shade_diffuse_program_, &shade_flat_program_})
+            glProgramUniformMatrix3fv(shade->id(), loc::env_from_world, 1, GL_FALSE, &env_from_world[0][0]);
+        if (!prefiltered_.empty()) prefiltered_[0].bind(unit::irradiance);
+    }
     glEnable(GL_DEPTH_TEST);
     // After the pre-pass only the visible fragment of each pixel passes (bit-identical depths:
     // shade.vert's gl_Position is invariant), so the light loop runs once per pixel.
@@ -356,6 +381,12 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         glProgramUniform3f(program, loc::k_d, object.k_d.r, object.k_d.g, object.k_d.b);
         glProgramUniform1f(program, loc::k_s, object.k_s);
         glProgramUniform1f(program, loc::shininess, object.shininess);
+        if (ratio && !prefiltered_.empty()) {  // the two levels about the material's shininess, interpolated in log n
+            const LevelPair pair = prefiltered_levels_.level_pair(object.shininess);
+            prefiltered_[std::size_t(pair.lower)].bind(unit::specular_lower);
+            prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
+            glProgramUniform1f(program, loc::specular_weight, pair.weight);
+        }
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }

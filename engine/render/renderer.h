@@ -24,6 +24,7 @@
 #include "core/image.h"
 #include "env/cells.h"
 #include "env/environment.h"
+#include "env/prefilter.h"
 #include "gl/objects.h"
 #include "gl/shader.h"
 #include "gl/timer.h"
@@ -64,6 +65,10 @@ public:
     void set_material(std::size_t object, const Material& material);
     // The lat-long map drawn behind the objects.
     void set_environment(const EnvironmentMap& map);
+    // The map prefiltered for ShadingMode::ratio (env/prefilter.h, with the decomposition's hemisphere):
+    // uploaded, one texture per level. Ratio shading without it (a viewer whose first map is still loading)
+    // leaves the objects black.
+    void set_prefiltered(const PrefilteredEnvironment& prefiltered);
     // Rotation of the map about +Y (env/orientation.h); set_scene sets the scene's.
     void set_environment_rotation(float degrees);
     // Cells of a decomposition, at most kMaxLights (std::invalid_argument otherwise); map-space ones
@@ -133,6 +138,8 @@ private:
     bool use_uniform_block_ = false;
 
     gl::Texture environment_;
+    PrefilteredEnvironment prefiltered_levels_;  // the levels' shininess and size (texels dropped)
+    std::vector<gl::Texture> prefiltered_;       // per level, RGB32F lat-long
     gl::Texture color_, depth_;
     gl::Framebuffer target_;
     glm::ivec2 screen_tiles_{0, 0};  // shader::size::screen_tile^2-pixel tiles of the target

@@ -37,6 +37,8 @@ namespace envshadow::render::shader {
     X(loc, shininess, 17)                                                                              \
     X(loc, tiles_x, 18)                                                                                \
     X(loc, unshadowed, 19)                                                                             \
+    X(loc, env_from_world, 20)  /* SHADING_RATIO: world to map directions (mat3: 20-22) */             \
+    X(loc, specular_weight, 23) /* SHADING_RATIO: weight of u_specular_upper, linear in log n */       \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -56,13 +58,16 @@ namespace envshadow::render::shader {
     /* present.frag */                                                                                 \
     X(loc, exposure_scale, 0)                                                                          \
     /* texture units */                                                                                \
-    X(unit, atlas, 0)       /* shade.frag (depth compare), atlas_preview.frag */                       \
-    X(unit, environment, 1) /* background.frag, fs_importance.comp */                                  \
-    X(unit, depth, 2)       /* shadow_tiles.comp: the image's depth after the pre-pass */              \
-    X(unit, importance, 0)  /* fs_sampler.geom */                                                      \
-    X(unit, radiance, 0)    /* fs_lights.comp, fs_cell_assign.comp, fs_cell_integrate.comp */          \
-    X(unit, moments, 1)     /* fs_lights.comp, fs_cell_integrate.comp */                               \
-    X(unit, linear, 0)      /* present.frag */                                                         \
+    X(unit, atlas, 0)          /* shade.frag (depth compare), atlas_preview.frag */                    \
+    X(unit, environment, 1)    /* background.frag, fs_importance.comp */                               \
+    X(unit, depth, 2)          /* shadow_tiles.comp: the image's depth after the pre-pass */           \
+    X(unit, importance, 0)     /* fs_sampler.geom */                                                   \
+    X(unit, radiance, 0)       /* fs_lights.comp, fs_cell_assign.comp, fs_cell_integrate.comp */       \
+    X(unit, moments, 1)        /* fs_lights.comp, fs_cell_integrate.comp */                            \
+    X(unit, linear, 0)         /* present.frag */                                                      \
+    X(unit, irradiance, 3)     /* shade.frag SHADING_RATIO: env/prefilter.h level 0 (n = 1) */         \
+    X(unit, specular_lower, 4) /* shade.frag SHADING_RATIO: the two levels about n */                  \
+    X(unit, specular_upper, 5)                                                                         \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \

@@ -1,0 +1,132 @@
+// --shading ratio (docs/DESIGN.md §4.1): the unshadowed reflection from the prefiltered map, the cells only
+// for the shadowed fraction. With nothing in the way the fraction is 1, so the picture is the map's
+// exact unshadowed integral whatever N: the white furnace returns rho_d + rho_s (n + 2) / (n + 1) (S_n is
+// not clipped by the tangent plane; at n = 1000 that is rho_d + rho_s within 0.1%) and a glossy sphere under
+// builtin:sky matches the reference.
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <glm/ext/matrix_transform.hpp>
+
+#include "env/cells.h"
+#include "env/environment.h"
+#include "env/prefilter.h"
+#include "gl_fixture.h"
+#include "reference/reference.h"
+#include "render/frame_plan.h"
+#include "render/renderer.h"
+#include "scene/meshes.h"
+
+namespace envshadow::testing {
+namespace {
+
+using RatioShadingTest = GlTest;
+
+constexpr int kSize = 64;
+
+Scene sphere(const Material& material, const std::string& environment) {
+    Scene scene;
+    scene.environment.source = environment;
+    scene.camera.position = {0.0f, 0.4f, 3.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.camera.fov_y_degrees = 40.0f;
+    Object object;
+    object.mesh = std::make_shared<Mesh>(make_mesh(SphereShape{0.8f, 64}));
+    object.transform = glm::mat4(1.0f);
+    object.material = material;
+    scene.objects.push_back(std::move(object));
+    return scene;
+}
+
+Image render_ratio(const Scene& scene, const EnvironmentMap& map, int lights) {
+    render::RenderSettings settings;
+    settings.shading = render::ShadingMode::ratio;
+    render::Renderer renderer(settings);
+    renderer.set_scene(scene);
+    renderer.set_environment(map);
+    renderer.set_prefiltered(prefilter_environment(map, Hemisphere::full));
+    renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = lights}).cells);
+    renderer.render(0.0, render::camera_view(scene, kSize, kSize));
+    return renderer.read_back();
+}
+
+TEST_P(RatioShadingTest, WhiteFurnaceReturnsTheAlbedoAtAnyN) {
+    const EnvironmentMap map = load_environment("builtin:constant");
+    for (float shininess : {10.0f, 1000.0f}) {
+        const Material material{glm::vec3(0.3f), 0.6f, shininess};
+        const double expected = 0.3 + 0.6 * (shininess + 2.0) / (shininess + 1.0);
+        for (int lights : {1, 8}) {
+            const Image image = render_ratio(sphere(material, "builtin:constant"), map, lights);
+            int pixels = 0;
+            double worst = 0.0;
+            for (int y = 0; y < image.height; ++y)
+                for (int x = 0; x < image.width; ++x) {
+                    const glm::vec4 p = image.at(x, y);
+                    if (p.a < 1.0f) continue;
+                    ++pixels;
+                    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(p[c] / expected - 1.0));
+                }
+            EXPECT_GT(pixels, kSize * kSize / 4);
+            EXPECT_LT(worst, 0.005) << "N " << lights << " n " << shininess;
+        }
+    }
+}
+
+// The reference of the sphere of shininess n under the sky, made once per process (both backends).
+const Image& reference_of(const Scene& scene, const EnvironmentMap& map, float shininess) {
+    static std::map<float, Image> cache;
+    auto it = cache.find(shininess);
+    if (it == cache.end()) {
+        reference::ReferenceOptions options;
+        options.width = options.height = kSize;
+        options.target_error = 0.002;
+        it = cache.emplace(shininess, reference::render_reference(scene, map, options).image).first;
+    }
+    return it->second;
+}
+
+// Relative RMSE over the pixels both call object pixels; `inner`: only those at least 4 pixels from the
+// silhouette (where the mirror direction grazes the tangent plane).
+double relative_rmse(const Image& image, const Image& truth, bool inner) {
+    double error2 = 0.0, reference2 = 0.0;
+    int pixels = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const glm::vec4 r = image.at(x, y), t = truth.at(x, y);
+            if (r.a < 1.0f || t.a < 1.0f) continue;
+            bool rim = false;
+            for (int dy = -4; dy <= 4 && inner; ++dy)
+                for (int dx = -4; dx <= 4; ++dx)
+                    rim |= image.at(std::clamp(x + dx, 0, kSize - 1), std::clamp(y + dy, 0, kSize - 1)).a < 1.0f;
+            if (rim) continue;
+            ++pixels;
+            for (int c = 0; c < 3; ++c) {
+                error2 += double(r[c] - t[c]) * double(r[c] - t[c]);
+                reference2 += double(t[c]) * double(t[c]);
+            }
+        }
+    EXPECT_GT(pixels, kSize * kSize / 5);
+    return std::sqrt(error2 / reference2);
+}
+
+// Within 1% at N = 8 for n = 100 and 1000. At n = 10 the silhouette's pixels are off: S_n(r) is not
+// clipped by the tangent plane, and there a low lobe loses up to half of itself under it (docs/DESIGN.md
+// §4.1); measured 1.17% over the sphere, 0.24% away from its rim (not corrected yet).
+TEST_P(RatioShadingTest, GlossySphereUnderTheSkyMatchesTheReference) {
+    const std::string spec = "builtin:sky";
+    const EnvironmentMap map = load_environment(spec);
+    for (float shininess : {10.0f, 100.0f, 1000.0f}) {
+        const Scene scene = sphere(Material{glm::vec3(0.2f), 0.6f, shininess}, spec);
+        const Image image = render_ratio(scene, map, 8);
+        const Image& truth = reference_of(scene, map, shininess);
+        EXPECT_LT(relative_rmse(image, truth, /*inner=*/true), 0.01) << "n " << shininess;
+        EXPECT_LT(relative_rmse(image, truth, /*inner=*/false), shininess >= 100.0f ? 0.01 : 0.015)
+            << "n " << shininess;
+    }
+}
+
+ENVSHADOW_INSTANTIATE_GL_TEST(RatioShadingTest);
+
+}  // namespace
+}  // namespace envshadow::testing
