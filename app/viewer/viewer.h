@@ -15,6 +15,7 @@ struct ViewerOptions {
     int frames = 0;                    // > 0: quit after this many frames (automated runs)
     std::string screenshot;            // with frames: the window, UI included, written here at the end
     std::string pass_timing = "auto";  // pass_timing()
+    std::string tile_sizes = "share";  // --tile-sizes: tile_sizing()
 };
 
 int run_viewer(const ViewerOptions& options);

@@ -40,6 +40,8 @@ constexpr std::array<std::pair<CapKind, std::string_view>, 2> kCapKinds{
     {{CapKind::solid_angle, "solid-angle"}, {CapKind::weighted, "weighted"}}};
 constexpr std::array<std::pair<DiffuseMode, std::string_view>, 2> kDiffuseModes{
     {{DiffuseMode::center, "center"}, {DiffuseMode::cap, "cap"}}};
+constexpr std::array<std::pair<TileSizing, std::string_view>, 3> kTileSizings{
+    {{TileSizing::uniform, "uniform"}, {TileSizing::share, "share"}, {TileSizing::sqrt_share, "sqrt"}}};
 
 constexpr std::array<OptimisationSwitch, 6> kSwitches = {{
     {"prepass", &RenderSettings::depth_prepass},
@@ -66,6 +68,9 @@ std::string_view to_string(CapKind kind) {
 std::string_view to_string(DiffuseMode mode) {
     return name_of(kDiffuseModes, mode);
 }
+std::string_view to_string(TileSizing sizing) {
+    return name_of(kTileSizings, sizing);
+}
 
 AtlasMode parse_atlas_mode(std::string_view name) {
     return parse(kAtlasModes, name);
@@ -81,6 +86,9 @@ CapKind parse_cap_kind(std::string_view name) {
 }
 DiffuseMode parse_diffuse_mode(std::string_view name) {
     return parse(kDiffuseModes, name);
+}
+TileSizing parse_tile_sizing(std::string_view name) {
+    return parse(kTileSizings, name);
 }
 
 void validate(const RenderSettings& settings) {
