@@ -127,9 +127,10 @@ int run_render(const RenderOptions& o) {
     }
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
-    std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
-                stats.atlas.tile_size, stats.atlas.width(), stats.atlas.height(), settings.depth_bits,
-                stats.atlas_bytes);
+    const bool uniform_tiles = stats.atlas.sizing == render::TileSizing::uniform;
+    std::printf("atlas: %d tiles %s %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
+                uniform_tiles ? "of" : "in the texels of", stats.atlas.tile_size, stats.atlas.width(),
+                stats.atlas.height(), settings.depth_bits, stats.atlas_bytes);
     std::printf("tile sizes: %s%s\n", tile_sizes_words(stats.atlas).c_str(),
                 lights.per_frame() && settings.tile_sizing != render::TileSizing::uniform
                     ? " (lights sampled every frame keep uniform tiles)"
