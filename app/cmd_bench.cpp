@@ -36,7 +36,8 @@ struct BenchOptions {
     std::string json, sweep, atlas = "clip-distances", variants, pass_timing = "auto", shading = "cells";
     OptimisationFlags optimisations;
     int frames = 100, warmup = 10, tile = 256, depth_bits = 16;
-    double time_step = 1.0 / 60.0;  // animation seconds per frame
+    std::string tile_sizes = "share";  // --tile-sizes
+    double time_step = 1.0 / 60.0;     // animation seconds per frame
 };
 
 struct Row {
@@ -233,6 +234,7 @@ int run_bench(const BenchOptions& o) {
     render::RenderSettings settings;
     settings.depth_bits = o.depth_bits;
     settings.tile_size = o.tile;
+    settings.tile_sizing = tile_sizing(o.tile_sizes);
     settings.atlas = naming_flag("--atlas", [&] { return render::parse_atlas_mode(o.atlas); });
     settings.shading = shading_mode(o.shading);
     settings = apply(o.optimisations, settings);
@@ -292,6 +294,7 @@ Command add_bench_command(CLI::App& parent) {
     app->add_option("--frames", o->frames, "Timed frames")->check(CLI::Range(1, 100000));
     app->add_option("--warmup", o->warmup, "Untimed frames first")->check(CLI::Range(0, 100000));
     add_atlas_options(app, &o->tile, &o->depth_bits);
+    add_tile_sizes_option(app, &o->tile_sizes);
     app->add_option("--atlas", o->atlas, "clip-distances (one draw), viewport-array, per-tile (baseline)");
     app->add_option("--time-step", o->time_step, "Animation seconds per frame")
         ->check(CLI::Range(0.0, 10.0))
@@ -302,7 +305,7 @@ Command add_bench_command(CLI::App& parent) {
     app->add_option(
         "--variants", o->variants,
         "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, ubo, "
-        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf, shading); ratios to the first");
+        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf, shading, tile-sizes); ratios to the first");
     add_optimisation_options(app, &o->optimisations);
     app->add_option("--sweep", o->sweep, "One row per setting: lights=16,32,…  resolution=640x360,…  tile=128,…");
     return {app, [o] { return run_bench(*o); }};

@@ -32,6 +32,7 @@ struct RenderOptions {
     std::string out, exr;
     std::string pcf = "2x2", specular = "blended", cap = "weighted", diffuse = "center", shading = "cells", atlas;
     int tile = 256, depth_bits = 16, frames = 1;
+    std::string tile_sizes = "share";
     double time = 0.0;
     std::string pass_timing = "auto";
     OptimisationFlags optimisations;
@@ -41,6 +42,7 @@ struct RenderOptions {
 render::RenderSettings settings_from(const RenderOptions& o) {
     render::RenderSettings s;
     s.tile_size = o.tile;
+    s.tile_sizing = tile_sizing(o.tile_sizes);
     s.depth_bits = o.depth_bits;
     s.pcf = naming_flag("--pcf", [&] { return render::parse_pcf_kernel(o.pcf); });
     s.specular = naming_flag("--specular", [&] { return render::parse_specular_mode(o.specular); });
@@ -135,9 +137,14 @@ int run_render(const RenderOptions& o) {
         std::string(render::to_string(settings.diffuse)).c_str());
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
-    std::printf("atlas: %d tiles of %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
-                stats.atlas.tile_size, stats.atlas.width(), stats.atlas.height(), settings.depth_bits,
-                stats.atlas_bytes);
+    const bool uniform_tiles = stats.atlas.sizing == render::TileSizing::uniform;
+    std::printf("atlas: %d tiles %s %d^2 in %dx%d, %d-bit depth: %zu bytes\n", stats.atlas.tile_count,
+                uniform_tiles ? "of" : "in the texels of", stats.atlas.tile_size, stats.atlas.width(),
+                stats.atlas.height(), settings.depth_bits, stats.atlas_bytes);
+    std::printf("tile sizes: %s%s\n", tile_sizes_words(stats.atlas).c_str(),
+                lights.per_frame() && settings.tile_sizing != render::TileSizing::uniform
+                    ? " (lights sampled every frame keep uniform tiles)"
+                    : "");
     for (render::AtlasMode mode : modes) {
         std::printf("gpu ms (%s atlas%s%s):", std::string(render::to_string(mode)).c_str(),
                     o.frames > 1 ? (", median of " + std::to_string(o.frames) + " frames").c_str() : "",
@@ -179,6 +186,7 @@ Command add_render_command(CLI::App& parent) {
     app->add_option("--out", o->out, "PNG to write (exposure, filmic tone map, sRGB)");
     app->add_option("--exr", o->exr, "EXR to write (linear; alpha 1 on objects, 0 on the background)");
     add_atlas_options(app, &o->tile, &o->depth_bits);
+    add_tile_sizes_option(app, &o->tile_sizes);
     app->add_option("--pcf", o->pcf, "Shadow filter: 2x2 (hardware) or wide (3x3 taps)")
         ->check(CLI::IsMember({"2x2", "wide"}));
     app->add_option("--specular", o->specular, "blended (Barsi et al.) or single (cos^n psi_c)")

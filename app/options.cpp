@@ -107,6 +107,26 @@ void add_atlas_options(CLI::App* app, int* tile, int* depth_bits) {
     app->add_option("--depth-bits", *depth_bits, "Shadow depth bits: 16 or 32 (float)")->check(CLI::IsMember({16, 32}));
 }
 
+void add_tile_sizes_option(CLI::App* app, std::string* value) {
+    app->add_option("--tile-sizes", *value,
+                    "Shadow tile sizes: share (default: power-of-two tiles from 128^2 to 1024^2 with areas following "
+                    "each light's luminance share), sqrt (following its square root), both within the budget of N "
+                    "x --tile^2 texels, or uniform (every tile --tile^2); fs-gpu keeps uniform tiles")
+        ->check(CLI::IsMember({"uniform", "share", "sqrt"}));
+}
+
+render::TileSizing tile_sizing(const std::string& value) {
+    return naming_flag("--tile-sizes", [&] { return render::parse_tile_sizing(value); });
+}
+
+std::string tile_sizes_words(const render::AtlasLayout& layout) {
+    if (layout.sizing == render::TileSizing::uniform) return "uniform";
+    return std::string(render::to_string(layout.sizing)) + ": " + std::to_string(layout.smallest_tile()) + "^2 to " +
+           std::to_string(layout.largest_tile()) + "^2, " + std::to_string(layout.tile_texels()) +
+           " texels of a budget of " + std::to_string(layout.tile_count) + " x " + std::to_string(layout.tile_size) +
+           "^2";
+}
+
 void add_pass_timing_option(CLI::App* app, std::string* value) {
     app->add_option("--pass-timing", *value,
                     "auto (default: wait on a software rasteriser, queries on a GPU), queries (GL_TIME_ELAPSED) or "

@@ -15,6 +15,7 @@
 #include "render/fs_sampler.h"
 #include "render/render_settings.h"
 #include "render/renderer.h"
+#include "render/shadow_atlas_layout.h"
 #include "scene/scene.h"
 
 namespace envshadow::app {
@@ -72,6 +73,15 @@ void add_time_option(CLI::App* app, double* time);
 
 // --tile and --depth-bits: the shadow atlas of render and bench.
 void add_atlas_options(CLI::App* app, int* tile, int* depth_bits);
+
+// --tile-sizes share|sqrt|uniform, for render, bench and view: power-of-two tiles sized by the
+// light's luminance share (default) or its square root within the budget of N --tile^2 texels, or
+// every tile --tile^2.
+void add_tile_sizes_option(CLI::App* app, std::string* value);
+render::TileSizing tile_sizing(const std::string& value);
+// "uniform", or e.g. "share: 128^2 to 1024^2, 8388608 texels of a budget of 128 x 256^2", as the
+// commands print it.
+std::string tile_sizes_words(const render::AtlasLayout& layout);
 
 // --pass-timing, for the commands that render; pass_timing() reads the value.
 void add_pass_timing_option(CLI::App* app, std::string* value);

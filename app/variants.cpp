@@ -71,6 +71,8 @@ render::RenderSettings apply_variant(render::RenderSettings settings, std::strin
             settings.depth_bits = int(parse_number(value));
         } else if (key == "tile") {
             settings.tile_size = int(parse_number(value));
+        } else if (key == "tile-sizes") {
+            settings.tile_sizing = render::parse_tile_sizing(value);
         } else if (key == "atlas") {
             settings.atlas = render::parse_atlas_mode(value);
         } else if (key == "pcf") {
@@ -81,7 +83,7 @@ render::RenderSettings apply_variant(render::RenderSettings settings, std::strin
             std::string keys = "caster-lod";
             for (const render::OptimisationSwitch& s : switches) keys += ", " + std::string(s.name);
             throw UsageError("unknown key '" + std::string(key) + "' (" + keys +
-                             ", depth-bits, tile, atlas, pcf, shading)");
+                             ", depth-bits, tile, atlas, pcf, shading, tile-sizes)");
         }
     }
     render::validate(settings);

@@ -16,7 +16,6 @@ layout(location = ATTRIB_POSITION) in vec3 a_position;
 
 layout(location = LOC_WORLD_FROM_OBJECT) uniform mat4 u_world_from_object;
 layout(location = LOC_FIRST_TILE) uniform int u_first_tile;
-layout(location = LOC_ATLAS_TILES) uniform ivec2 u_atlas_tiles;  // columns, rows
 
 #if defined(ATLAS_CLIP_DISTANCES)
 out gl_PerVertex {
@@ -33,8 +32,8 @@ void main() {
     gl_ClipDistance[1] = 1.0 - clip.x;
     gl_ClipDistance[2] = 1.0 + clip.y;
     gl_ClipDistance[3] = 1.0 - clip.y;
-    vec2 corner = vec2(tile % u_atlas_tiles.x, tile / u_atlas_tiles.x);
-    gl_Position = vec4((corner + 0.5 * clip.xy + 0.5) / vec2(u_atlas_tiles) * 2.0 - 1.0, clip.z, 1.0);
+    vec4 rect = lights[tile].tile;  // corner and size in atlas uv
+    gl_Position = vec4((rect.xy + (0.5 * clip.xy + 0.5) * rect.zw) * 2.0 - 1.0, clip.z, 1.0);
 #elif defined(ATLAS_VIEWPORT_ARRAY)
     gl_ViewportIndex = gl_InstanceID;
     gl_Position = clip;

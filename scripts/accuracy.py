@@ -45,7 +45,9 @@ DECOMPOSE_METHODS = [m for m in METHODS if m != "fs-gpu"]  # fs-gpu samples ever
 NS = [16, 32, 64, 128, 256]
 TILES = [128, 256, 512]
 # hemisphere "auto": the upper hemisphere when the scene has a ground (every scene here has one), else the whole sphere.
-DEFAULTS = {"tile": 256, "specular": "blended", "cap": "weighted", "diffuse": "center", "seed": 1, "hemisphere": "auto"}
+# tile_sizes "share": a budget of N x tile^2 texels, each cell's tile sized by its share of the light (issue 14 part 3).
+DEFAULTS = {"tile": 256, "specular": "blended", "cap": "weighted", "diffuse": "center", "seed": 1, "hemisphere": "auto",
+            "tile_sizes": "share"}
 
 # What the default run covers. --full: every scene x map in every study.
 GRID_PAIRS = [("figure", "city"), ("figure", "studio"), ("sphere_n100", "city"), ("sphere_n100", "studio")]
@@ -85,24 +87,29 @@ def wait_for_lock(path):
 
 
 def result_key(scene, map_, method, n, o, error):
-    """Keys written before --hemisphere existed have no hemisphere part: those renders were of the full sphere."""
+    """Keys written before --hemisphere and --tile-sizes existed have neither part: those renders were of the full
+    sphere with uniform tiles."""
     w, h = SCENES[scene][1:3]
     seed = "" if o["seed"] == 1 else f"|seed{o['seed']}"
     hemisphere = "" if o["hemisphere"] == "full" else f"|hemisphere-{o['hemisphere']}"
+    tiles = "" if o["tile_sizes"] == "uniform" else f"|tiles-{o['tile_sizes']}"
     return (f"{scene}|{map_}|{method}|{n}|{o['tile']}|{o['specular']}|{o['cap']}|{o['diffuse']}|{w}x{h}|{error}"
-            f"{seed}{hemisphere}")
+            f"{seed}{hemisphere}{tiles}")
 
 
 def key_fields(key):
-    """The CSV columns of a result key: the ten fixed parts, then seed and hemisphere (defaults when absent)."""
+    """The CSV columns of a result key: the ten fixed parts, then seed, hemisphere and tile sizes (defaults when
+    absent)."""
     parts = key.split("|")
-    seed, hemisphere = "1", "full"
+    seed, hemisphere, tiles = "1", "full", "uniform"
     for extra in parts[10:]:
         if extra.startswith("seed"):
             seed = extra[4:]
         elif extra.startswith("hemisphere-"):
             hemisphere = extra[len("hemisphere-"):]
-    return parts[:10] + [seed, hemisphere]
+        elif extra.startswith("tiles-"):
+            tiles = extra[len("tiles-"):]
+    return parts[:10] + [seed, hemisphere, tiles]
 
 
 def log(msg):
@@ -207,7 +214,7 @@ class Study:
         said = run([self.a.bin, "render", "--scene", f, "--env", MAPS[map_], "--lights", str(n), "--method", method,
              "--width", str(w), "--height", str(h), "--tile", str(o["tile"]), "--specular", o["specular"],
              "--cap", o["cap"], "--diffuse", o["diffuse"], "--seed", str(o["seed"]), "--hemisphere", o["hemisphere"],
-             "--exr", img])
+             "--tile-sizes", o["tile_sizes"], "--exr", img])
         seconds = time.time() - t
         ref = self.reference(scene, map_)  # after the render: renders run ahead of the references
         cmd = [self.a.bin, "compare", ref, img] + (["--mask", mask] if mask else [])
@@ -577,13 +584,15 @@ def write_accuracy(ctx, path):
     sizes = ", ".join(f"{k} {v[1]}×{v[2]}" for k, v in SCENES.items())
     w(f"- **Sizes** (references and renders): {sizes} pixels; the CPU reference")
     w("  is the bottleneck (one to several minutes each here).")
-    w("- **Defaults** unless a row says otherwise: N = 128 cells, method `lloyd`, shadow tiles 256², 16-bit depth,")
+    w("- **Defaults** unless a row says otherwise: N = 128 cells, method `lloyd`, a shadow budget of N × 256² texels with")
+    w("  each cell's tile sized by its share of the light (`--tile-sizes share`, 128² to 1024²), 16-bit depth,")
     w("  2×2 PCF, blended specular with the radiance-weighted cap (`--cap weighted`), diffuse at the cell centre,")
     w("  `--hemisphere auto`: only the upper hemisphere is decomposed when the scene has a ground (docs/DESIGN.md §3.1)"
       + hemisphere_said(ctx) + ".")
     w("- **Methods**: the five load-time decompositions of docs/DESIGN.md §3, and `fs-gpu`: the same Floyd–Steinberg halftoning")
-    w("  run every frame on the GPU (geometry shader, docs/FS_GPU.md) over a 256×128 importance map, so it is what the")
-    w("  dynamic-environment mode costs in accuracy against `fs` on the full 1024×512 map.")
+    w("  run every frame on the GPU (geometry shader, docs/FS_GPU.md) over the CPU method's blocks of the importance map")
+    w("  (`--fs-importance blocks`), each light the exact integral of its cell, so it is what the dynamic-environment mode")
+    w("  costs in accuracy against `fs` on the full 1024×512 map.")
     w("")
     w("Coverage of this run: the N = 128 table on " + ", ".join(f"{s}/{m}" for s, m in ctx["table_pairs"]) + ";")
     w("the full method × N grid on " + ", ".join(f"{s}/{m}" for s, m in ctx["grid_pairs"]) + ";")
@@ -720,10 +729,15 @@ def write_accuracy(ctx, path):
     w("")
     w("## Shadow tile size (N = 128, lloyd)")
     w("")
-    w("| scene / map | " + " | ".join(f"{t}²" for t in TILES) + " |")
-    w("| --- |" + " ---: |" * len(TILES))
+    w("`--tile R` sets the budget, N × R² texels: `uniform` gives every cell R², `share` (the default) sizes each")
+    w("cell's tile by its share of the light within that budget (at R = 128 every tile is already the 128² minimum,")
+    w("so the two are the same). The hand-measured comparison with `sqrt` sizing: [accuracy/tile_sizes_by_hand.md](accuracy/tile_sizes_by_hand.md).")
+    w("")
+    w("| scene / map | " + " | ".join(f"{t}² uniform | {t}² share" for t in TILES) + " |")
+    w("| --- |" + " ---: |" * (2 * len(TILES)))
     for s, m in ctx["tile_pairs"]:
-        w(f"| {s} / {m} | " + " | ".join(cell(rr(ctx, s, m, tile=t)) for t in TILES) + " |")
+        w(f"| {s} / {m} | " + " | ".join(f"{cell(rr(ctx, s, m, tile=t, tile_sizes='uniform'))} | {cell(rr(ctx, s, m, tile=t))}"
+                                         for t in TILES) + " |")
     w("")
     w("## Seed to seed (N = 128)")
     w("")
@@ -890,9 +904,8 @@ def weaknesses(ctx):
         ratios = sorted(g / c for g, c, _, _ in gpu)
         worst_gpu = max(gpu, key=lambda x: x[0] / x[1])
         w(f"- **fs-gpu, the price of no load-time step.** At N = 128 its error is {ratios[0]:.1f}–{ratios[-1]:.1f}× that of `fs` "
-          f"(worst {worst_gpu[2]}/{worst_gpu[3]}: {pct(worst_gpu[0])} against {pct(worst_gpu[1])}). Its lights carry the sampling")
-        w("  estimator (every sample the same luminance S/K at its texel's colour, docs/FS_GPU.md) rather than the exact")
-        w("  integral of a cell, are drawn from a 256×128 importance map, and merging the samples that land on one texel leaves")
+          f"(worst {worst_gpu[2]}/{worst_gpu[3]}: {pct(worst_gpu[0])} against {pct(worst_gpu[1])}). Its lights are the GPU")
+        w("  scan's samples, each the exact integral of its cell of the importance map (docs/FS_GPU.md), but the scan leaves")
         drawn = [(s, m, ctx["study"].results_for(s, m, "fs-gpu", 128)) for s, m in ctx["table_pairs"]]
         drawn = [f"{r['lights_drawn']} of 128 on {s}/{m}" for s, m, r in drawn if r and "lights_drawn" in r]
         w("  fewer lights than N" + (f" ({', '.join(drawn[:3])})" if drawn else "") + ": glossy surfaces show the gaps between the lights. Use it where the")
@@ -993,12 +1006,17 @@ def self_test():
         "figure", "city", "lloyd", 128, o, 0.005)
     if full == auto:
         faults.append("auto and full share a cache key")
-    if full != "figure|city|lloyd|128|256|blended|weighted|center|128x72|0.005":
-        faults.append(f"a full-sphere key is not the key written before --hemisphere: {full}")
-    if key_fields(full)[10:] != ["1", "full"] or key_fields(auto)[10:] != ["1", "auto"]:
+    old = result_key("figure", "city", "lloyd", 128, dict(o, hemisphere="full", tile_sizes="uniform"), 0.005)
+    if old != "figure|city|lloyd|128|256|blended|weighted|center|128x72|0.005":
+        faults.append(f"a full-sphere, uniform-tile key is not the key written before --hemisphere: {old}")
+    if old in (full, auto):
+        faults.append("uniform and share tiles share a cache key")
+    if key_fields(full)[10:] != ["1", "full", "share"] or key_fields(auto)[10:] != ["1", "auto", "share"]:
         faults.append(f"key fields: {key_fields(full)}, {key_fields(auto)}")
+    if key_fields(old)[10:] != ["1", "full", "uniform"]:
+        faults.append(f"key fields of {old}: {key_fields(old)}")
     seeded = result_key("sphere_ground", "studio", "lloyd", 128, dict(o, seed=3), 0.005)
-    if key_fields(seeded)[10:] != ["3", "auto"]:
+    if key_fields(seeded)[10:] != ["3", "auto", "share"]:
         faults.append(f"key fields of {seeded}: {key_fields(seeded)}")
 
     # Made-up results: the engine misses its 3% at seed 2 only, the figure meets 1.5%, the sphere misses 1% on city.
@@ -1108,7 +1126,8 @@ def main():
             jobs.append((scene, map_, "lloyd", 128, {"diffuse": d}))
     for scene, map_ in tile_pairs:
         for t in TILES:
-            jobs.append((scene, map_, "lloyd", 128, {"tile": t}))
+            for sizes in ("uniform", "share"):
+                jobs.append((scene, map_, "lloyd", 128, {"tile": t, "tile_sizes": sizes}))
     seed_pairs = [p_ for p_ in all_pairs if p_ in set(table_pairs)] if args.full else SEED_PAIRS
     for scene, map_ in seed_pairs:
         for m in ("lloyd", "random"):

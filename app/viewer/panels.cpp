@@ -10,6 +10,7 @@
 #include <imgui.h>
 
 #include "env/latlong.h"
+#include "options.h"
 
 namespace envshadow::app {
 namespace {
@@ -121,6 +122,14 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         const char* tile_names[] = {"128", "256", "512", "1024", "2048"};
         if (ImGui::Combo("tile size", &tile_index, tile_names, 5))
             settings.tile_size = tiles[tile_index], changed = true;
+        int sizing = int(settings.tile_sizing);
+        if (ImGui::Combo("tile sizes", &sizing,
+                         "uniform\0"
+                         "by luminance share\0"
+                         "by sqrt of the share\0"))
+            settings.tile_sizing = render::TileSizing(sizing), changed = true;
+        if (settings.tile_sizing != render::TileSizing::uniform)
+            ImGui::TextDisabled("the same texels as uniform tiles of this size");
         int depth = settings.depth_bits == 16 ? 0 : 1;
         if (ImGui::Combo("depth", &depth,
                          "16 bit\0"
@@ -233,7 +242,11 @@ void Panels::atlas_panel(const ViewerControls& controls, const PanelInputs& in) 
             const float h = w * float(preview.height()) / float(preview.width());
             // GL textures start at the bottom row: flip v.
             ImGui::Image(texture_id(preview), ImVec2(w, h), ImVec2(0, 1), ImVec2(1, 0));
-            ImGui::Text("%d tiles of %d^2", in.renderer->light_count(), controls.settings.tile_size);
+            const render::AtlasLayout& layout = in.renderer->atlas_layout();
+            if (layout.sizing == render::TileSizing::uniform)
+                ImGui::Text("%d tiles of %d^2", in.renderer->light_count(), controls.settings.tile_size);
+            else
+                ImGui::Text("%d tiles, %s", in.renderer->light_count(), tile_sizes_words(layout).c_str());
         }
     }
     ImGui::End();

@@ -130,6 +130,7 @@ public:
         display_ = std::make_unique<render::Display>();
         panels_ = std::make_unique<Panels>(*display_);
         controls_.settings.shading = shading_mode(options.shading);
+        controls_.settings.tile_sizing = tile_sizing(options.tile_sizes);
         renderer_ = std::make_unique<render::Renderer>(controls_.settings);
         renderer_->set_pass_timing(pass_timing(options.pass_timing, context_->is_software()));
 
@@ -473,6 +474,7 @@ private:
                   {"target", {camera.target.x, camera.target.y, camera.target.z}},
                   {"fov_y_degrees", camera.fov_y_degrees}}},
                 {"tile", s.tile_size},
+                {"tile_sizes", render::to_string(s.tile_sizing)},
                 {"depth_bits", s.depth_bits},
                 {"pcf", render::to_string(s.pcf)},
                 {"specular", render::to_string(s.specular)},

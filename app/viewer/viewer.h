@@ -16,6 +16,7 @@ struct ViewerOptions {
     std::string screenshot;            // with frames: the window, UI included, written here at the end
     std::string pass_timing = "auto";  // pass_timing()
     std::string shading = "cells";     // --shading: cells or ratio (shading_mode())
+    std::string tile_sizes = "share";  // --tile-sizes: tile_sizing()
 };
 
 int run_viewer(const ViewerOptions& options);

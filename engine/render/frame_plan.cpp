@@ -82,19 +82,20 @@ void FramePlanner::place_objects(double time) {
 }
 
 void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& settings) {
-    const glm::vec2 tile_uv(1.0f / float(layout.columns), 1.0f / float(layout.rows));
+    const glm::vec2 atlas_size(float(layout.width()), float(layout.height()));
     const bool weighted = settings.cap == CapKind::weighted;
     plan_.lights.resize(lights_.size());
     plan_.min_texel_world = std::numeric_limits<float>::infinity();
     for (std::size_t k = 0; k < lights_.size(); ++k) {
         const WorldLight& light = lights_[k];
-        const OrthographicFit fit = fit_orthographic(frames_[k], caster_points_, layout.tile_size, kTileMarginTexels);
+        const TileRect& tile = layout.tiles.at(k);
+        const OrthographicFit fit = fit_orthographic(frames_[k], caster_points_, tile.size, kTileMarginTexels);
         LightRecord& record = plan_.lights[k];
         record.direction = glm::vec4(light.direction, weighted ? light.cos_radius_weighted : light.cos_radius);
         record.radiance = glm::vec4(light.radiance, 0.0f);
         record.clip_from_world = fit.clip_from_world;
-        const int column = int(k) % layout.columns, row = int(k) / layout.columns;
-        record.tile = glm::vec4(float(column) * tile_uv.x, float(row) * tile_uv.y, tile_uv.x, tile_uv.y);
+        record.tile =
+            glm::vec4(glm::vec2(float(tile.x), float(tile.y)) / atlas_size, glm::vec2(float(tile.size)) / atlas_size);
         record.bias = glm::vec4(settings.depth_bias * fit.texel_world / fit.depth_range,
                                 settings.normal_offset * fit.texel_world, 0.0f, 0.0f);
         plan_.min_texel_world = std::min(plan_.min_texel_world, fit.texel_world);
@@ -113,8 +114,8 @@ void FramePlanner::fit_caster_rects(const AtlasLayout& layout) {
     plan_.caster_rects.assign(plan_.lights.size() * std::size_t(plan_.caster_rects_per_light),
                               glm::vec4(-1.0f, -1.0f, 1.0f, 1.0f));
     if (each) {
-        const float pad = 2.0f * 2.0f / float(layout.tile_size);  // 2 texels in clip units
-        for (std::size_t k = 0; k < plan_.lights.size(); ++k)
+        for (std::size_t k = 0; k < plan_.lights.size(); ++k) {
+            const float pad = 2.0f * 2.0f / float(layout.tiles.at(k).size);  // 2 texels of its tile in clip units
             for (std::size_t c = 0; c < casters; ++c) {
                 glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
                 for (std::size_t j = 0; j < 8; ++j) {
@@ -124,6 +125,7 @@ void FramePlanner::fit_caster_rects(const AtlasLayout& layout) {
                 }
                 plan_.caster_rects[k * casters + c] = glm::vec4(lo - pad, hi + pad);
             }
+        }
     }
     if (plan_.caster_rects.empty()) plan_.caster_rects.push_back(glm::vec4(0.0f));
 }

@@ -33,7 +33,8 @@ struct CameraView {
 // The scene's camera for an image of width x height (near and far planes from the scene bounds).
 CameraView camera_view(const Scene& scene, int width, int height, double time = 0.0);
 
-// Texels between the casters and a tile's border: the wide PCF reaches 1.5 texels from its centre.
+// Texels between the casters and a tile's border (whatever the tile's size, its texels are the
+// atlas's): the wide PCF reaches 1.5 texels from its centre.
 inline constexpr float kTileMarginTexels = 3.0f;
 // Caster rectangles per light at most; with more casters one rectangle, the whole tile, stands for all.
 inline constexpr int kMaxCasterRects = 16;

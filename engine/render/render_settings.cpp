@@ -42,6 +42,8 @@ constexpr std::array<std::pair<DiffuseMode, std::string_view>, 2> kDiffuseModes{
     {{DiffuseMode::center, "center"}, {DiffuseMode::cap, "cap"}}};
 constexpr std::array<std::pair<ShadingMode, std::string_view>, 2> kShadingModes{
     {{ShadingMode::cells, "cells"}, {ShadingMode::ratio, "ratio"}}};
+constexpr std::array<std::pair<TileSizing, std::string_view>, 3> kTileSizings{
+    {{TileSizing::uniform, "uniform"}, {TileSizing::share, "share"}, {TileSizing::sqrt_share, "sqrt"}}};
 
 constexpr std::array<OptimisationSwitch, 6> kSwitches = {{
     {"prepass", &RenderSettings::depth_prepass},
@@ -72,6 +74,10 @@ std::string_view to_string(ShadingMode mode) {
     return name_of(kShadingModes, mode);
 }
 
+std::string_view to_string(TileSizing sizing) {
+    return name_of(kTileSizings, sizing);
+}
+
 AtlasMode parse_atlas_mode(std::string_view name) {
     return parse(kAtlasModes, name);
 }
@@ -89,6 +95,10 @@ DiffuseMode parse_diffuse_mode(std::string_view name) {
 }
 ShadingMode parse_shading_mode(std::string_view name) {
     return parse(kShadingModes, name);
+}
+
+TileSizing parse_tile_sizing(std::string_view name) {
+    return parse(kTileSizings, name);
 }
 
 void validate(const RenderSettings& settings) {

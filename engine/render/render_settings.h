@@ -20,10 +20,19 @@ enum class DiffuseMode { center, cap };        // k_d cos theta_c, or its exact 
 // from the prefiltered map (Renderer::set_prefiltered), the cells' estimate only for the shadowed fraction.
 enum class ShadingMode { cells, ratio };
 
+// How big each light's shadow tile is (render/shadow_atlas_layout.h): all tile_size^2, or power-of-two
+// sizes whose areas follow the light's luminance share (share) or its square root (sqrt), within the
+// same budget of N tile_size^2 texels.
+enum class TileSizing { uniform, share, sqrt_share };
+
 inline constexpr float kMaxCasterLod = 4.0f;  // shadow texels
 
 struct RenderSettings {
     int tile_size = 256;  // kMinTileSize..kMaxTileSize (render/shadow_atlas_layout.h)
+    // Lights handed over every frame (the GPU sampler) keep uniform tiles whatever this says. share:
+    // lower error than uniform and sqrt at the same budget on engine/courtyard, figure/city and
+    // figure/studio (docs/ACCURACY.md, issue 14 part 3).
+    TileSizing tile_sizing = TileSizing::share;
     int depth_bits = 16;  // 16 or 32
     PcfKernel pcf = PcfKernel::hardware_2x2;
     // Bias against shadow acne: the casters' depth is pushed back by glPolygonOffset(slope, 1)
@@ -86,14 +95,17 @@ std::string_view to_string(SpecularMode mode);
 std::string_view to_string(CapKind kind);
 std::string_view to_string(DiffuseMode mode);
 std::string_view to_string(ShadingMode mode);
+std::string_view to_string(TileSizing sizing);
 // Parse the names above ("2x2"/"wide", "blended"/"single", "solid-angle"/"weighted",
-// "center"/"cap", "cells"/"ratio", "clip-distances"/"viewport-array"/"per-tile"); UsageError listing the names.
+// "center"/"cap", "cells"/"ratio", "clip-distances"/"viewport-array"/"per-tile",
+// "uniform"/"share"/"sqrt"); UsageError listing the names.
 AtlasMode parse_atlas_mode(std::string_view name);
 PcfKernel parse_pcf_kernel(std::string_view name);
 SpecularMode parse_specular_mode(std::string_view name);
 CapKind parse_cap_kind(std::string_view name);
 DiffuseMode parse_diffuse_mode(std::string_view name);
 ShadingMode parse_shading_mode(std::string_view name);
+TileSizing parse_tile_sizing(std::string_view name);
 
 // UsageError if a value is out of range (tile size, depth bits, negative biases, caster LOD).
 void validate(const RenderSettings& settings);

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "env/latlong.h"
 #include "env/orientation.h"
 #include "gl/readback.h"
 #include "render/embedded_shaders.h"
@@ -161,12 +162,13 @@ void Renderer::set_environment_rotation(float degrees) {
     select_lights();
 }
 
-void Renderer::set_lights(std::vector<Cell> cells, CellSpace space) {
+void Renderer::set_lights(std::vector<Cell> cells, CellSpace space, bool every_frame) {
     if (cells.size() > std::size_t(kMaxLights))  // the light buffer, the atlas and MAX_LIGHTS hold that many
         throw std::invalid_argument("renderer: " + std::to_string(cells.size()) + " lights given, at most " +
                                     std::to_string(kMaxLights) + " fit");
     cells_ = std::move(cells);
     cell_space_ = space;
+    every_frame_lights_ = every_frame;
     select_lights();
 }
 
@@ -174,20 +176,36 @@ void Renderer::select_lights() {
     const glm::mat3 rotation = cell_space_ == CellSpace::map ? world_from_map(rotation_degrees_) : glm::mat3(1.0f);
     lights_ = render::select_lights(cells_, rotation, has_ground_, settings_.skip_lights);
     planner_.set_lights(lights_.kept);
+    layout_stale_ = true;  // the tile count, and sized tiles' sizes, follow the lights
 }
 
 void Renderer::ensure_atlas() {
-    const int tiles = std::max(light_count(), 1);
-    if (atlas_depth_ && layout_.tile_count == tiles && layout_.requested_tile_size == settings_.tile_size &&
+    // Per-frame lights keep uniform tiles: sized ones would change size (and the atlas its shape)
+    // from frame to frame.
+    const TileSizing sizing = every_frame_lights_ ? TileSizing::uniform : settings_.tile_sizing;
+    // Uniform tiles depend on the count alone; sized ones on every light's luminance.
+    const bool same_lights =
+        !layout_stale_ || (sizing == TileSizing::uniform && layout_.tile_count == std::max(light_count(), 1));
+    if (atlas_depth_ && same_lights && layout_.requested_tile_size == settings_.tile_size && layout_.sizing == sizing &&
         atlas_depth_bits_ == settings_.depth_bits)
         return;
     GLint max_texture = 0, max_viewport[2] = {0, 0};
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
     glGetIntegerv(GL_MAX_VIEWPORT_DIMS, max_viewport);
-    layout_ = plan_atlas(tiles, settings_.tile_size, std::min({max_texture, max_viewport[0], max_viewport[1]}));
+    luminance_.clear();
+    for (const WorldLight& light : lights_.kept) luminance_.push_back(latlong::luminance(glm::dvec3(light.radiance)));
+    const int old_width = layout_.width(), old_height = layout_.height();
+    layout_ =
+        plan_atlas(luminance_, sizing, settings_.tile_size, std::min({max_texture, max_viewport[0], max_viewport[1]}));
+    layout_stale_ = false;
+    if (atlas_depth_ && old_width == layout_.width() && old_height == layout_.height() &&
+        atlas_depth_bits_ == settings_.depth_bits)
+        return;  // the same texture holds the new tiles
     if (layout_.tile_size != layout_.requested_tile_size)
-        log::warn("shadow atlas: " + std::to_string(tiles) + " tiles of " + std::to_string(settings_.tile_size) +
-                  "^2 exceed the GL limit; using " + std::to_string(layout_.tile_size) + "^2 tiles");
+        log::warn("shadow atlas: " + std::to_string(layout_.tile_count) + " tiles of " +
+                  std::to_string(settings_.tile_size) + "^2 exceed the GL limit; using " +
+                  std::to_string(layout_.tile_size) + "^2 tiles" +
+                  (sizing == TileSizing::uniform ? "" : " (the budget of the sized tiles)"));
     atlas_depth_bits_ = settings_.depth_bits;
     atlas_depth_ = gl::Texture::create_2d(settings_.depth_bits == 16 ? GL_DEPTH_COMPONENT16 : GL_DEPTH_COMPONENT32F,
                                           layout_.width(), layout_.height());
@@ -231,9 +249,7 @@ void Renderer::draw_atlas(const FramePlan& plan) {
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(settings_.slope_bias, 1.0f);
     atlas_program_.use();
-    glProgramUniform2i(atlas_program_.id(), loc::atlas_tiles, layout_.columns, layout_.rows);
     const int tiles = int(plan.lights.size());
-    const int tile_size = layout_.tile_size;
 
     // Each caster at the coarsest level of detail within settings_.caster_lod of the smallest texel
     // of this frame's tiles (level 0, the full mesh, with caster_lod = 0).
@@ -278,10 +294,10 @@ void Renderer::draw_atlas(const FramePlan& plan) {
                 const int batch = std::min(max_viewports_, tiles - first);
                 std::array<float, 4 * kMaxViewports> rects{};
                 for (int i = 0; i < batch; ++i) {
-                    const int k = first + i;
-                    rects[4 * i + 0] = float((k % layout_.columns) * tile_size);
-                    rects[4 * i + 1] = float((k / layout_.columns) * tile_size);
-                    rects[4 * i + 2] = rects[4 * i + 3] = float(tile_size);
+                    const TileRect& tile = layout_.tiles[std::size_t(first + i)];
+                    rects[4 * i + 0] = float(tile.x);
+                    rects[4 * i + 1] = float(tile.y);
+                    rects[4 * i + 2] = rects[4 * i + 3] = float(tile.size);
                 }
                 glViewportArrayv(0, batch, rects.data());
                 glProgramUniform1i(atlas_program_.id(), loc::first_tile, first);
@@ -290,7 +306,8 @@ void Renderer::draw_atlas(const FramePlan& plan) {
             break;
         case AtlasMode::per_tile:
             for (int k = 0; k < tiles; ++k) {
-                glViewport((k % layout_.columns) * tile_size, (k / layout_.columns) * tile_size, tile_size, tile_size);
+                const TileRect& tile = layout_.tiles[std::size_t(k)];
+                glViewport(tile.x, tile.y, tile.size, tile.size);
                 glProgramUniform1i(atlas_program_.id(), loc::first_tile, k);
                 for_each_caster(1, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level); });
             }

@@ -73,8 +73,10 @@ public:
     void set_environment_rotation(float degrees);
     // Cells of a decomposition, at most kMaxLights (std::invalid_argument otherwise); map-space ones
     // are rotated into the world by the environment's rotation, world-space ones are taken as they are.
+    // `every_frame`: lights handed over anew every frame (the GPU sampler), which keep uniform shadow
+    // tiles whatever settings().tile_sizing says.
     enum class CellSpace { map, world };
-    void set_lights(std::vector<Cell> cells, CellSpace space = CellSpace::map);
+    void set_lights(std::vector<Cell> cells, CellSpace space = CellSpace::map, bool every_frame = false);
 
     // How render() times its passes (gl/timer.h): GL_TIME_ELAPSED queries by default.
     void set_pass_timing(gl::PassTiming timing) { timer_.set_mode(timing); }
@@ -130,6 +132,9 @@ private:
     gl::Buffer light_buffer_;  // room for shader::size::max_lights records, made once
 
     AtlasLayout layout_;
+    bool layout_stale_ = true;         // the lights changed since layout_ was planned
+    bool every_frame_lights_ = false;  // set_lights(..., every_frame)
+    std::vector<double> luminance_;    // of the kept lights, for plan_atlas
     int atlas_depth_bits_ = 0;
     gl::Texture atlas_depth_;
     gl::Framebuffer atlas_;

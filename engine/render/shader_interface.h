@@ -25,7 +25,6 @@ namespace envshadow::render::shader {
     /* shadow_atlas.vert */                                                                            \
     X(loc, world_from_object, 0) /* also shade.vert */                                                 \
     X(loc, first_tile, 4)                                                                              \
-    X(loc, atlas_tiles, 5)                                                                             \
     /* shade.vert, shade.frag */                                                                       \
     X(loc, world_normal_from_object, 4)                                                                \
     X(loc, clip_from_world, 8)                                                                         \

@@ -30,8 +30,10 @@ TEST(Variants, ItemsApplyLeftToRight) {
     EXPECT_FALSE(off.lights_uniform_block || off.cull_back_faces || off.specialise_shaders || off.shadow_tile_lists ||
                  off.flat_receivers);
     EXPECT_EQ(apply_variant(base, "").tile_size, base.tile_size);
-    for (const char* bad : {"fast", "prepass=maybe", "caster-lod=x", "caster-lod=-1", "caster-lod=nan", "tile=64",
-                            "depth-bits=24", "colour=red"})
+    EXPECT_EQ(apply_variant(base, "tile-sizes=sqrt").tile_sizing, render::TileSizing::sqrt_share);
+    EXPECT_EQ(apply_variant(base, "tile-sizes=uniform").tile_sizing, render::TileSizing::uniform);
+    for (const char* bad : {"fast", "prepass=maybe", "tile-sizes=big", "caster-lod=x", "caster-lod=-1",
+                            "caster-lod=nan", "tile=64", "depth-bits=24", "colour=red"})
         EXPECT_THROW(apply_variant(base, bad), UsageError) << bad;
 }
 

@@ -104,6 +104,36 @@ TEST(FramePlan, EveryCastersBoxLandsInsideEachLightsClipCube) {
     EXPECT_NE(plan.objects[2].world_from_object, planner.objects()[2].object.transform);
 }
 
+TEST(FramePlan, SizedTilesFitEachLightToItsOwnTile) {
+    // Eight lights from one direction, one a hundred times as bright: share gives it 512^2 and the
+    // dimmest 128^2 (tests/render/shadow_atlas_layout_test.cpp works the sizes out). They hold the
+    // same casters, so the texel, hence the normal offset, scales with (side - 2 margins)^-1.
+    const std::vector<double> luminance = {100.0, 1.00, 1.01, 1.02, 1.03, 1.04, 1.05, 1.06};
+    std::vector<WorldLight> lights;
+    for (double l : luminance) lights.push_back(light({0.3f, 1.0f, 0.2f}, glm::vec3(float(l))));
+    FramePlanner planner = three_casters(lights);
+    const AtlasLayout layout = plan_atlas(luminance, TileSizing::share, kTile, 16384);
+    ASSERT_EQ(layout.tiles[0].size, 512);
+    ASSERT_EQ(layout.tiles[1].size, 128);
+    const FramePlan& plan = planner.plan(0.0, eye_at({0, 2, 6}), layout, RenderSettings{});
+    ASSERT_EQ(plan.lights.size(), 8u);
+    for (std::size_t k = 0; k < 8; ++k) {
+        const TileRect& tile = layout.tiles[k];
+        const glm::vec4 expected(float(tile.x) / float(layout.width()), float(tile.y) / float(layout.height()),
+                                 float(tile.size) / float(layout.width()), float(tile.size) / float(layout.height()));
+        EXPECT_EQ(plan.lights[k].tile, expected) << k;
+    }
+    const float margin = 2.0f * kTileMarginTexels;
+    EXPECT_NEAR(plan.lights[0].bias.y / plan.lights[1].bias.y, (128.0f - margin) / (512.0f - margin), 1e-4f);
+    EXPECT_NEAR(plan.min_texel_world, plan.lights[0].bias.y, 1e-6f);  // normal offset 1 texel
+    // The caster rectangles' pad is 2 texels of each light's own tile (4 / side in clip units), about
+    // the box's extent, which spans (side - 2 margins) / side of what it spans in the other tile.
+    const std::size_t per_light = std::size_t(plan.caster_rects_per_light);
+    const glm::vec4 big = plan.caster_rects[0], small = plan.caster_rects[per_light];
+    const float box = (big.z - big.x - 8.0f / 512.0f) * 512.0f / (512.0f - margin);  // unwidened extent
+    EXPECT_NEAR(small.z - small.x, box * (128.0f - margin) / 128.0f + 8.0f / 128.0f, 1e-4f);
+}
+
 TEST(FramePlan, CasterRectanglesHoldTheirCasterAndStayInTheTile) {
     const std::vector<WorldLight> lights = some_lights(9);
     FramePlanner planner = three_casters(lights);

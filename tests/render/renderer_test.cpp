@@ -354,6 +354,51 @@ TEST_P(RendererTest, AtlasModesRenderTheSameImage) {
     EXPECT_GT(pixels, 1000);
 }
 
+// Tiles sized by the lights' luminance (TileSizing::share) are drawn where the light records say in
+// all three atlas modes; with equal lights they are the uniform grid's tiles at other places
+// (Morton order), which must not change the image.
+TEST_P(RendererTest, SizedTilesDrawTheSameInEveryAtlasMode) {
+    Scene scene;
+    scene.has_ground = true;
+    scene.objects.push_back(make_object(mesh_of(PlaneShape{6.0f}), glm::vec3(0.0f), diffuse(0.7f), false));
+    scene.objects.push_back(
+        make_object(mesh_of(BoxShape{glm::vec3(0.8f)}), glm::vec3(-0.5f, 0.4f, 0.0f), diffuse(0.6f)));
+    scene.objects.push_back(
+        make_object(mesh_of(SphereShape{0.4f, 48}), glm::vec3(0.6f, 0.4f, 0.3f), {glm::vec3(0.5f), 0.3f, 40.0f}));
+    const CameraView view = look_at({0.5f, 3.0f, 4.0f}, glm::vec3(0.0f), 160, 120);
+    const std::vector<Cell> sky = cells_of("builtin:sky", 40);  // 40 tiles: more than 16 viewports
+    std::vector<Cell> equal = sky;
+    for (Cell& cell : equal) cell.radiance = glm::vec3(0.05f);
+    auto render_with = [&](render::AtlasMode mode, render::TileSizing sizing, const std::vector<Cell>& cells,
+                           render::AtlasLayout* layout = nullptr) {
+        RenderSettings settings;
+        settings.atlas = mode;
+        settings.tile_size = 256;  // a budget of 40 x 256^2 (at 128^2 every tile must be the smallest)
+        settings.tile_sizing = sizing;
+        Renderer renderer(settings);
+        renderer.set_scene(scene);
+        renderer.set_lights(cells);
+        const render::FrameStats stats = renderer.render(0.0, view);
+        if (layout) *layout = stats.atlas;
+        return renderer.read_back();
+    };
+    render::AtlasLayout layout;
+    const Image per_tile = render_with(render::AtlasMode::per_tile, render::TileSizing::share, sky, &layout);
+    EXPECT_EQ(layout.sizing, render::TileSizing::share);
+    EXPECT_GT(layout.largest_tile(), layout.smallest_tile());  // the sun's cells get larger tiles
+    EXPECT_GT(object_psnr(render_with(render::AtlasMode::clip_distances, render::TileSizing::share, sky), per_tile),
+              50.0);
+    EXPECT_GT(object_psnr(render_with(render::AtlasMode::viewport_array, render::TileSizing::share, sky), per_tile),
+              50.0);
+    for (render::AtlasMode mode : {render::AtlasMode::clip_distances, render::AtlasMode::per_tile}) {
+        const Image grid = render_with(mode, render::TileSizing::uniform, equal);
+        EXPECT_GT(object_psnr(render_with(mode, render::TileSizing::share, equal, &layout), grid), 60.0);
+        EXPECT_EQ(layout.smallest_tile(), 256);
+        EXPECT_EQ(layout.largest_tile(), 256);
+        EXPECT_EQ(layout.columns, 0);  // placed by the sized layout, not the grid
+    }
+}
+
 // Lights under the ground are hidden by it: skipping them changes nothing where the ground really
 // casts its shadow. (Skipping treats the ground as unbounded; here every light below is at least 20
 // degrees down, so the 12 m plane hides all of them from the sphere.)
@@ -469,6 +514,7 @@ TEST_P(RendererTest, ReportsTheAtlasAndThePasses) {
     scene.objects.push_back(make_object(mesh_of(SphereShape{0.5f, 32}), glm::vec3(0.0f), diffuse(0.5f)));
     RenderSettings settings;
     settings.tile_size = 128;
+    settings.tile_sizing = render::TileSizing::uniform;  // the grid's columns and rows
     settings.depth_bits = 32;
     Renderer renderer(settings);
     renderer.set_scene(scene);

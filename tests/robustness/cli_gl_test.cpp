@@ -62,8 +62,9 @@ TEST(CliRender, AnAtlasOverTheGlTextureLimitShrinksItsTilesAndSaysSo) {
     // 128 cells, about 80 above the ground: 16 columns of 2048 texels = 32768, over llvmpipe's (and
     // most GPUs') 16384. The renderer asks GL for GL_MAX_TEXTURE_SIZE and halves the tile size.
     const fs::path dir = scene_folder();
-    const std::vector<std::string> args = {"render",   "--scene", "scene.json", "--width", "32",    "--height", "32",
-                                           "--lights", "128",     "--tile",     "2048",    "--out", "out.png"};
+    const std::vector<std::string> args = {"render",   "--scene", "scene.json", "--width",      "32",
+                                           "--height", "32",      "--lights",   "128",          "--tile",
+                                           "2048",     "--out",   "out.png",    "--tile-sizes", "uniform"};
     const test::CliRun run = run_envshadow(args, dir, 120);
     ASSERT_EQ(run.exit_code, 0) << test::describe(args, run);
     EXPECT_NE(run.err.find("exceed the GL limit; using 1024^2 tiles"), std::string::npos) << run.err;
