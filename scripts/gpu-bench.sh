@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The GPU run, in one command (issue 18): builds Release, checks that EGL reaches a hardware GPU,
-# benches flyover (the paper's Table 1 scene: two figures) at 1920x1080 for N = 64, 128, 256 and the
-# per-frame GPU sampler, and writes the table into docs/PERFORMANCE.md between the markers
+# benches flyover (the paper's Table 1 scene: two figures) at 1920x1080 for N = 64, 128, 256 in both
+# shading modes (the paper's cells, the ratio estimator) and the per-frame GPU sampler, and writes the table into docs/PERFORMANCE.md between the markers
 #   <!-- gpu-bench:begin --> ... <!-- gpu-bench:end -->
 # with the GPU's name. Takes a few minutes on a GPU machine (most of it the build).
 #
@@ -49,23 +49,25 @@ if [ "$dry_run" = 0 ] && { [[ "$renderer" != *"EGL device"* ]] || [[ "$renderer"
 fi
 
 if [ "$dry_run" = 1 ]; then
-  width=96 height=54 frames=3 warmup=1 sweep="lights=8,16"
+  width=96 height=54 frames=3 warmup=1 sweep="lights=8,16" gpu_lights=16
 else
-  width=1920 height=1080 frames=200 warmup=20 sweep="lights=64,128,256"
+  width=1920 height=1080 frames=200 warmup=20 sweep="lights=64,128,256" gpu_lights=128
 fi
 scene="assets/scenes/flyover.json"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 common=(--scene "$scene" --width "$width" --height "$height" --frames "$frames" --warmup "$warmup" --backend egl)
-cmd_cells=("$bin" bench "${common[@]}" --sweep "$sweep")
-cmd_fs_gpu=("$bin" bench "${common[@]}" --lights 128 --method fs-gpu)
+cmd_cells=("$bin" bench "${common[@]}" --sweep "$sweep" --shading cells)
+cmd_ratio=("$bin" bench "${common[@]}" --sweep "$sweep" --shading ratio)
+cmd_fs_gpu=("$bin" bench "${common[@]}" --lights "$gpu_lights" --method fs-gpu)
 "${cmd_cells[@]}" --json "$work/cells.json" >"$work/cells.txt" 2>&1 || { cat "$work/cells.txt" >&2; exit 1; }
+"${cmd_ratio[@]}" --json "$work/ratio.json" >"$work/ratio.txt" 2>&1 || { cat "$work/ratio.txt" >&2; exit 1; }
 "${cmd_fs_gpu[@]}" --json "$work/fs_gpu.json" >"$work/fs_gpu.txt" 2>&1 || { cat "$work/fs_gpu.txt" >&2; exit 1; }
 
-python3 - "$work" "$out" "$renderer" "$dry_run" "${cmd_cells[*]}" "${cmd_fs_gpu[*]}" <<'EOF'
+python3 - "$work" "$out" "$renderer" "$dry_run" "${cmd_cells[*]}" "${cmd_ratio[*]}" "${cmd_fs_gpu[*]}" <<'EOF'
 import datetime, json, os, sys
 
-work, out, renderer, dry_run, cmd_cells, cmd_fs_gpu = sys.argv[1:]
+work, out, renderer, dry_run, cmd_cells, cmd_ratio, cmd_fs_gpu = sys.argv[1:]
 begin, end = "<!-- gpu-bench:begin -->", "<!-- gpu-bench:end -->"
 
 def rows(name, label):
@@ -83,11 +85,13 @@ lines = [begin,
          f"Written by `scripts/gpu-bench.sh` on {datetime.date.today().isoformat()}; medians over the timed frames of",
          "",
          f"    {cmd_cells}",
+         f"    {cmd_ratio}",
          f"    {cmd_fs_gpu}",
          "",
          "| case | N | drawn | resolution | frame ms med / p95 | FPS med | atlas GPU ms | shading GPU ms |",
          "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: |"]
-lines += rows("cells.json", lambda r: f"flyover, lloyd, {r['setting']}")
+lines += rows("cells.json", lambda r: f"flyover, lloyd, cells shading, {r['setting']}")
+lines += rows("ratio.json", lambda r: f"flyover, lloyd, ratio shading, {r['setting']}")
 lines += rows("fs_gpu.json", lambda r: "flyover, fs-gpu (sampled every frame)")
 lines.append(end)
 section = "\n".join(lines) + "\n"

@@ -16,12 +16,15 @@ for run in 1 2; do
   grep -q '^before$' "$doc" && grep -q '^after$' "$doc" || fail "run $run: text around the section lost"
   grep -q stale "$doc" && fail "run $run: the old section was kept"
   grep -q '^### GPU: .*(dry run' "$doc" || fail "run $run: no heading naming the renderer"
-  # Rows: N = 8 and 16 (the sweep) and the GPU sampler at 128, each with a positive frame time.
-  for n in 8 16 128; do
-    row="$(grep -E "^\| flyover, [^|]+ \| $n \| [0-9]+ \| 96×54 \| [0-9.]+ / [0-9.]+ \| [0-9.]+ \|" "$doc")" ||
-      fail "run $run: no row for N = $n"
-    ms="$(echo "$row" | awk -F'|' '{split($6, a, "/"); print a[1] + 0}')"
-    awk -v ms="$ms" 'BEGIN { exit !(ms > 0) }' || fail "run $run: N = $n frame time $ms"
+  # Rows: N = 8 and 16 (the sweep) in both shading modes and the GPU sampler at 16, each once with a
+  # positive frame time.
+  for case in "lloyd, cells shading, lights=8 | 8" "lloyd, cells shading, lights=16 | 16" \
+              "lloyd, ratio shading, lights=8 | 8" "lloyd, ratio shading, lights=16 | 16" \
+              "fs-gpu (sampled every frame) | 16"; do
+    rows="$(grep -F "| flyover, $case | " "$doc" | grep -E '\| 96×54 \| [0-9.]+ / [0-9.]+ \| [0-9.]+ \|' || true)"
+    [ "$(printf '%s' "$rows" | grep -c .)" = 1 ] || fail "run $run: not one row for \"$case\""
+    ms="$(echo "$rows" | awk -F'|' '{split($6, a, "/"); print a[1] + 0}')"
+    awk -v ms="$ms" 'BEGIN { exit !(ms > 0) }' || fail "run $run: \"$case\" frame time $ms"
   done
 done
 
