@@ -69,10 +69,16 @@ TEST(CmdRender, GpuFloydSteinbergGivesTheLights) {
         render(scene("spheres.json") + " " + kSmall + " --method fs-gpu --out '" + png.string() + "'");
     ASSERT_EQ(run.status, 0) << run.output;
     EXPECT_NE(run.output.find("fs-gpu: "), std::string::npos) << run.output;  // lights sampled every frame
-    // interior.exr is 1024 x 512: by default the CPU method fs's blocks, of 32 x 32 texels for 8 samples (the
-    // largest power of two leaving at least 64 blocks per sample).
-    EXPECT_NE(run.output.find("from a 32x16 importance map"), std::string::npos) << run.output;
+    // interior.exr is 1024 x 512: by default the CPU method fs's blocks (the largest power of two leaving at
+    // least 64 blocks per sample). spheres.json has a ground, so only the upper half of the map is sampled:
+    // blocks of 16 x 16 texels for 8 samples; over the whole sphere 32 x 32.
+    EXPECT_NE(run.output.find("from a 64x32 importance map"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("upper hemisphere"), std::string::npos) << run.output;
     EXPECT_TRUE(fs::exists(png));
+    const CommandResult whole = render(scene("spheres.json") + " " + kSmall +
+                                       " --method fs-gpu --hemisphere full --out '" + png.string() + "'");
+    ASSERT_EQ(whole.status, 0) << whole.output;
+    EXPECT_NE(whole.output.find("from a 32x16 importance map"), std::string::npos) << whole.output;
     const CommandResult sized = render(scene("spheres.json") + " " + kSmall +
                                        " --method fs-gpu --fs-importance 256x128 --out '" + png.string() + "'");
     ASSERT_EQ(sized.status, 0) << sized.output;
