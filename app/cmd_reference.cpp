@@ -18,7 +18,7 @@ namespace {
 
 struct ReferenceCommandOptions {
     CommonOptions common;  // --scene, --env, --seed, --width, --height
-    std::string exr, png, error_exr;
+    std::string exr, png, error_exr, tonemap = "aces";
     reference::ReferenceOptions render;
 };
 
@@ -49,7 +49,8 @@ Command add_reference_command(CLI::App& parent) {
     add_common_options(app, &o->common, set);
     add_time_option(app, &o->render.time);
     app->add_option("--exr", o->exr, "Linear EXR to write (alpha 1 on objects, 0 on the background)")->required();
-    app->add_option("--png", o->png, "Tone-mapped PNG to write (the scene's exposure)");
+    app->add_option("--png", o->png, "Tone-mapped PNG to write (the scene's exposure, --tonemap)");
+    add_tonemap_option(app, &o->tonemap);
     app->add_option("--samples", o->render.max_samples, "Most samples per pixel (a pixel stops earlier at --error)")
         ->check(CLI::Range(1LL, 1LL << 40));
     app->add_option("--error", o->render.target_error,
@@ -80,7 +81,8 @@ Command add_reference_command(CLI::App& parent) {
                 if (!o->png.empty()) {
                     Image opaque = result.image;  // the PNG shows the background too; the EXR's alpha is the mask
                     for (glm::vec4& p : opaque.pixels) p.a = 1.0f;
-                    write_png(o->png, tonemap_to_srgb8(opaque, scene.environment.exposure_stops));
+                    write_png(o->png,
+                              tonemap_to_srgb8(opaque, scene.environment.exposure_stops, tone_map_option(o->tonemap)));
                     std::printf("wrote %s\n", o->png.c_str());
                 }
                 if (!o->error_exr.empty()) {

@@ -33,6 +33,7 @@ struct RenderOptions {
     std::string pcf = "2x2", specular = "blended", cap = "weighted", diffuse = "center", shading = "cells", atlas;
     int tile = 256, depth_bits = 16, frames = 1;
     std::string tile_sizes = "share";
+    std::string tonemap = "aces";
     double time = 0.0;
     std::string pass_timing = "auto";
     OptimisationFlags optimisations;
@@ -169,7 +170,7 @@ int run_render(const RenderOptions& o) {
         // EXR keeps alpha as the object mask).
         if (!o.no_background)
             for (glm::vec4& pixel : image->pixels) pixel.a = 1.0f;
-        write_png(o.out, tonemap_to_srgb8(*image, scene.environment.exposure_stops));
+        write_png(o.out, tonemap_to_srgb8(*image, scene.environment.exposure_stops, tone_map_option(o.tonemap)));
         std::printf("wrote %s\n", o.out.c_str());
     }
     return 0;
@@ -183,7 +184,8 @@ Command add_render_command(CLI::App& parent) {
     add_common_options(app, &o->common, CommonOptionSet{});
     add_pass_timing_option(app, &o->pass_timing);
     add_time_option(app, &o->time);
-    app->add_option("--out", o->out, "PNG to write (exposure, filmic tone map, sRGB)");
+    app->add_option("--out", o->out, "PNG to write (exposure, --tonemap, sRGB)");
+    add_tonemap_option(app, &o->tonemap);
     app->add_option("--exr", o->exr, "EXR to write (linear; alpha 1 on objects, 0 on the background)");
     add_atlas_options(app, &o->tile, &o->depth_bits);
     add_tile_sizes_option(app, &o->tile_sizes);

@@ -168,6 +168,19 @@ render::ShadingMode shading_mode(const std::string& value) {
     return naming_flag("--shading", [&] { return render::parse_shading_mode(value); });
 }
 
+void add_tonemap_option(CLI::App* app, std::string* value) {
+    std::vector<std::string> names;
+    for (std::string_view name : tone_map_names()) names.emplace_back(name);
+    app->add_option("--tonemap", *value,
+                    "Tone map of the PNG: aces (filmic, the default), agx, neutral (Khronos PBR Neutral) or "
+                    "linear (a clamp); EXR stays linear")
+        ->check(CLI::IsMember(names));
+}
+
+ToneMap tone_map_option(const std::string& value) {
+    return naming_flag("--tonemap", [&] { return parse_tone_map(value); });
+}
+
 Hemisphere visible_hemisphere(const Scene& scene) {
     return scene.has_ground ? Hemisphere::upper : Hemisphere::full;
 }

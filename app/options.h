@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/error.h"
+#include "core/tonemap.h"
 #include "env/cells.h"
 #include "env/environment.h"
 #include "gl/timer.h"
@@ -100,6 +101,10 @@ render::RenderSettings apply(const OptimisationFlags& flags, render::RenderSetti
 // unshadowed reflection from the prefiltered map (docs/DESIGN.md §4.1).
 void add_shading_option(CLI::App* app, std::string* value);
 render::ShadingMode shading_mode(const std::string& value);
+// --tonemap aces|agx|neutral|linear (render, reference, view): the display transform of 8-bit output
+// (core/tonemap.h); EXR stays linear.
+void add_tonemap_option(CLI::App* app, std::string* value);
+ToneMap tone_map_option(const std::string& value);
 // The directions that reach the objects of `scene`: the upper hemisphere where a ground hides the rest
 // (as in the reference), whatever --hemisphere the cells were cut from. Ratio shading prefilters these.
 Hemisphere visible_hemisphere(const Scene& scene);

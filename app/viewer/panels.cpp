@@ -166,6 +166,12 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         changed |= ImGui::Checkbox("background", &settings.background);
         changes.settings |= changed;
         ImGui::SliderFloat("exposure", &controls.exposure, -6.0f, 6.0f, "%.2f stops");
+        if (ImGui::BeginCombo("tone map", std::string(to_string(controls.tone_map)).c_str())) {
+            for (std::size_t op = 0; op < kToneMapCount; ++op)
+                if (ImGui::Selectable(std::string(tone_map_names()[op]).c_str(), ToneMap(op) == controls.tone_map))
+                    controls.tone_map = ToneMap(op);
+            ImGui::EndCombo();
+        }
         changes.rotation = ImGui::SliderFloat("env rotation", &controls.rotation, -180.0f, 180.0f, "%.0f deg");
     }
 

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "core/tonemap.h"
 #include "env/cells.h"
 #include "gl/objects.h"
 #include "gl/timer.h"
@@ -26,9 +27,10 @@ struct ViewerControls {
     Method method = Method::lloyd;  // of the cells
     std::uint64_t seed = 1;
     float exposure = 0.0f;
-    float rotation = 0.0f;  // of the environment, degrees
-    double time = 0.0;      // animation time, seconds
-    float speed = 1.0f;     // animation seconds per second
+    ToneMap tone_map = ToneMap::aces;  // of the window and the screenshot's PNG
+    float rotation = 0.0f;             // of the environment, degrees
+    double time = 0.0;                 // animation time, seconds
+    float speed = 1.0f;                // animation seconds per second
     bool playing = true;
     bool sun_follows_time = true;  // builtin:sky under the GPU sampler
     int selected_object = 0;

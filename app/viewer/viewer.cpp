@@ -131,6 +131,7 @@ public:
         panels_ = std::make_unique<Panels>(*display_);
         controls_.settings.shading = shading_mode(options.shading);
         controls_.settings.tile_sizing = tile_sizing(options.tile_sizes);
+        controls_.tone_map = tone_map_option(options.tonemap);
         renderer_ = std::make_unique<render::Renderer>(controls_.settings);
         renderer_->set_pass_timing(pass_timing(options.pass_timing, context_->is_software()));
 
@@ -333,7 +334,7 @@ private:
                         lights && lights->per_frame() ? std::optional<double>(lights->sampling_ms()) : std::nullopt);
         if (controls_.screenshot_requested) save_screenshot();
 
-        display_->present(renderer_->color_texture(), controls_.exposure, width, height);
+        display_->present(renderer_->color_texture(), controls_.exposure, controls_.tone_map, width, height);
 
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
@@ -458,7 +459,7 @@ private:
                                      std::to_string(controls_.lights) + "_" + timestamp();
             const Image linear = renderer_->read_back();
             write_exr(stem + ".exr", linear);
-            write_png(stem + ".png", tonemap_to_srgb8(linear, controls_.exposure));
+            write_png(stem + ".png", tonemap_to_srgb8(linear, controls_.exposure, controls_.tone_map));
             const Camera camera = orbit_.camera();
             nlohmann::json settings = {
                 {"scene", scene_.file.string()},
@@ -468,6 +469,7 @@ private:
                 {"seed", controls_.seed},
                 {"time", controls_.time},
                 {"exposure", controls_.exposure},
+                {"tonemap", to_string(controls_.tone_map)},
                 {"rotation_degrees", controls_.rotation},
                 {"camera",
                  {{"position", {camera.position.x, camera.position.y, camera.position.z}},

@@ -196,26 +196,20 @@ Image8 read_png(const std::filesystem::path& path) {
     return image;
 }
 
-float aces_filmic(float x) {
-    // Narkowicz 2015, "ACES Filmic Tone Mapping Curve".
-    constexpr float a = 2.51f, b = 0.03f, c = 2.43f, d = 0.59f, e = 0.14f;
-    return std::clamp((x * (a * x + b)) / (x * (c * x + d) + e), 0.0f, 1.0f);
-}
-
 float srgb_encode(float linear) {
     linear = std::clamp(linear, 0.0f, 1.0f);
     return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
-Image8 tonemap_to_srgb8(const Image& linear, float exposure_stops) {
+Image8 tonemap_to_srgb8(const Image& linear, float exposure_stops, ToneMap op) {
     Image8 out(linear.width, linear.height);
     const float scale = std::exp2(exposure_stops);
     for (size_t i = 0; i < linear.pixels.size(); ++i) {
         const glm::vec4 p = linear.pixels[i];
-        for (int c = 0; c < 3; ++c) {
-            float v = std::isfinite(p[c]) ? p[c] * scale : 0.0f;
-            out.rgba[i * 4 + c] = std::uint8_t(std::lround(255.0f * srgb_encode(aces_filmic(v))));
-        }
+        glm::vec3 exposed;
+        for (int c = 0; c < 3; ++c) exposed[c] = std::isfinite(p[c]) ? p[c] * scale : 0.0f;
+        const glm::vec3 display = tone_map(op, exposed);
+        for (int c = 0; c < 3; ++c) out.rgba[i * 4 + c] = std::uint8_t(std::lround(255.0f * srgb_encode(display[c])));
         out.rgba[i * 4 + 3] = std::uint8_t(std::lround(255.0f * std::clamp(p.a, 0.0f, 1.0f)));
     }
     return out;

@@ -1,12 +1,14 @@
 #pragma once
 // Linear HDR images (RGBA float) and their two output forms: EXR (linear) and PNG (exposure,
-// filmic tone map, sRGB). Used by every layer that reads or writes pictures; no GL here.
+// a tone map (core/tonemap.h), sRGB). Used by every layer that reads or writes pictures; no GL here.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <vector>
 
 #include <glm/vec4.hpp>
+
+#include "core/tonemap.h"
 
 namespace envshadow {
 
@@ -67,11 +69,10 @@ void write_png(const std::filesystem::path& path, const Image8& image);
 // Reads a PNG (or any 8-bit format stb_image knows) as RGBA. Throws InputError.
 Image8 read_png(const std::filesystem::path& path);
 
-// Exposure (in stops), the ACES filmic curve (Narkowicz 2015 fit) and the sRGB transfer function.
-// Alpha is copied (clamped to [0, 1]).
-Image8 tonemap_to_srgb8(const Image& linear, float exposure_stops = 0.0f);
+// Exposure (in stops), the tone map `op` (core/tonemap.h; ACES filmic by default) and the sRGB
+// transfer function. Non-finite channels count as 0. Alpha is copied (clamped to [0, 1]).
+Image8 tonemap_to_srgb8(const Image& linear, float exposure_stops = 0.0f, ToneMap op = ToneMap::aces);
 
 float srgb_encode(float linear);
-float aces_filmic(float x);
 
 }  // namespace envshadow

@@ -10,17 +10,19 @@ namespace envshadow::render {
 
 Display::Display() {
     const gl::ShaderLibrary library = embedded_shaders();
-    present_program_ = library.build({{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "present.frag"}});
+    for (std::size_t i = 0; i < present_programs_.size(); ++i)
+        present_programs_[i] = library.build({{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "present.frag"}},
+                                             {tone_map_define(ToneMap(i))});
     preview_program_ = library.build({{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "atlas_preview.frag"}});
     empty_vertex_array_ = gl::VertexArray::create();
 }
 
-void Display::present(const gl::Texture& linear, float exposure_stops, int width, int height) {
+void Display::present(const gl::Texture& linear, float exposure_stops, ToneMap op, int width, int height) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, width, height);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
-    present_program_.use();
+    present_programs_.at(std::size_t(op)).use();
     glUniform1f(shader::loc::exposure_scale, std::exp2(exposure_stops));
     linear.bind(shader::unit::linear);
     empty_vertex_array_.bind();

@@ -2,6 +2,8 @@
 // What the viewer shows besides the frame itself: the linear frame tone-mapped into the window,
 // a picture of the shadow atlas, and 8-bit images (the environment with its cells) as textures.
 // A GL 4.5 context must be current.
+#include <array>
+
 #include "core/image.h"
 #include "gl/objects.h"
 #include "gl/shader.h"
@@ -13,8 +15,9 @@ public:
     Display();
 
     // Draws `linear` (RGBA float) over the whole default framebuffer (the window), `width` x `height`
-    // pixels: exposure (stops), ACES filmic, sRGB (glsl/tonemap.glsl, twin of core's tonemap_to_srgb8).
-    void present(const gl::Texture& linear, float exposure_stops, int width, int height);
+    // pixels: exposure (stops), the tone map `op`, sRGB (glsl/tonemap.glsl, twin of core's
+    // tonemap_to_srgb8).
+    void present(const gl::Texture& linear, float exposure_stops, ToneMap op, int width, int height);
 
     // A greyscale RGBA8 picture of the depth atlas, at most `max_width` wide (aspect kept).
     const gl::Texture& atlas_preview(const gl::Texture& atlas_depth, int max_width);
@@ -23,7 +26,8 @@ public:
     static gl::Texture upload(const Image8& image);
 
 private:
-    gl::Program present_program_, preview_program_;
+    std::array<gl::Program, kToneMapCount> present_programs_;  // one per ToneMap, in its order
+    gl::Program preview_program_;
     gl::VertexArray empty_vertex_array_;
     gl::Texture preview_;
     gl::Framebuffer preview_target_;

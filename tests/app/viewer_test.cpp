@@ -93,5 +93,32 @@ TEST(Viewer, GpuSampledLightsFollowTheAnimatedSky) {
         << "sun at (" << sun.x << ", " << sun.y << ", " << sun.z << ")";
 }
 
+// --tonemap reaches the window: the ground below the panels (the same frame of a still scene) is
+// drawn differently under linear than under the default ACES; a value outside the table is bad usage
+// before any window opens.
+TEST(Viewer, TonemapChangesTheWindowAndABadValueIsRefused) {
+    const std::string scene = "--scene " + std::string(ENVSHADOW_SOURCE_DIR) +
+                              "/assets/scenes/spheres.json --lights 16 --width 1024 --height 576 --frames 4";
+    const fs::path aces = fs::path(ENVSHADOW_BINARY_DIR) / "viewer" / "viewer_tonemap_aces.png";
+    const fs::path linear = fs::path(ENVSHADOW_BINARY_DIR) / "viewer" / "viewer_tonemap_linear.png";
+    run_viewer(scene, aces);
+    run_viewer(scene + " --tonemap linear", linear);
+    ASSERT_TRUE(fs::exists(aces));
+    ASSERT_TRUE(fs::exists(linear));
+    const Image8 a = read_png(aces), b = read_png(linear);
+    ASSERT_EQ(a.width, b.width);
+    ASSERT_EQ(a.height, b.height);
+    double difference = 0.0;
+    long count = 0;
+    for (int y = 480; y < 570; ++y)  // the ground, left of the cells panel and below the settings
+        for (int x = 10; x < 620; ++x, ++count)
+            for (int c = 0; c < 3; ++c) difference += std::abs(int(a.at(x, y)[c]) - int(b.at(x, y)[c]));
+    EXPECT_GT(difference / (3.0 * double(count)), 2.0) << "mean difference in 8-bit levels";
+
+    const std::string bad = std::string(ENVSHADOW_EXE) + " view --tonemap reinhard > /dev/null 2>&1";
+    const int status = std::system(bad.c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
+}
+
 }  // namespace
 }  // namespace envshadow

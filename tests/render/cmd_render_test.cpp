@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -114,6 +115,43 @@ TEST(CmdRender, BadFilesAreInputErrors) {
     EXPECT_EQ(run.status, 3) << run.output;
     EXPECT_NE(run.output.find("no_such_map.exr"), std::string::npos) << run.output;
     EXPECT_FALSE(fs::exists(png));
+}
+
+// Each --tonemap value renders a different PNG of the same frame; linear clips (a channel brighter
+// than 1 in the EXR, at the scene's exposure of 0, is 255); a value outside the table is bad usage.
+TEST(CmdRender, EveryToneMapRendersItsOwnPngAndLinearClips) {
+    const fs::path exr = kOutput / "tonemap.exr";
+    std::vector<Image8> pictures;
+    for (const std::string op : {"aces", "agx", "neutral", "linear"}) {
+        const fs::path png = kOutput / ("tonemap_" + op + ".png");
+        fs::remove(png);
+        const CommandResult run = render(scene("spheres.json") + " " + kSmall + " --tonemap " + op + " --out '" +
+                                         png.string() + "' --exr '" + exr.string() + "'");
+        ASSERT_EQ(run.status, 0) << op << ": " << run.output;
+        pictures.push_back(read_png(png));
+        ASSERT_EQ(pictures.back().width, 64);
+    }
+    for (std::size_t a = 0; a < pictures.size(); ++a)
+        for (std::size_t b = a + 1; b < pictures.size(); ++b)
+            EXPECT_NE(pictures[a].rgba, pictures[b].rgba) << a << " " << b;
+
+    const Image linear = read_exr(exr).image;  // the same frame each time (same seed and settings)
+    const Image8& clipped = pictures[3];
+    int bright = 0;
+    for (std::size_t i = 0; i < linear.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            if (linear.pixels[i][c] > 1.0f) {
+                ++bright;
+                EXPECT_EQ(int(clipped.rgba[i * 4 + std::size_t(c)]), 255) << "pixel " << i << " channel " << c;
+            }
+    EXPECT_GT(bright, 0);  // interior.exr's windows and lamps are brighter than 1
+
+    const fs::path bad_png = kOutput / "tonemap_bad.png";
+    fs::remove(bad_png);
+    EXPECT_EQ(
+        render(scene("spheres.json") + " " + kSmall + " --tonemap reinhard --out '" + bad_png.string() + "'").status,
+        2);
+    EXPECT_FALSE(fs::exists(bad_png));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/tonemap.h"
 #include "gl_fixture.h"
 #include "render/embedded_shaders.h"
 #include "render/shader_interface.h"
@@ -50,7 +51,9 @@ std::vector<BuiltProgram> engine_programs() {
     add("fs_cell_integrate.comp", {{GL_COMPUTE_SHADER, "fs_cell_integrate.comp"}});
     add("fs_sampler", {{GL_VERTEX_SHADER, "fs_sampler.vert"}, {GL_GEOMETRY_SHADER, "fs_sampler.geom"}},
         {"FS_IMPORTANCE_WIDTH 32", "FS_MAX_VERTICES 16", "FS_MERGE"}, {"fs_texel"});
-    add("present", {{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "present.frag"}});
+    for (std::size_t op = 0; op < kToneMapCount; ++op)
+        add("present (" + std::string(to_string(ToneMap(op))) + ")",
+            {{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "present.frag"}}, {tone_map_define(ToneMap(op))});
     add("atlas preview", {{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "atlas_preview.frag"}});
     return programs;
 }
