@@ -620,7 +620,7 @@ def write_accuracy(ctx, path):
     if diff_vals:
         worst = max(diff_vals, key=lambda v: v[2])
         ok = all(v[2] <= 0.03 for v in diff_vals)
-        w(f"| diffuse scenes, N = 128, 256² tiles: rel. RMSE ≤ 3% | " + ", ".join(f"{s}/{m} {pct(v)}" for s, m, v in diff_vals)
+        w(f"| diffuse scenes, N = 128, a 128 × 256² shadow budget: rel. RMSE ≤ 3% | " + ", ".join(f"{s}/{m} {pct(v)}" for s, m, v in diff_vals)
           + f" | {'yes' if ok else 'no: worst ' + worst[0] + '/' + worst[1] + ' ' + pct(worst[2])} |")
     sh_vals = [(s, m, rr(ctx, s, m)) for s, m in ctx["table_pairs"] if s == "sphere_n100"]
     sh_vals = [v for v in sh_vals if v[2] is not None]
@@ -671,7 +671,7 @@ def write_accuracy(ctx, path):
     # ---- main table
     w("## N = 128, every method")
     w("")
-    w("Relative RMSE (256² tiles, defaults otherwise). Lower is better; the best of each row in bold.")
+    w("Relative RMSE (a shadow budget of N × 256² texels sized by light, defaults otherwise). Lower is better; the best of each row in bold.")
     w("")
     w("| scene / map | " + " | ".join(METHODS) + " |")
     w("| --- |" + " ---: |" * len(METHODS))
@@ -699,7 +699,7 @@ def write_accuracy(ctx, path):
     bw, bh = ctx["bench_size"]
     w("## Error against frame time")
     w("")
-    w(f"Frame time is `envshadow bench` at {bw}×{bh}, 256² tiles, median of {a.bench_frames} frames after one warm-up, on **llvmpipe**")
+    w(f"Frame time is `envshadow bench` at {bw}×{bh}, a shadow budget of N × 256² texels, median of {a.bench_frames} frames after one warm-up, on **llvmpipe**")
     w("(a CPU rasteriser sharing a loaded 2-core VM: absolute times are hundreds of times a GPU's; the *shape* of the")
     w("trade-off is what carries over, since both the shadow atlas and the shading are linear in N). The per-frame cost")
     w("does not depend on the decomposition method (the same N lights are drawn), so every method's curve uses the")

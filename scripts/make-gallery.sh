@@ -14,6 +14,9 @@ for scene in assets/scenes/*.json; do
   "$envshadow" render --scene "$scene" --width 960 --height 540 --lights 128 --tile 256 --time "$time" \
     --out "screenshots/gallery/$name.png" | sed "s/^/$name: /"
 done
+# The glossy spheres again with the ratio estimator (--shading ratio): a smooth reflection, no dot per cell.
+"$envshadow" render --scene assets/scenes/spheres.json --width 960 --height 540 --lights 128 --tile 256 \
+  --shading ratio --out screenshots/gallery/spheres_ratio.png | sed "s/^/spheres_ratio: /"
 if command -v xvfb-run >/dev/null; then
   xvfb-run -a -s '-screen 0 1600x900x24' "$envshadow" view --scene assets/scenes/default.json --lights 64 \
     --width 1600 --height 900 --frames 20 --screenshot screenshots/gallery/viewer.png
