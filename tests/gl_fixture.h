@@ -4,11 +4,14 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <glm/vec4.hpp>
 
 #include "gl/context.h"
 #include "gl/debug.h"
+#include "gl/objects.h"
 #include "gl/shader.h"
 #include "glsl/embedded.h"
 
@@ -46,6 +49,25 @@ private:
 
 inline std::string backend_name(const ::testing::TestParamInfo<gl::Backend>& info) {
     return std::string(gl::to_string(info.param));
+}
+
+// Runs a GLSL probe (the GLSL-vs-C++ twin tests): `program`, a compute shader of 64-wide work groups
+// with `count` at uniform location 0, reads `inputs` from the storage buffer at binding 1 and writes as
+// many vec4s to binding 2, which are returned.
+inline std::vector<glm::vec4> run_compute_probe(const gl::Program& program, const std::vector<glm::vec4>& inputs,
+                                                GLuint count) {
+    const GLsizeiptr bytes = GLsizeiptr(inputs.size() * sizeof(glm::vec4));
+    gl::Buffer input_buffer = gl::Buffer::create(std::size_t(bytes), inputs.data(), 0);
+    gl::Buffer output_buffer = gl::Buffer::create(std::size_t(bytes), nullptr, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, input_buffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, output_buffer.id());
+    program.use();
+    glUniform1ui(0, count);
+    glDispatchCompute((count + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> outputs(inputs.size());
+    glGetNamedBufferSubData(output_buffer.id(), 0, bytes, outputs.data());
+    return outputs;
 }
 
 #define ENVSHADOW_INSTANTIATE_GL_TEST(Suite)                                                            \

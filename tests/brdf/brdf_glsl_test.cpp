@@ -57,16 +57,7 @@ TEST_P(BrdfGlslTest, GlslAveragesEqualTheCppTwin) {
     const std::vector<glm::vec4> inputs = probe_inputs();
     const auto count = GLuint(inputs.size());
     gl::Program program = project_shaders().build({{GL_COMPUTE_SHADER, "brdf_probe.comp"}});
-    gl::Buffer input_buffer = gl::Buffer::create(inputs.size() * sizeof(glm::vec4), inputs.data(), 0);
-    gl::Buffer output_buffer = gl::Buffer::create(inputs.size() * sizeof(glm::vec4), nullptr, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, input_buffer.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, output_buffer.id());
-    program.use();
-    glUniform1ui(0, count);
-    glDispatchCompute((count + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<glm::vec4> outputs(inputs.size());
-    glGetNamedBufferSubData(output_buffer.id(), 0, GLsizeiptr(outputs.size() * sizeof(glm::vec4)), outputs.data());
+    const std::vector<glm::vec4> outputs = run_compute_probe(program, inputs, count);
 
     const char* names[] = {"average_specular_blended", "average_specular_single", "average_clamped_cosine"};
     double worst[3] = {0.0, 0.0, 0.0};  // relative error, over values above the floor

@@ -58,16 +58,7 @@ TEST_P(LatLongGlslTest, DirectionAndUvMatchLatlongH) {
     gl::ShaderLibrary library = project_shaders();
     library.add("latlong_probe.comp", kProbe);
     gl::Program program = library.build({{GL_COMPUTE_SHADER, "latlong_probe.comp"}});
-    gl::Buffer in = gl::Buffer::create(inputs.size() * sizeof(glm::vec4), inputs.data(), 0);
-    gl::Buffer out = gl::Buffer::create(inputs.size() * sizeof(glm::vec4), nullptr, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, in.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, out.id());
-    program.use();
-    glUniform1ui(0, count);
-    glDispatchCompute((count + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<glm::vec4> outputs(inputs.size());
-    glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(outputs.size() * sizeof(glm::vec4)), outputs.data());
+    const std::vector<glm::vec4> outputs = run_compute_probe(program, inputs, count);
 
     for (unsigned i = 0; i < count; ++i) {
         const glm::vec2 uv(inputs[2 * i]);

@@ -38,16 +38,7 @@ TEST_P(ToneMapGlslTest, EveryOperatorEqualsTheCppTwin) {
         SCOPED_TRACE(std::string(to_string(op)));
         gl::Program program =
             project_shaders().build({{GL_COMPUTE_SHADER, "tonemap_probe.comp"}}, {tone_map_define(op)});
-        gl::Buffer input_buffer = gl::Buffer::create(inputs.size() * sizeof(glm::vec4), inputs.data(), 0);
-        gl::Buffer output_buffer = gl::Buffer::create(inputs.size() * sizeof(glm::vec4), nullptr, 0);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, input_buffer.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, output_buffer.id());
-        program.use();
-        glUniform1ui(0, count);
-        glDispatchCompute((count + 63) / 64, 1, 1);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        std::vector<glm::vec4> outputs(inputs.size());
-        glGetNamedBufferSubData(output_buffer.id(), 0, GLsizeiptr(outputs.size() * sizeof(glm::vec4)), outputs.data());
+        const std::vector<glm::vec4> outputs = run_compute_probe(program, inputs, count);
 
         const Image8 bytes = tonemap_to_srgb8(image, 0.0f, op);
         double worst = 0.0;
