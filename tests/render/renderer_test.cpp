@@ -327,8 +327,8 @@ TEST_P(RendererTest, CapDiffuseIsExactForACapStraddlingTheHorizon) {
     EXPECT_LT(centre_pixel(render::DiffuseMode::center), 0.8 * exact);
 }
 
-// The three ways of drawing the atlas draw the same depth maps.
-TEST_P(RendererTest, AtlasModesRenderTheSameImage) {
+// A box and a glossy sphere on a ground: shadows cast on the ground and on each other (the atlas tests).
+Scene box_and_sphere_on_a_ground() {
     Scene scene;
     scene.has_ground = true;
     scene.objects.push_back(make_object(mesh_of(PlaneShape{6.0f}), glm::vec3(0.0f), diffuse(0.7f), false));
@@ -336,6 +336,12 @@ TEST_P(RendererTest, AtlasModesRenderTheSameImage) {
         make_object(mesh_of(BoxShape{glm::vec3(0.8f)}), glm::vec3(-0.5f, 0.4f, 0.0f), diffuse(0.6f)));
     scene.objects.push_back(
         make_object(mesh_of(SphereShape{0.4f, 48}), glm::vec3(0.6f, 0.4f, 0.3f), {glm::vec3(0.5f), 0.3f, 40.0f}));
+    return scene;
+}
+
+// The three ways of drawing the atlas draw the same depth maps.
+TEST_P(RendererTest, AtlasModesRenderTheSameImage) {
+    const Scene scene = box_and_sphere_on_a_ground();
     const CameraView view = look_at({0.5f, 3.0f, 4.0f}, glm::vec3(0.0f), 160, 120);
     auto render_with = [&](render::AtlasMode mode) {
         RenderSettings settings;
@@ -358,13 +364,7 @@ TEST_P(RendererTest, AtlasModesRenderTheSameImage) {
 // all three atlas modes; with equal lights they are the uniform grid's tiles at other places
 // (Morton order), which must not change the image.
 TEST_P(RendererTest, SizedTilesDrawTheSameInEveryAtlasMode) {
-    Scene scene;
-    scene.has_ground = true;
-    scene.objects.push_back(make_object(mesh_of(PlaneShape{6.0f}), glm::vec3(0.0f), diffuse(0.7f), false));
-    scene.objects.push_back(
-        make_object(mesh_of(BoxShape{glm::vec3(0.8f)}), glm::vec3(-0.5f, 0.4f, 0.0f), diffuse(0.6f)));
-    scene.objects.push_back(
-        make_object(mesh_of(SphereShape{0.4f, 48}), glm::vec3(0.6f, 0.4f, 0.3f), {glm::vec3(0.5f), 0.3f, 40.0f}));
+    const Scene scene = box_and_sphere_on_a_ground();
     const CameraView view = look_at({0.5f, 3.0f, 4.0f}, glm::vec3(0.0f), 160, 120);
     const std::vector<Cell> sky = cells_of("builtin:sky", 40);  // 40 tiles: more than 16 viewports
     std::vector<Cell> equal = sky;
