@@ -426,6 +426,14 @@ def rr(ctx, scene, map_, m="lloyd", n=128, **o):
     return r["rel_rmse"] if r else None
 
 
+def paired_table(w, pairs, values, headings, results):
+    """A table with two columns (headings(v), results(scene, map, v)) for each of `values`, a row per pair."""
+    w("| scene / map | " + " | ".join(" | ".join(headings(v)) for v in values) + " |")
+    w("| --- |" + " ---: |" * (2 * len(values)))
+    for s, m in pairs:
+        w(f"| {s} / {m} | " + " | ".join(" | ".join(cell(x) for x in results(s, m, v)) for v in values) + " |")
+
+
 def cell(x):
     return "–" if x is None else pct(x)
 
@@ -732,11 +740,8 @@ def write_accuracy(ctx, path):
     w("`--shading cells` (the paper's per-cell sum, the default) against `--shading ratio`: the unshadowed reflection")
     w("from the map prefiltered for the BRDF, scaled by the cells' shadowed fraction (docs/DESIGN.md §4.1).")
     w("")
-    w("| scene / map | " + " | ".join(f"N = {n} cells | N = {n} ratio" for n in SHADING_NS) + " |")
-    w("| --- |" + " ---: |" * (2 * len(SHADING_NS)))
-    for s, m in ctx["shading_pairs"]:
-        w(f"| {s} / {m} | " + " | ".join(f"{cell(rr(ctx, s, m, n=n))} | {cell(rr(ctx, s, m, n=n, shading='ratio'))}"
-                                         for n in SHADING_NS) + " |")
+    paired_table(w, ctx["shading_pairs"], SHADING_NS, lambda n: (f"N = {n} cells", f"N = {n} ratio"),
+                 lambda s, m, n: (rr(ctx, s, m, n=n), rr(ctx, s, m, n=n, shading="ratio")))
     w("")
     w("## Diffuse: cell centre vs cap-integrated (N = 128, lloyd)")
     w("")
@@ -751,11 +756,8 @@ def write_accuracy(ctx, path):
     w("cell's tile by its share of the light within that budget (at R = 128 every tile is already the 128² minimum,")
     w("so the two are the same). The hand-measured comparison with `sqrt` sizing: [accuracy/tile_sizes_by_hand.md](accuracy/tile_sizes_by_hand.md).")
     w("")
-    w("| scene / map | " + " | ".join(f"{t}² uniform | {t}² share" for t in TILES) + " |")
-    w("| --- |" + " ---: |" * (2 * len(TILES)))
-    for s, m in ctx["tile_pairs"]:
-        w(f"| {s} / {m} | " + " | ".join(f"{cell(rr(ctx, s, m, tile=t, tile_sizes='uniform'))} | {cell(rr(ctx, s, m, tile=t))}"
-                                         for t in TILES) + " |")
+    paired_table(w, ctx["tile_pairs"], TILES, lambda t: (f"{t}² uniform", f"{t}² share"),
+                 lambda s, m, t: (rr(ctx, s, m, tile=t, tile_sizes="uniform"), rr(ctx, s, m, tile=t)))
     w("")
     w("## Seed to seed (N = 128)")
     w("")
