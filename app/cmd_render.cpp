@@ -25,6 +25,13 @@
 namespace envshadow::app {
 namespace {
 
+// The atlas draws, and "all" to time each of them.
+std::vector<std::string> atlas_choices() {
+    std::vector<std::string> choices = render::names<render::AtlasMode>();
+    choices.emplace_back("all");
+    return choices;
+}
+
 constexpr const char* kSamplingWall = "sampling wall";  // the per-frame light source's, among the passes
 
 struct RenderOptions {
@@ -190,17 +197,17 @@ Command add_render_command(CLI::App& parent) {
     add_atlas_options(app, &o->tile, &o->depth_bits);
     add_tile_sizes_option(app, &o->tile_sizes);
     app->add_option("--pcf", o->pcf, "Shadow filter: 2x2 (hardware) or wide (3x3 taps)")
-        ->check(CLI::IsMember({"2x2", "wide"}));
+        ->check(CLI::IsMember(render::names<render::PcfKernel>()));
     app->add_option("--specular", o->specular, "blended (Barsi et al.) or single (cos^n psi_c)")
-        ->check(CLI::IsMember({"blended", "single"}));
+        ->check(CLI::IsMember(render::names<render::SpecularMode>()));
     app->add_option("--cap", o->cap, "Cell cap: solid-angle or weighted (radiance-weighted)")
-        ->check(CLI::IsMember({"solid-angle", "weighted"}));
+        ->check(CLI::IsMember(render::names<render::CapKind>()));
     app->add_option("--diffuse", o->diffuse, "center (the paper's sample) or cap (exact clamped cosine)")
-        ->check(CLI::IsMember({"center", "cap"}));
+        ->check(CLI::IsMember(render::names<render::DiffuseMode>()));
     add_shading_option(app, &o->shading);
     app->add_flag("--per-tile-atlas", o->per_tile_atlas, "Draw the shadow atlas one tile at a time (baseline)");
     app->add_option("--atlas", o->atlas, "clip-distances, viewport-array, per-tile, or all (times each, interleaved)")
-        ->check(CLI::IsMember({"clip-distances", "viewport-array", "per-tile", "all"}));
+        ->check(CLI::IsMember(atlas_choices()));
     app->add_option("--frames", o->frames, "Frames to render; GPU times are their medians")
         ->check(CLI::Range(1, 10000));
     add_optimisation_options(app, &o->optimisations);

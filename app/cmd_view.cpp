@@ -25,6 +25,14 @@ Command add_view_command(CLI::App& parent) {
     add_shading_option(app, &options->shading);
     add_tile_sizes_option(app, &options->tile_sizes);
     add_tonemap_option(app, &options->tonemap);
+    app->add_option("--target-ms", options->target_ms,
+                    "While the view changes, shade at the fraction of the window that holds this frame time; "
+                    "full size once still (0: always full size; default 100)")
+        ->check(CLI::Range(0.0, 10000.0));
+    app->add_option("--orbit-frames", options->orbit_frames,
+                    "Automated runs: orbit the camera for the first F frames as a left-button drag would, then "
+                    "hold still; logs the frame times and scales while moving")
+        ->check(CLI::Range(0, 1000000));
     app->add_option("--frames", options->frames, "Quit after this many frames (automated runs)")
         ->check(CLI::Range(1, 1000000));
     app->add_option("--screenshot", options->screenshot, "With --frames: write the window, UI included, to this PNG");

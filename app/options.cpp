@@ -112,7 +112,7 @@ void add_tile_sizes_option(CLI::App* app, std::string* value) {
                     "Shadow tile sizes: share (default: power-of-two tiles from 128^2 to 1024^2 with areas following "
                     "each light's luminance share), sqrt (following its square root), both within the budget of N "
                     "x --tile^2 texels, or uniform (every tile --tile^2); fs-gpu keeps uniform tiles")
-        ->check(CLI::IsMember({"uniform", "share", "sqrt"}));
+        ->check(CLI::IsMember(render::names<render::TileSizing>()));
 }
 
 render::TileSizing tile_sizing(const std::string& value) {
@@ -161,7 +161,7 @@ void add_shading_option(CLI::App* app, std::string* value) {
     app->add_option("--shading", *value,
                     "cells (the paper's sum over the cells) or ratio (unshadowed light from the prefiltered map, "
                     "shadowed fraction from the cells)")
-        ->check(CLI::IsMember({"cells", "ratio"}));
+        ->check(CLI::IsMember(render::names<render::ShadingMode>()));
 }
 
 render::ShadingMode shading_mode(const std::string& value) {
@@ -196,7 +196,7 @@ void prefilter_for(render::Renderer& renderer, const EnvironmentMap& map, Hemisp
 }
 
 Hemisphere hemisphere_for(const std::string& choice, const Scene& scene) {
-    if (choice == "auto") return scene.has_ground ? Hemisphere::upper : Hemisphere::full;
+    if (choice == "auto") return visible_hemisphere(scene);
     return naming_flag("--hemisphere", [&] { return parse_hemisphere(choice); });
 }
 

@@ -40,7 +40,7 @@ void Panels::record(const render::FrameStats& stats, double frame_seconds, std::
 PanelChanges Panels::draw(ViewerControls& controls, const PanelInputs& in) {
     PanelChanges changes;
     settings_panel(controls, in, changes);
-    timings_panel(in, changes);
+    timings_panel(controls, in, changes);
     atlas_panel(controls, in);
     cells_panel(controls, in);
     if (controls.show_help) help_panel(controls);
@@ -207,7 +207,7 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
     ImGui::End();
 }
 
-void Panels::timings_panel(const PanelInputs& in, PanelChanges& changes) {
+void Panels::timings_panel(ViewerControls& controls, const PanelInputs& in, PanelChanges& changes) {
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x - 388, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
@@ -223,6 +223,19 @@ void Panels::timings_panel(const PanelInputs& in, PanelChanges& changes) {
     const float frame = frame_ms_.empty() ? 0.0f : frame_ms_.back();
     ImGui::Text("%.1f FPS (%.2f ms per frame)", frame > 0.0f ? 1000.0 / double(frame) : 0.0, double(frame));
     plot("frame", frame_ms_);
+    DynamicResolutionOptions& resolution = controls.dynamic_resolution;
+    ImGui::Checkbox("dynamic resolution", &resolution.enabled);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "While the camera moves or the animation plays, shade a fraction of the window\n"
+            "that holds the target frame time; full size once the view is still.");
+    if (resolution.enabled) {
+        float target = float(resolution.target_ms);
+        if (ImGui::SliderFloat("target ms", &target, 10.0f, 1000.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
+            resolution.target_ms = target;
+    }
+    ImGui::Text("shading %dx%d (%.0f%% of the window)%s", in.shaded_width, in.shaded_height,
+                double(in.shaded_scale) * 100.0, in.shaded_scale < 1.0f ? " while the view changes" : "");
     bool synchronous = in.renderer->pass_timing() == gl::PassTiming::synchronous;
     if (ImGui::Checkbox("wait for each pass", &synchronous))
         changes.pass_timing = synchronous ? gl::PassTiming::synchronous : gl::PassTiming::queries;

@@ -16,6 +16,7 @@
 #include "render/light_source.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "viewer/dynamic_resolution.h"
 
 namespace envshadow::app {
 
@@ -37,6 +38,7 @@ struct ViewerControls {
     int selected_cell = 0;
     bool show_help = false;
     bool screenshot_requested = false;
+    DynamicResolutionOptions dynamic_resolution;
 };
 
 // Work running in the background, as the panels report it.
@@ -58,6 +60,8 @@ struct PanelInputs {
     const gl::Texture* map_picture = nullptr;     // the map alone (under the GPU sampler's lights)
     JobStatus environment_job, model_job;
     std::string error, last_screenshot;
+    float shaded_scale = 1.0f;  // of the window, this frame (dynamic resolution)
+    int shaded_width = 0, shaded_height = 0;
 };
 
 // What changed in the panels this frame, for the viewer to apply.
@@ -81,7 +85,7 @@ public:
 
 private:
     void settings_panel(ViewerControls& controls, const PanelInputs& in, PanelChanges& changes);
-    void timings_panel(const PanelInputs& in, PanelChanges& changes);
+    void timings_panel(ViewerControls& controls, const PanelInputs& in, PanelChanges& changes);
     void atlas_panel(const ViewerControls& controls, const PanelInputs& in);
     void cells_panel(ViewerControls& controls, const PanelInputs& in);
     void sampled_lights_panel(const PanelInputs& in);

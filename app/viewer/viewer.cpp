@@ -38,6 +38,7 @@
 #include "render/light_source.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "viewer/dynamic_resolution.h"
 #include "viewer/jobs.h"
 #include "viewer/orbit_camera.h"
 #include "viewer/panels.h"
@@ -71,6 +72,47 @@ struct AnimatedSky {
     Image8 picture;                                             // draw_map(map)
     double time = 0.0;                                          // the animation time (seconds) it was made for
 };
+
+// What a frame was drawn with, for the frame-time bookkeeping once the next one starts.
+struct DrawnFrame {
+    bool changing = false;  // the view differed from the frame before
+    float scale = 1.0f;     // of the window's size
+    int width = 0, height = 0;
+};
+
+// Frames while the view changed, and how soon a full-size frame followed: the viewer's log line at
+// the end, which automated runs (--orbit-frames) read.
+struct MotionLog {
+    std::vector<double> frame_ms;
+    std::vector<float> scales;
+    DrawnFrame last_moving;
+    std::optional<double> stopped_at;  // the end of the last frame whose view changed (steady seconds)
+    std::optional<double> full_again;  // seconds from stopped_at to the end of the first full-size frame
+
+    void record(const DrawnFrame& frame, double ms, double now) {
+        if (frame.changing) {
+            frame_ms.push_back(ms);
+            scales.push_back(frame.scale);
+            last_moving = frame;
+            stopped_at = now;
+            full_again.reset();
+        } else if (frame.scale == 1.0f && stopped_at && !full_again) {
+            full_again = now - *stopped_at;
+        }
+    }
+};
+
+double median_of(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values.empty() ? 0.0 : values[values.size() / 2];
+}
+
+bool same_view(const Camera& a, const Camera& b) {
+    return a.position == b.position && a.target == b.target && a.up == b.up && a.fov_y_degrees == b.fov_y_degrees;
+}
+
+// Pixels per frame of --orbit-frames' synthetic drag: a brisk turn, 0.5 degree per pixel.
+constexpr float kSyntheticDragPixels = 6.0f;
 
 // Files dropped onto the window, collected by GLFW's callback and handled by the frame loop.
 struct DropQueue {
@@ -142,6 +184,8 @@ public:
         controls_.seed = options.common.seed;
         controls_.speed = options.speed;
         controls_.time = options.time;
+        controls_.dynamic_resolution.enabled = options.target_ms > 0.0;
+        if (options.target_ms > 0.0) controls_.dynamic_resolution.target_ms = options.target_ms;
         set_scene(load_scene_with_environment(options.common.scene, options.common.env));
         start_environment(scene_.environment.source);
     }
@@ -153,18 +197,25 @@ public:
     }
 
     int run() {
-        auto last = std::chrono::steady_clock::now();
+        const auto start = std::chrono::steady_clock::now();
+        auto last = start;
         for (int frame = 0; !glfwWindowShouldClose(window_); ++frame) {
             glfwPollEvents();
             const auto now = std::chrono::steady_clock::now();
             const double dt = std::chrono::duration<double>(now - last).count();
             last = now;
+            now_seconds_ = std::chrono::duration<double>(now - start).count();
+            if (frame > 0) {  // dt is the last frame's, start to start
+                resolution_.record(drawn_.scale, dt * 1000.0);
+                motion_.record(drawn_, dt * 1000.0, now_seconds_);
+            }
             if (controls_.playing) controls_.time += dt * controls_.speed;
             last_frame_ = options_.frames > 0 && frame + 1 >= options_.frames;
 
             handle_drops();
             finish_jobs();
             handle_input();
+            if (frame < options_.orbit_frames) orbit_.orbit(kSyntheticDragPixels, 0.0f);
 
             int width = 0, height = 0;
             glfwGetFramebufferSize(window_, &width, &height);
@@ -172,9 +223,14 @@ public:
 
             if (last_frame_ && !options_.screenshot.empty()) save_window(options_.screenshot, width, height);
             context_->swap_buffers();
-            if (last_frame_) break;
+            if (last_frame_) {  // its time too: it may be the first at full size
+                const double end = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                motion_.record(drawn_, (end - now_seconds_) * 1000.0, end);
+                break;
+            }
         }
         if (controls_.light_source == render::LightSourceKind::gpu_fs) log_sampled_lights();
+        log_motion();
         return 0;
     }
 
@@ -323,12 +379,33 @@ private:
 
     // --- frame ----------------------------------------------------------------------------------
 
+    // An object moves when the clock runs.
+    bool animation_playing() const {
+        return controls_.playing && controls_.speed > 0.0f &&
+               std::any_of(scene_.objects.begin(), scene_.objects.end(),
+                           [](const Object& o) { return o.animation.kind != Animation::Kind::none; });
+    }
+
+    // The size to shade this frame at: the window's, or a fraction of it while the view changes
+    // (docs/DESIGN.md §5.9).
+    DrawnFrame plan_frame(const Camera& camera, int width, int height) {
+        DrawnFrame frame;
+        frame.changing = !last_camera_ || !same_view(*last_camera_, camera) || animation_playing();
+        last_camera_ = camera;
+        resolution_.set_options(controls_.dynamic_resolution);
+        frame.scale = resolution_.scale_for_frame(frame.changing, now_seconds_);
+        frame.width = std::max(1, int(std::lround(float(width) * frame.scale)));
+        frame.height = std::max(1, int(std::lround(float(height) * frame.scale)));
+        return frame;
+    }
+
     void draw_frame(int width, int height, double dt) {
         Scene framed = scene_;
         framed.camera = orbit_.camera();
+        drawn_ = plan_frame(framed.camera, width, height);
         if (controls_.light_source == render::LightSourceKind::gpu_fs) sample_lights_on_the_gpu();
         const render::FrameStats stats =
-            renderer_->render(controls_.time, render::camera_view(framed, width, height, controls_.time));
+            renderer_->render(controls_.time, render::camera_view(framed, drawn_.width, drawn_.height, controls_.time));
         const render::LightSource* lights = light_source();
         panels_->record(stats, dt,
                         lights && lights->per_frame() ? std::optional<double>(lights->sampling_ms()) : std::nullopt);
@@ -351,6 +428,9 @@ private:
         in.model_job = status_of(model_job_);
         in.error = error_;
         in.last_screenshot = last_screenshot_;
+        in.shaded_scale = drawn_.scale;
+        in.shaded_width = drawn_.width;
+        in.shaded_height = drawn_.height;
         apply(panels_->draw(controls_, in));
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -360,6 +440,31 @@ private:
     const render::LightSource* light_source() const {
         if (controls_.light_source == render::LightSourceKind::gpu_fs) return gpu_fs_ ? &*gpu_fs_ : nullptr;
         return environment_ ? &environment_->cells : nullptr;
+    }
+
+    // The frames while the view changed (a drag, the animation): how fast, at what size, and how
+    // soon full size came back once it stopped.
+    void log_motion() const {
+        if (motion_.frame_ms.empty()) return;
+        const double ms = median_of(motion_.frame_ms);
+        std::vector<double> scales(motion_.scales.begin(), motion_.scales.end());
+        char text[400];
+        std::snprintf(text, sizeof text,
+                      "dynamic resolution: %zu frames while the view changed, median %.1f ms (%.1f FPS) at scale "
+                      "%.2f, the last at %dx%d; target %s",
+                      motion_.frame_ms.size(), ms, ms > 0.0 ? 1000.0 / ms : 0.0, median_of(scales),
+                      motion_.last_moving.width, motion_.last_moving.height,
+                      controls_.dynamic_resolution.enabled
+                          ? (std::to_string(int(std::lround(controls_.dynamic_resolution.target_ms))) + " ms").c_str()
+                          : "off");
+        std::string line = text;
+        if (motion_.full_again) {
+            std::snprintf(text, sizeof text, "; full size again %.2f s after it stopped", *motion_.full_again);
+            line += text;
+        } else {
+            line += "; not back at full size when the run ended";
+        }
+        log::info(line);
     }
 
     // --- lights sampled on the GPU ---------------------------------------------------------------
@@ -523,6 +628,12 @@ private:
     BackgroundJob<AnimatedSky> sky_job_;
     std::optional<double> animated_sky_time_;    // the animation time of the sky on screen, when animated
     std::optional<render::LightSource> gpu_fs_;  // made the first time the GPU sampler lights a frame
+
+    DynamicResolution resolution_;
+    std::optional<Camera> last_camera_;
+    DrawnFrame drawn_;
+    MotionLog motion_;
+    double now_seconds_ = 0.0;  // since the viewer started, at the start of this frame
 
     bool last_frame_ = false;  // of an automated run (--frames)
     std::string last_screenshot_;

@@ -14,6 +14,8 @@ struct ViewerOptions {
     double time = 0.0;                 // animation time at the start (seconds)
     int frames = 0;                    // > 0: quit after this many frames (automated runs)
     std::string screenshot;            // with frames: the window, UI included, written here at the end
+    double target_ms = 100.0;          // --target-ms: dynamic resolution's frame time (0: off)
+    int orbit_frames = 0;              // --orbit-frames: a synthetic drag over the first frames
     std::string pass_timing = "auto";  // pass_timing()
     std::string shading = "cells";     // --shading: cells or ratio (shading_mode())
     std::string tile_sizes = "share";  // --tile-sizes: tile_sizing()

@@ -27,6 +27,12 @@ std::string_view name_of(const std::array<std::pair<Enum, std::string_view>, N>&
         if (v == value) return text;
     return "?";
 }
+template <typename Enum, std::size_t N>
+std::vector<std::string> names_in(const std::array<std::pair<Enum, std::string_view>, N>& names) {
+    std::vector<std::string> out;
+    for (const auto& [value, text] : names) out.emplace_back(text);
+    return out;
+}
 
 constexpr std::array<std::pair<AtlasMode, std::string_view>, 3> kAtlasModes{
     {{AtlasMode::clip_distances, "clip-distances"},
@@ -99,6 +105,35 @@ ShadingMode parse_shading_mode(std::string_view name) {
 
 TileSizing parse_tile_sizing(std::string_view name) {
     return parse(kTileSizings, name);
+}
+
+template <>
+std::vector<std::string> names<AtlasMode>() {
+    return names_in(kAtlasModes);
+}
+template <>
+std::vector<std::string> names<PcfKernel>() {
+    return names_in(kPcfKernels);
+}
+template <>
+std::vector<std::string> names<SpecularMode>() {
+    return names_in(kSpecularModes);
+}
+template <>
+std::vector<std::string> names<CapKind>() {
+    return names_in(kCapKinds);
+}
+template <>
+std::vector<std::string> names<DiffuseMode>() {
+    return names_in(kDiffuseModes);
+}
+template <>
+std::vector<std::string> names<ShadingMode>() {
+    return names_in(kShadingModes);
+}
+template <>
+std::vector<std::string> names<TileSizing>() {
+    return names_in(kTileSizings);
 }
 
 void validate(const RenderSettings& settings) {

@@ -2,7 +2,9 @@
 // What the renderer can be asked to do differently; the viewer and `bench` change these between
 // frames, `envshadow render` maps its options onto them.
 #include <span>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace envshadow::render {
 
@@ -106,6 +108,25 @@ CapKind parse_cap_kind(std::string_view name);
 DiffuseMode parse_diffuse_mode(std::string_view name);
 ShadingMode parse_shading_mode(std::string_view name);
 TileSizing parse_tile_sizing(std::string_view name);
+
+// The names a setting accepts, in the order above: for the command line's validators, so that a
+// name added to a table is accepted everywhere at once.
+template <typename Enum>
+std::vector<std::string> names();
+template <>
+std::vector<std::string> names<AtlasMode>();
+template <>
+std::vector<std::string> names<PcfKernel>();
+template <>
+std::vector<std::string> names<SpecularMode>();
+template <>
+std::vector<std::string> names<CapKind>();
+template <>
+std::vector<std::string> names<DiffuseMode>();
+template <>
+std::vector<std::string> names<ShadingMode>();
+template <>
+std::vector<std::string> names<TileSizing>();
 
 // UsageError if a value is out of range (tile size, depth bits, negative biases, caster LOD).
 void validate(const RenderSettings& settings);

@@ -93,6 +93,40 @@ TEST(Viewer, GpuSampledLightsFollowTheAnimatedSky) {
         << "sun at (" << sun.x << ", " << sun.y << ", " << sun.z << ")";
 }
 
+// Dynamic resolution under a synthetic drag (--orbit-frames): with a target no frame can meet, the
+// dragged frames are shaded at the smallest scale, a quarter of the window each way; once the
+// camera stops the viewer returns to full size and says how soon. With --target-ms 0 it never scales.
+TEST(Viewer, DynamicResolutionShadesLessWhileDraggedAndFullSizeOnceStill) {
+    const std::string scene = "--scene " + std::string(ENVSHADOW_SOURCE_DIR) +
+                              "/assets/scenes/spheres.json --lights 16 --speed 0 --width 1024 --height 576 "
+                              "--orbit-frames 6 "
+                              "--frames 16";
+    const std::regex line(R"(dynamic resolution: (\d+) frames while the view changed, median [0-9.]+ ms \([0-9.]+ )"
+                          R"(FPS\) at scale ([0-9.]+), the last at (\d+)x(\d+); target ([^;]+); (.*))");
+    std::smatch m;
+
+    const fs::path out = fs::path(ENVSHADOW_BINARY_DIR) / "viewer" / "viewer_dynamic_resolution.png";
+    const std::string log = run_viewer(scene + " --target-ms 1", out);
+    ASSERT_TRUE(std::regex_search(log, m, line)) << log;
+    EXPECT_GE(std::stoi(m[1]), 6);
+    EXPECT_DOUBLE_EQ(std::stod(m[2]), 0.25);
+    EXPECT_EQ(std::stoi(m[3]), 256);
+    EXPECT_EQ(std::stoi(m[4]), 144);
+    EXPECT_EQ(m[5].str(), "1 ms");
+    EXPECT_TRUE(m[6].str().starts_with("full size again")) << m[6];
+    const Image8 window = read_png(out);
+    EXPECT_EQ(window.width, 1024);
+    EXPECT_EQ(window.height, 576);
+
+    const fs::path off = fs::path(ENVSHADOW_BINARY_DIR) / "viewer" / "viewer_dynamic_resolution_off.png";
+    const std::string log_off = run_viewer(scene + " --target-ms 0", off);
+    ASSERT_TRUE(std::regex_search(log_off, m, line)) << log_off;
+    EXPECT_DOUBLE_EQ(std::stod(m[2]), 1.0);
+    EXPECT_EQ(std::stoi(m[3]), 1024);
+    EXPECT_EQ(std::stoi(m[4]), 576);
+    EXPECT_EQ(m[5].str(), "off");
+}
+
 // --tonemap reaches the window: the ground below the panels (the same frame of a still scene) is
 // drawn differently under linear than under the default ACES; a value outside the table is bad usage
 // before any window opens.
