@@ -30,7 +30,8 @@ Command add_view_command(CLI::App& parent) {
                     "full size once still (0: always full size; default 100)")
         ->check(CLI::Range(0.0, 10000.0));
     app->add_option("--orbit-frames", options->orbit_frames,
-                    "Automated runs: orbit the camera for the first F frames as a left-button drag would, then "
+                    "Automated runs: orbit the camera for the first F frames (once the map is lit) as a left-button "
+                    "drag would, then "
                     "hold still; logs the frame times and scales while moving")
         ->check(CLI::Range(0, 1000000));
     app->add_option("--frames", options->frames, "Quit after this many frames (automated runs)")

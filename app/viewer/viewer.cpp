@@ -281,8 +281,10 @@ private:
     }
 
     void finish_jobs() {
-        // The last frame of an automated run shows the map it was given, however slow the machine.
-        if (auto loaded = last_frame_ ? environment_job_.wait(error_) : environment_job_.poll(error_)) {
+        // The last frame of an automated run shows the map it was given, however slow the machine,
+        // and a synthetic drag moves over the scene lit, not over frames still waiting for the cells.
+        const bool wait = last_frame_ || (options_.orbit_frames > 0 && !environment_);
+        if (auto loaded = wait ? environment_job_.wait(error_) : environment_job_.poll(error_)) {
             const bool new_map = !environment_ || environment_->map != loaded->map;
             const bool new_prefiltered = !environment_ || environment_->prefiltered != loaded->prefiltered;
             environment_ = std::make_unique<LoadedEnvironment>(std::move(*loaded));
