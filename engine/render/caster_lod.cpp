@@ -6,6 +6,8 @@
 #include <unordered_map>
 
 #include <meshoptimizer.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -81,25 +83,35 @@ private:
 };
 
 // Two-sided distance between the original surface and a simplified one, sampled: every original
-// vertex to the simplified triangles, and every simplified triangle's centroid and edge midpoints to
-// the original triangles (the simplified vertices are original vertices). `h` if any is beyond h.
-float measured_error(std::span<const glm::vec3> positions, std::span<const std::uint32_t> original,
+// vertex (`original_vertices`, each once) to the simplified triangles, and every simplified
+// triangle's centroid and edge midpoints to the original triangles (the simplified vertices are
+// original vertices). `h` if any is beyond h. Both loops run on every core (TBB): they are most of
+// a large model's load time.
+float measured_error(std::span<const glm::vec3> positions, std::span<const std::uint32_t> original_vertices,
                      const TriangleGrid& original_grid, std::span<const std::uint32_t> simplified, float h) {
     const TriangleGrid simplified_grid(positions, simplified, h);
-    std::vector<bool> seen(positions.size(), false);
-    float worst = 0.0f;
-    for (std::uint32_t v : original) {
-        if (seen[v]) continue;
-        seen[v] = true;
-        worst = std::max(worst, simplified_grid.distance(positions[v], worst));
-    }
-    for (std::size_t t = 0; t + 2 < simplified.size(); t += 3) {
-        const glm::vec3 a = positions[simplified[t]], b = positions[simplified[t + 1]],
-                        c = positions[simplified[t + 2]];
-        for (const glm::vec3& sample : {(a + b + c) / 3.0f, 0.5f * (a + b), 0.5f * (b + c), 0.5f * (c + a)})
-            worst = std::max(worst, original_grid.distance(sample, worst));
-    }
-    return worst;
+    const auto largest = [](float a, float b) { return std::max(a, b); };
+    const float to_simplified = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, original_vertices.size(), 4096), 0.0f,
+        [&](const tbb::blocked_range<std::size_t>& range, float worst) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i)
+                worst = std::max(worst, simplified_grid.distance(positions[original_vertices[i]], worst));
+            return worst;
+        },
+        largest);
+    const float to_original = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, simplified.size() / 3, 2048), to_simplified,
+        [&](const tbb::blocked_range<std::size_t>& range, float worst) {
+            for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                const glm::vec3 a = positions[simplified[3 * t]], b = positions[simplified[3 * t + 1]],
+                                c = positions[simplified[3 * t + 2]];
+                for (const glm::vec3& sample : {(a + b + c) / 3.0f, 0.5f * (a + b), 0.5f * (b + c), 0.5f * (c + a)})
+                    worst = std::max(worst, original_grid.distance(sample, worst));
+            }
+            return worst;
+        },
+        largest);
+    return std::max(to_simplified, to_original);
 }
 }  // namespace
 
@@ -120,14 +132,22 @@ CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const
     const float scale = meshopt_simplifyScale(xyz, positions.size(), sizeof(glm::vec3));
     const float reach = scale / 64.0f;  // errors up to 1/64 of the extent are measured exactly
     const TriangleGrid original_grid(positions, welded, reach);
+    std::vector<std::uint32_t> original_vertices(welded.begin(), welded.end());
+    std::sort(original_vertices.begin(), original_vertices.end());
+    original_vertices.erase(std::unique(original_vertices.begin(), original_vertices.end()), original_vertices.end());
 
-    std::vector<std::uint32_t> out(indices.size());
+    // Each level is simplified from the last one kept, not from the original: the simplifier's cost
+    // then shrinks with the levels instead of being the full mesh's 16 times over (most of the load
+    // time of a large model). Its own error is then relative to that level, so the bound it gives is
+    // the previous level's error plus it (triangle inequality); the measured one is still against
+    // the original surface.
+    std::vector<std::uint32_t> source = welded, out(indices.size());
     std::uint32_t previous_count = std::uint32_t(indices.size());
     float previous_error = 0.0f;
     for (float relative = 1.0f / 8192.0f; relative <= 1.0f / 32.0f; relative *= std::numbers::sqrt2_v<float>) {
         float result_error = 0.0f;
         // Target 0 triangles: the simplifier stops where the next collapse would exceed the error.
-        const std::size_t count = meshopt_simplify(out.data(), welded.data(), welded.size(), xyz, positions.size(),
+        const std::size_t count = meshopt_simplify(out.data(), source.data(), source.size(), xyz, positions.size(),
                                                    sizeof(glm::vec3), 0, relative, 0, &result_error);
         if (count == 0 || double(count) > 0.9 * double(previous_count)) continue;
         meshopt_optimizeVertexCache(out.data(), out.data(), count, positions.size());
@@ -137,11 +157,12 @@ CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const
         // is measured (sampled at vertices, centroids and edge midpoints) and the larger one kept.
         // Never a level finer than the one before.
         const std::span<const std::uint32_t> level(out.data(), count);
-        const float measured = measured_error(positions, welded, original_grid, level, reach);
+        const float measured = measured_error(positions, original_vertices, original_grid, level, reach);
         if (!(measured < reach)) break;  // beyond what the grid measures: coarser levels are useless
-        const float error = std::max({measured, result_error * scale, previous_error});
+        const float error = std::max(measured, previous_error + result_error * scale);
         lod.levels.push_back({std::uint32_t(lod.indices.size()), std::uint32_t(count), error, is_closed(level)});
         lod.indices.insert(lod.indices.end(), out.begin(), out.begin() + std::ptrdiff_t(count));
+        source.assign(out.begin(), out.begin() + std::ptrdiff_t(count));
         previous_count = std::uint32_t(count);
         previous_error = error;
     }
