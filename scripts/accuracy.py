@@ -13,7 +13,9 @@ targets are reported against, not asserted.
 """
 import argparse
 import concurrent.futures as cf
+import contextlib
 import csv
+import io
 import json
 import math
 import os
@@ -119,9 +121,70 @@ def key_fields(key):
     return parts[:10] + [seed, hemisphere, tiles, shading]
 
 
+class Progress:
+    """One updating line on a terminal (stderr): cases done, elapsed, an estimate of what is left. Nothing
+    when stderr is not a terminal, so logs stay clean; log() clears it and draws it again under each message."""
+
+    def __init__(self, total, stream=None, clock=time.time):
+        self.stream = stream or sys.stderr
+        self.on = total > 0 and self.stream.isatty()
+        self.total, self.done, self.clock, self.start = total, 0, clock, clock()
+
+    def text(self):
+        elapsed = self.clock() - self.start
+        words = f"{self.done}/{self.total} cases, {clock_words(elapsed)} elapsed"
+        if 0 < self.done < self.total:
+            words += f", about {clock_words(elapsed / self.done * (self.total - self.done))} left"
+        return words
+
+    def draw(self):
+        if self.on:
+            self.stream.write("\r\033[K" + self.text())
+            self.stream.flush()
+
+    def clear(self):
+        if self.on:
+            self.stream.write("\r\033[K")
+            self.stream.flush()
+
+    def step(self):
+        with lock:
+            self.done += 1
+            self.draw()
+
+    def finish(self):
+        with lock:
+            self.clear()
+            self.on = False
+
+
+def clock_words(seconds):
+    m, s = divmod(int(round(seconds)), 60)
+    return f"{m // 60}:{m % 60:02d}:{s:02d}" if m >= 60 else f"{m}:{s:02d}"
+
+
+progress = Progress(0)
+
+
+@contextlib.contextmanager
+def atomic_open(path):
+    """Writes `path` whole or not at all (an interrupted run leaves the previous file): a temporary beside it,
+    renamed over it once written."""
+    tmp = path + ".tmp"
+    try:
+        with open(tmp, "w") as f:
+            yield f
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
 def log(msg):
     with lock:
+        progress.clear()
         print(f"[{time.strftime('%H:%M:%S')}] {msg}", flush=True)
+        progress.draw()
 
 
 def run(cmd, **kw):
@@ -182,7 +245,7 @@ class Study:
         with lock:
             d = json.load(open(path)) if os.path.exists(path) else {}
             d[name] = seconds
-            with open(path, "w") as f:
+            with atomic_open(path) as f:
                 json.dump(d, f, indent=0)
 
     def ref_seconds(self):
@@ -241,6 +304,7 @@ class Study:
             self.results[key] = r
         self.save()
         log(f"{key}: rel_rmse {r['rel_rmse'] * 100:.2f}%  ({seconds:.1f} s)")
+        progress.step()
         return r
 
 
@@ -335,9 +399,9 @@ def blended(c, R, n):
 def paper_figures(args, outdir):
     fig5 = list(csv.DictReader(run([args.figures, "fig5"]).splitlines()))
     fig6 = list(csv.DictReader(run([args.figures, "fig6"]).splitlines()))
-    with open(f"{outdir}/fig5.csv", "w") as f:
+    with atomic_open(f"{outdir}/fig5.csv") as f:
         f.write(run([args.figures, "fig5"]))
-    with open(f"{outdir}/fig6.csv", "w") as f:
+    with atomic_open(f"{outdir}/fig6.csv") as f:
         f.write(run([args.figures, "fig6"]))
     # Fig. 5 plot
     s = TERM.format(w=640, h=420) + f"set output '{outdir}/fig5.png'\nset datafile separator ','\n"
@@ -787,7 +851,7 @@ def write_accuracy(ctx, path):
     w(weaknesses(ctx))
     w("")
     w("All results, including render times, are in [`accuracy/results.csv`](accuracy/results.csv).")
-    with open(path, "w") as f:
+    with atomic_open(path) as f:
         f.write("\n".join(L) + "\n")
 
 
@@ -878,7 +942,7 @@ def write_paper(ctx, path):
     w("The paper's frame time roughly doubles from 64 to 128 samples (33 → 16.8 FPS) because shadow-map rendering and the")
     w("per-fragment loop are both linear in N; compare the ratio here, not the absolute rate: this machine has no GPU, and with")
     w(f"only {ctx['args'].bench_frames} frames on a shared, loaded machine a single ratio is uncertain (rerun with --bench-frames 20 on an idle machine).")
-    with open(path, "w") as f:
+    with atomic_open(path) as f:
         f.write("\n".join(L) + "\n")
 
 
@@ -1070,6 +1134,30 @@ def self_test():
     rows = issue14_targets({"study": study, "hemisphere_pairs": HEMISPHERE_PAIRS})
     if rows[-1][2] != "no":
         faults.append(f"stability row met with seeds 0.45% and 1.4%: {rows[-1]}")
+
+    # The progress line: nothing unless the stream is a terminal; on one, cases, elapsed and what is left.
+    class Stream(io.StringIO):
+        def __init__(self, tty):
+            super().__init__()
+            self.tty = tty
+
+        def isatty(self):
+            return self.tty
+
+    now = [0.0]
+    for tty in (False, True):
+        now[0] = 100.0
+        stream = Stream(tty)
+        p_ = Progress(10, stream, clock=lambda: now[0])
+        now[0] = 175.0  # 75 s for the first three cases: 25 s each, 7 to go
+        for _ in range(3):
+            p_.step()
+        if not tty and stream.getvalue():
+            faults.append(f"progress written to a stream that is not a terminal: {stream.getvalue()!r}")
+        if tty and not stream.getvalue().endswith("3/10 cases, 1:15 elapsed, about 2:55 left"):
+            faults.append(f"progress line: {stream.getvalue()!r}")
+    if clock_words(3725) != "1:02:05":
+        faults.append(f"clock_words(3725) = {clock_words(3725)}")
     for f_ in faults:
         print(f"self-test: {f_}", file=sys.stderr)
     return 1 if faults else 0
@@ -1176,6 +1264,10 @@ def main():
     order = {pr: i for i, pr in enumerate(needed)}
     jobs.sort(key=lambda j: order[(j[0], j[1])])  # stable: renders follow the references as they arrive
     failed = []
+    global progress
+    progress = Progress(sum(1 for j in jobs if result_key(j[0], j[1], j[2], j[3], dict(DEFAULTS, **j[4]), args.error)
+                            not in study.results))
+    progress.draw()
     with cf.ThreadPoolExecutor(max_workers=args.jobs) as ex:
         futs = [ex.submit(study.measure, s, m, meth, n, **o) for s, m, meth, n, o in jobs]
         for j, f in zip(jobs, futs):
@@ -1184,6 +1276,7 @@ def main():
             except RuntimeError as e:
                 failed.append(f"{j}: {str(e).splitlines()[0]}")
     ref_thread.join()
+    progress.finish()
     for msg in failed:
         log(f"FAILED {msg}")
 
@@ -1225,7 +1318,7 @@ def main():
              "--height", "225", "--time", str(t), "--out", f"{outdir}/fig8_t{t:g}.png"])
 
     # CSV of every result
-    with open(f"{outdir}/results.csv", "w") as f:
+    with atomic_open(f"{outdir}/results.csv") as f:
         f.write("scene,map,method,N,tile,specular,cap,diffuse,size,ref_error,seed,hemisphere,tile_sizes,shading,hemisphere_used,lights_drawn,"
                 "rel_rmse,psnr,pixels,render_s\n")
         for k in sorted(study.results):
