@@ -258,7 +258,7 @@ int run_bench(const BenchOptions& o) {
     for (RendererVariant& variant : variants) {
         variant.renderer = std::make_unique<render::Renderer>(variant.variant.settings);
         variant.renderer->set_pass_timing(timing);
-        variant.renderer->set_scene(scene);
+        set_scene_for(*variant.renderer, scene, false);
         variant.renderer->set_environment(map);
         if (variant.variant.settings.shading == render::ShadingMode::ratio)
             prefilter_for(*variant.renderer, map, visible_hemisphere(scene), false);

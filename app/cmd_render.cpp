@@ -87,7 +87,7 @@ int run_render(const RenderOptions& o) {
     auto context = gl::create_context(gl::parse_backend(c.backend));
     render::Renderer renderer(settings);
     renderer.set_pass_timing(pass_timing(o.pass_timing, context->is_software()));
-    renderer.set_scene(scene);
+    set_scene_for(renderer, scene, true);
     renderer.set_environment(map);
     // fs-gpu: Floyd-Steinberg samples of the environment texture made on the GPU every frame
     // (docs/FS_GPU.md), instead of a decomposition at load time.

@@ -1,5 +1,6 @@
 #include "options.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -7,6 +8,7 @@
 #include "core/image.h"
 #include "env/cells.h"
 #include "env/prefilter.h"
+#include "progress.h"
 #include "render/light_source.h"
 #include "render/shader_interface.h"
 #include "render/shadow_atlas_layout.h"
@@ -193,6 +195,20 @@ void prefilter_for(render::Renderer& renderer, const EnvironmentMap& map, Hemisp
                     double(prefiltered.levels.back().shininess), prefiltered.levels.front().width,
                     prefiltered.levels.front().height, prefiltered.levels.back().width,
                     prefiltered.levels.back().height, hemisphere_words(hemisphere), prefiltered.seconds);
+}
+
+void set_scene_for(render::Renderer& renderer, const Scene& scene, bool print) {
+    constexpr std::size_t kShownFrom = 1'000'000;  // triangles: below, it takes well under a second
+    const auto start = std::chrono::steady_clock::now();
+    ProgressLine line("preparing the meshes", "triangles");
+    renderer.set_scene(scene, [&](std::size_t done, std::size_t total) {
+        if (total >= kShownFrom) line.update((long long)done, (long long)total);
+    });
+    line.finish();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (print)
+        std::printf("meshes: %zu triangles, prepared (caster LOD, upload) in %.3f s\n", scene.triangle_count(),
+                    seconds);
 }
 
 Hemisphere hemisphere_for(const std::string& choice, const Scene& scene) {

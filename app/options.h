@@ -111,6 +111,9 @@ Hemisphere visible_hemisphere(const Scene& scene);
 // The map prefiltered for ratio shading over `hemisphere` (visible_hemisphere), uploaded to `renderer`;
 // prints its size and time on one line when `print`.
 void prefilter_for(render::Renderer& renderer, const EnvironmentMap& map, Hemisphere hemisphere, bool print);
+// renderer.set_scene(scene), with a progress line on a terminal for a million triangles or more (the
+// shadow-caster LOD takes seconds per million); `print`: a line with the triangles and the seconds.
+void set_scene_for(render::Renderer& renderer, const Scene& scene, bool print);
 
 // `parse()`, and a UsageError it throws (in the engine's words) prefixed by `flag`:
 // "--atlas: 'x' is not one of clip-distances, viewport-array, per-tile".

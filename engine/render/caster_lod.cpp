@@ -115,7 +115,8 @@ float measured_error(std::span<const glm::vec3> positions, std::span<const std::
 }
 }  // namespace
 
-CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices) {
+CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
+                           const std::function<void(double fraction)>& progress) {
     CasterLod lod;
     lod.indices.assign(indices.begin(), indices.end());
     lod.levels.push_back({0u, std::uint32_t(indices.size()), 0.0f, false});
@@ -144,7 +145,10 @@ CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const
     std::vector<std::uint32_t> source = welded, out(indices.size());
     std::uint32_t previous_count = std::uint32_t(indices.size());
     float previous_error = 0.0f;
+    constexpr int kTargets = 17;  // 1/8192 to 1/32 by sqrt(2)
+    int tried = 0;
     for (float relative = 1.0f / 8192.0f; relative <= 1.0f / 32.0f; relative *= std::numbers::sqrt2_v<float>) {
+        if (progress) progress(double(tried++) / kTargets);
         float result_error = 0.0f;
         // Target 0 triangles: the simplifier stops where the next collapse would exceed the error.
         const std::size_t count = meshopt_simplify(out.data(), source.data(), source.size(), xyz, positions.size(),
@@ -166,6 +170,7 @@ CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const
         previous_count = std::uint32_t(count);
         previous_error = error;
     }
+    if (progress) progress(1.0);
     return lod;
 }
 

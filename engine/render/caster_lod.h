@@ -8,6 +8,7 @@
 // sampled depth by less than the depth bias (1 texel) and the silhouette by less than the PCF
 // footprint. The receivers are never simplified (shading draws the full mesh).
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -32,7 +33,9 @@ struct CasterLod {
 
 // Relative error targets (fractions of the mesh's extent) the chain is built for: 1/8192 growing by sqrt(2)
 // up to 1/32. Levels that remove under 10% of the previous level's triangles are not kept.
-CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices);
+// `progress`, if given, is called with the fraction of the targets tried so far (large models take seconds).
+CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
+                           const std::function<void(double fraction)>& progress = {});
 
 // Whether the triangles form closed surfaces, consistently wound: every directed edge (a, b) occurs
 // once and its reverse (b, a) once. Degenerate triangles make it false.

@@ -12,7 +12,7 @@
 
 namespace envshadow::render {
 
-GpuMesh::GpuMesh(const Mesh& mesh) {
+GpuMesh::GpuMesh(const Mesh& mesh, const std::function<void(double fraction)>& progress) {
     // Immutable storage; an empty array gets a 1-byte buffer and no data.
     auto make = [](const auto& values) {
         const std::size_t bytes = values.size() * sizeof(values[0]);
@@ -35,7 +35,7 @@ GpuMesh::GpuMesh(const Mesh& mesh) {
     }
     glVertexArrayElementBuffer(vao, indices_.id());
 
-    caster_lod_ = build_caster_lod(mesh.positions, mesh.indices);
+    caster_lod_ = build_caster_lod(mesh.positions, mesh.indices, progress);
     caster_indices_ = make(caster_lod_.indices);
     caster_vertex_array_ = gl::VertexArray::create();
     const GLuint caster_vao = caster_vertex_array_.id();

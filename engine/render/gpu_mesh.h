@@ -2,6 +2,7 @@
 // A scene mesh in GPU buffers: attributes shader::attrib::position and normal (object space), 32-bit
 // indices; and the shadow-caster levels of detail (render/caster_lod.h) in a second index buffer
 // over the same positions. Needs a current GL context.
+#include <functional>
 #include <optional>
 
 #include <glm/vec3.hpp>
@@ -14,7 +15,8 @@ namespace envshadow::render {
 
 class GpuMesh {
 public:
-    explicit GpuMesh(const Mesh& mesh);
+    // `progress`: the fraction of the work done, while the shadow-caster LOD is built (render/caster_lod.h).
+    explicit GpuMesh(const Mesh& mesh, const std::function<void(double fraction)>& progress = {});
     void draw() const;  // glDrawElements
     void bind() const { vertex_array_.bind(); }
     const glm::vec3& bounds_min() const { return bounds_min_; }

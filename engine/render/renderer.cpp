@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <map>
+#include <set>
 #include <string>
 
 #include <glm/matrix.hpp>
@@ -98,7 +100,13 @@ void Renderer::set_settings(const RenderSettings& settings) {
     if (old.skip_lights != settings.skip_lights) select_lights();
 }
 
-void Renderer::set_scene(const Scene& scene) {
+void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_t done, std::size_t total)>& progress) {
+    std::size_t total = 0, done = 0;  // triangles of the meshes to upload, and of those uploaded
+    {
+        std::set<const Mesh*> seen;
+        for (const Object& object : scene.objects)
+            if (object.mesh && seen.insert(object.mesh.get()).second) total += object.mesh->triangle_count();
+    }
     meshes_.clear();
     instance_meshes_.clear();
     instance_of_object_.clear();
@@ -110,8 +118,15 @@ void Renderer::set_scene(const Scene& scene) {
         instance_of_object_.back() = int(instance_meshes_.size());
         auto [it, added] = uploaded.emplace(object.mesh.get(), nullptr);
         if (added) {
-            meshes_.push_back(std::make_unique<GpuMesh>(*object.mesh));
+            const std::size_t triangles = object.mesh->triangle_count();
+            std::function<void(double)> mesh_progress;
+            if (progress)
+                mesh_progress = [&](double fraction) {
+                    progress(done + std::size_t(fraction * double(triangles)), total);
+                };
+            meshes_.push_back(std::make_unique<GpuMesh>(*object.mesh, mesh_progress));
             it->second = meshes_.back().get();
+            done += triangles;
         }
         const GpuMesh& mesh = *it->second;
         instance_meshes_.push_back(&mesh);

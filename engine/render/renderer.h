@@ -16,6 +16,7 @@
 // change of image size, light count or settings reallocates (the returned pass-time list is the one
 // per-frame vector).
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -60,7 +61,8 @@ public:
 
     // Uploads the meshes (each shared mesh once) and keeps the objects (materials, transforms,
     // animation) and the environment's rotation. The scene may be destroyed afterwards.
-    void set_scene(const Scene& scene);
+    // `progress` (optional) hears the triangles prepared so far of all there are: seconds per million.
+    void set_scene(const Scene& scene, const std::function<void(std::size_t done, std::size_t total)>& progress = {});
     // Changes the material of scene.objects[object] (as given to set_scene) without re-uploading.
     void set_material(std::size_t object, const Material& material);
     // The lat-long map drawn behind the objects.

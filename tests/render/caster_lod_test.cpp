@@ -2,6 +2,7 @@
 // honest (checked against a sphere's analytic surface), the level choice and the error budget.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <glm/ext/matrix_transform.hpp>
@@ -26,6 +27,20 @@ TEST(CasterLod, ChainOfASphereSimplifiesWithGrowingError) {
         EXPECT_LE(lod.levels[k].first_index + lod.levels[k].index_count, lod.indices.size());
     }
     EXPECT_LT(lod.levels.back().index_count, sphere.indices.size() / 10);  // the coarsest is far coarser
+}
+
+// Large models take seconds: the progress callback rises from 0 to 1, never backwards, and the
+// levels are the same with it as without.
+TEST(CasterLod, ReportsItsProgressFromZeroToOne) {
+    const Mesh sphere = make_mesh(SphereShape{1.0f, 64});
+    std::vector<double> fractions;
+    const CasterLod lod =
+        build_caster_lod(sphere.positions, sphere.indices, [&](double fraction) { fractions.push_back(fraction); });
+    ASSERT_GE(fractions.size(), 3u);
+    EXPECT_EQ(fractions.front(), 0.0);
+    EXPECT_EQ(fractions.back(), 1.0);
+    EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+    EXPECT_EQ(lod.indices, build_caster_lod(sphere.positions, sphere.indices).indices);
 }
 
 // Every simplified triangle's centroid (where a flat triangle sags deepest) lies within the level's
