@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -22,6 +23,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/gltf_material.h"
 #include "scene/gltf_schema.h"
 #include "scene/meshes.h"
 
@@ -116,7 +118,8 @@ struct AccessorData {
 
 class Flattener {
 public:
-    Flattener(const std::filesystem::path& path, const tinygltf::Model& model) : path_(path), model_(model) {}
+    Flattener(const std::filesystem::path& path, const tinygltf::Model& model, std::vector<GltfMaterial> materials)
+        : path_(path), model_(model), materials_(std::move(materials)), part_of_material_(materials_.size() + 1, -1) {}
 
     GltfModel run() {
         std::vector<int> roots;
@@ -138,12 +141,16 @@ public:
         state_.assign(model_.nodes.size(), Visit::never);
         for (const int root : roots) visit(root, glm::dmat4(1.0), "scene", 1);
 
-        if (mesh_.indices.empty()) fail(path_, "no triangles in the default scene");
-        mesh_.compute_bounds();
+        if (triangles_ == 0) fail(path_, "no triangles in the default scene");
         GltfModel result;
-        result.base_color = glm::vec3(color_sum_ / double(mesh_.triangle_count()));
         result.skipped_primitives = skipped_;
-        result.mesh = std::make_shared<const Mesh>(std::move(mesh_));
+        for (std::size_t k = 0; k < parts_.size(); ++k) {
+            parts_[k].compute_bounds();
+            result.bounds_min = k == 0 ? parts_[k].bounds_min : glm::min(result.bounds_min, parts_[k].bounds_min);
+            result.bounds_max = k == 0 ? parts_[k].bounds_max : glm::max(result.bounds_max, parts_[k].bounds_max);
+            result.parts.push_back({std::make_shared<const Mesh>(std::move(parts_[k])), part_materials_[k].material,
+                                    part_materials_[k].name});
+        }
         return result;
     }
 
@@ -327,9 +334,11 @@ private:
             const std::size_t order_count = prim.indices >= 0 && std::size_t(prim.indices) < model_.accessors.size()
                                                 ? model_.accessors[std::size_t(prim.indices)].count
                                                 : positions.count;
-            if (order_count / 3 > kMaxGltfTriangles - mesh_.triangle_count() ||
-                positions.count > kMaxVertices - mesh_.positions.size())
+            if (order_count / 3 > kMaxGltfTriangles - triangles_ || positions.count > kMaxVertices - vertices_)
                 fail(path_, "more than " + std::to_string(kMaxGltfTriangles) + " triangles (limit)");
+
+            if (prim.material >= 0 && std::size_t(prim.material) >= materials_.size())
+                fail(path_, what + " refers to material " + std::to_string(prim.material) + ", which does not exist");
 
             std::vector<std::uint32_t> order;
             if (prim.indices >= 0) {
@@ -387,29 +396,48 @@ private:
             }
             if (!normals_usable) compute_vertex_normals(part);
 
-            glm::dvec3 color(Material{}.rho_d);
-            if (prim.material >= 0 && std::size_t(prim.material) < model_.materials.size()) {
-                const auto& factor = model_.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorFactor;
-                if (factor.size() >= 3) color = glm::dvec3(factor[0], factor[1], factor[2]);
-            }
-            color_sum_ += color * double(part.triangle_count());
-            append(part);
+            if (part.indices.empty()) continue;  // a strip or fan of degenerate triangles only
+            triangles_ += part.triangle_count();
+            vertices_ += part.positions.size();
+            append(part, parts_[part_for(prim.material)]);
         }
     }
 
-    void append(const Mesh& part) {
-        const auto base = std::uint32_t(mesh_.positions.size());
-        mesh_.positions.insert(mesh_.positions.end(), part.positions.begin(), part.positions.end());
-        mesh_.normals.insert(mesh_.normals.end(), part.normals.begin(), part.normals.end());
-        mesh_.indices.reserve(mesh_.indices.size() + part.indices.size());
-        for (const std::uint32_t i : part.indices) mesh_.indices.push_back(base + i);
+    // The part that collects the primitives of glTF material `material` (-1: none): glTF materials
+    // that map to the same Material share one.
+    std::size_t part_for(int material) {
+        int& part = part_of_material_[std::size_t(material + 1)];
+        if (part >= 0) return std::size_t(part);
+        const GltfMaterial mapped =
+            material >= 0 ? materials_[std::size_t(material)] : GltfMaterial{Material{}, "no material"};
+        const auto same = std::find_if(part_materials_.begin(), part_materials_.end(), [&](const GltfMaterial& m) {
+            return m.material.rho_d == mapped.material.rho_d && m.material.rho_s == mapped.material.rho_s &&
+                   m.material.shininess == mapped.material.shininess;
+        });
+        part = int(same - part_materials_.begin());
+        if (same == part_materials_.end()) {
+            part_materials_.push_back(mapped);
+            parts_.emplace_back();
+        }
+        return std::size_t(part);
+    }
+
+    static void append(const Mesh& primitive, Mesh& to) {
+        const auto base = std::uint32_t(to.positions.size());
+        to.positions.insert(to.positions.end(), primitive.positions.begin(), primitive.positions.end());
+        to.normals.insert(to.normals.end(), primitive.normals.begin(), primitive.normals.end());
+        to.indices.reserve(to.indices.size() + primitive.indices.size());
+        for (const std::uint32_t i : primitive.indices) to.indices.push_back(base + i);
     }
 
     const std::filesystem::path& path_;
     const tinygltf::Model& model_;
+    const std::vector<GltfMaterial> materials_;
+    std::vector<int> part_of_material_;  // by glTF material index + 1 (0: no material); -1 until met
+    std::vector<GltfMaterial> part_materials_;
+    std::vector<Mesh> parts_;
     std::vector<Visit> state_;
-    Mesh mesh_;
-    glm::dvec3 color_sum_{0.0};
+    std::size_t triangles_ = 0, vertices_ = 0;  // over all parts
     std::size_t skipped_ = 0;
 };
 
@@ -493,7 +521,18 @@ GltfModel load_gltf(const std::filesystem::path& path) {
     if (!err.empty()) fail(path, one_line(err));  // tinygltf reports some errors and still returns true
     if (!warn.empty()) log::warn(path.string() + ": " + one_line(warn));
 
-    return Flattener(path, model).run();
+    GltfMaterials materials = read_gltf_materials(path, document);
+    GltfModel result = Flattener(path, model, std::move(materials.materials)).run();
+    result.ignored_extensions = std::move(materials.ignored_extensions);
+    for (const std::string& name : result.ignored_extensions)
+        log::warn(path.string() + ": material extension " + name + " is not supported: ignored");
+    return result;
+}
+
+std::size_t GltfModel::triangle_count() const {
+    std::size_t n = 0;
+    for (const GltfPart& part : parts) n += part.mesh->triangle_count();
+    return n;
 }
 
 }  // namespace envshadow

@@ -1,11 +1,14 @@
 #pragma once
-// glTF 2.0 (.gltf with external or embedded buffers, .glb) to one object-space Mesh: every triangle
-// primitive of the default scene, flattened with its node transforms. The file is checked before use
-// (JSON types, accessor and buffer bounds, index ranges, component types, strides, node cycles,
-// finite positions, size limits); any failure is an InputError "<file>: <reason>".
+// glTF 2.0 (.gltf with external or embedded buffers, .glb) to object-space Meshes, one per material:
+// every triangle primitive of the default scene, flattened with its node transforms and grouped by
+// its mapped material (scene/gltf_material.h). The file is checked before use
+// (JSON types, accessor and buffer bounds, index ranges, material indices and factors, component types, strides, node
+// cycles, finite positions, size limits); any failure is an InputError "<file>: <reason>".
 #include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -15,12 +18,20 @@ namespace envshadow {
 
 inline constexpr std::size_t kMaxGltfTriangles = 50'000'000;
 
+// The primitives of one material (or of several glTF materials that map to the same Material).
+struct GltfPart {
+    std::shared_ptr<const Mesh> mesh;  // the model's own space, as for every part
+    Material material;                 // mapped from the glTF material; Material{} for primitives without one
+    std::string name;                  // the (first) glTF material's name, "material <index>", or "no material"
+};
+
 struct GltfModel {
-    std::shared_ptr<const Mesh> mesh;
-    // Triangle-weighted mean of the primitives' baseColorFactor (RGB); primitives without a material
-    // count as Material{}.rho_d. Used as rho_d when the scene file gives none.
-    glm::vec3 base_color{0.8f};
-    std::size_t skipped_primitives = 0;  // points and lines (warned about)
+    std::vector<GltfPart> parts;                   // never empty; in the order their first primitive is met
+    glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // of all parts
+    std::size_t skipped_primitives = 0;            // points and lines (warned about)
+    std::vector<std::string> ignored_extensions;   // material extensions not mapped (warned about)
+
+    std::size_t triangle_count() const;
 };
 
 GltfModel load_gltf(const std::filesystem::path& path);

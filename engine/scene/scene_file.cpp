@@ -35,14 +35,13 @@ std::string lowercase_extension(const fs::path& path) {
     return e;
 }
 
-// world_from_model that scales the model uniformly so that its largest side is `size`, centred on the
-// Y axis, standing on y = 0.
-glm::mat4 fit_standing(const Mesh& mesh, float size) {
-    const glm::vec3 extent = mesh.bounds_max - mesh.bounds_min;
+// world_from_model that scales a model of bounds [lo, hi] uniformly so that its largest side is `size`,
+// centred on the Y axis, standing on y = 0.
+glm::mat4 fit_standing(const glm::vec3& lo, const glm::vec3& hi, float size) {
+    const glm::vec3 extent = hi - lo;
     const float largest = std::max({extent.x, extent.y, extent.z});
     const float scale = largest > 0.0f ? size / largest : 1.0f;
-    const glm::vec3 base(0.5f * (mesh.bounds_min.x + mesh.bounds_max.x), mesh.bounds_min.y,
-                         0.5f * (mesh.bounds_min.z + mesh.bounds_max.z));
+    const glm::vec3 base(0.5f * (lo.x + hi.x), lo.y, 0.5f * (lo.z + hi.z));
     return glm::scale(glm::mat4(1.0f), glm::vec3(scale)) * glm::translate(glm::mat4(1.0f), -base);
 }
 
@@ -77,10 +76,13 @@ public:
         std::size_t triangles = 0;
         for (std::size_t i = 0; i < objects->size(); ++i) {
             bool ground = false;
-            scene.objects.push_back(object((*objects)[i], "objects[" + std::to_string(i) + "]", ground));
-            triangles += scene.objects.back().mesh->triangle_count();
+            // A model gives one object per material (GltfModel::parts).
+            for (Object& o : read_objects((*objects)[i], "objects[" + std::to_string(i) + "]", ground)) {
+                triangles += o.mesh->triangle_count();
+                scene.objects.push_back(std::move(o));
+                is_ground.push_back(ground);
+            }
             if (triangles > kMaxSceneTriangles) fail("objects[" + std::to_string(i) + "]", too_many_triangles());
-            is_ground.push_back(ground);
             if (ground) {
                 if (scene.has_ground)
                     fail("objects[" + std::to_string(i) + "].ground", "only one object can be the ground");
@@ -207,11 +209,10 @@ private:
         if (!(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) <= kMaxCoordinate))
             fail(where, "lies beyond 1e12 (coordinate limit)");
     }
-    void require_within_limit(const glm::mat4& world_from_object, const Mesh& mesh, const std::string& where) const {
+    void require_within_limit(const glm::mat4& world_from_object, const glm::vec3& lo, const glm::vec3& hi,
+                              const std::string& where) const {
         for (int corner = 0; corner < 8; ++corner) {
-            const glm::vec3 p(corner & 1 ? mesh.bounds_max.x : mesh.bounds_min.x,
-                              corner & 2 ? mesh.bounds_max.y : mesh.bounds_min.y,
-                              corner & 4 ? mesh.bounds_max.z : mesh.bounds_min.z);
+            const glm::vec3 p(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z);
             const glm::dvec4 w = glm::dmat4(world_from_object) * glm::dvec4(glm::dvec3(p), 1.0);
             if (!(std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) <= kMaxCoordinate))
                 fail(where, "puts the object beyond 1e12 (coordinate limit)");
@@ -385,10 +386,10 @@ private:
         return m;
     }
 
-    Material material(const json& value, const std::string& where, const glm::vec3& default_diffuse) const {
+    // The keys given replace those of `base` (a model part's mapped material, or Material{}).
+    Material material(const json& value, const std::string& where, const Material& base) const {
         expect_keys(value, where, {"diffuse", "specular", "shininess"});
-        Material m;
-        m.rho_d = default_diffuse;
+        Material m = base;
         if (const auto it = value.find("diffuse"); it != value.end()) {
             m.rho_d = scalar_or_vec3(*it, where + ".diffuse");
             if (std::min({m.rho_d.r, m.rho_d.g, m.rho_d.b}) < 0.0f ||
@@ -440,7 +441,7 @@ private:
         return a;
     }
 
-    Object object(const json& value, const std::string& where, bool& ground) {
+    std::vector<Object> read_objects(const json& value, const std::string& where, bool& ground) {
         expect_keys(value, where,
                     {"name", "model", "mesh", "fit", "transform", "material", "animation", "ground", "casts_shadows"});
         const auto model_it = value.find("model");
@@ -449,30 +450,33 @@ private:
             fail(where, "needs exactly one of \"model\" (a glTF file) or \"mesh\" (a built-in mesh)");
 
         Object object;
-        glm::vec3 default_diffuse = Material{}.rho_d;
+        const GltfModel* gltf = nullptr;
+        glm::vec3 lo, hi;  // the whole model's bounds
         if (model_it != value.end()) {
-            const GltfModel& m = model(*model_it, where + ".model");
-            object.mesh = m.mesh;
+            gltf = &model(*model_it, where + ".model");
             object.name = resolve(model_it->get<std::string>()).stem().string();
-            default_diffuse = m.base_color;
+            lo = gltf->bounds_min;
+            hi = gltf->bounds_max;
         } else {
             object.mesh = builtin_mesh(*mesh_it, where + ".mesh");
             object.name = mesh_it->is_string() ? mesh_it->get<std::string>() : (*mesh_it)["type"].get<std::string>();
+            lo = object.mesh->bounds_min;
+            hi = object.mesh->bounds_max;
         }
         if (const auto it = value.find("name"); it != value.end()) object.name = text(*it, where + ".name");
 
         glm::mat4 fit(1.0f);
         if (const auto it = value.find("fit"); it != value.end())
-            fit = fit_standing(*object.mesh, positive(*it, where + ".fit"));
+            fit = fit_standing(lo, hi, positive(*it, where + ".fit"));
         glm::mat4 placement(1.0f);
         if (const auto it = value.find("transform"); it != value.end())
             placement = transform(*it, where + ".transform");
         object.transform = placement * fit;
-        require_within_limit(object.transform, *object.mesh, where + ".transform");
+        require_within_limit(object.transform, lo, hi, where + ".transform");
 
-        object.material.rho_d = default_diffuse;
-        if (const auto it = value.find("material"); it != value.end())
-            object.material = material(*it, where + ".material", default_diffuse);
+        const auto material_it = value.find("material");
+        if (material_it != value.end() && !gltf)
+            object.material = material(*material_it, where + ".material", Material{});
         if (const auto it = value.find("animation"); it != value.end())
             object.animation = animation(*it, where + ".animation");
 
@@ -493,7 +497,19 @@ private:
         object.casts_shadows = !ground;
         if (const auto it = value.find("casts_shadows"); it != value.end())
             object.casts_shadows = boolean(*it, where + ".casts_shadows");
-        return object;
+        if (!gltf) return {object};
+
+        // One object per part, sharing the placement; the scene's material keys override every part's.
+        std::vector<Object> parts;
+        for (const GltfPart& part : gltf->parts) {
+            Object o = object;
+            o.mesh = part.mesh;
+            o.material =
+                material_it != value.end() ? material(*material_it, where + ".material", part.material) : part.material;
+            if (gltf->parts.size() > 1) o.name += "/" + part.name;
+            parts.push_back(std::move(o));
+        }
+        return parts;
     }
 
     fs::path file_;
@@ -541,15 +557,19 @@ Scene load_bare_model(const fs::path& path) {
     scene.has_ground = true;
     scene.ground_height = 0.0f;
 
-    Object object;
-    object.name = path.stem().string();
-    object.mesh = model.mesh;
-    object.transform = fit_standing(*model.mesh, kBareModelSize);
-    object.material.rho_d = model.base_color;
-    scene.objects.push_back(object);
+    for (const GltfPart& part : model.parts) {
+        Object object;
+        object.name = path.stem().string() + (model.parts.size() > 1 ? "/" + part.name : "");
+        object.mesh = part.mesh;
+        object.transform = fit_standing(model.bounds_min, model.bounds_max, kBareModelSize);
+        object.material = part.material;
+        scene.objects.push_back(object);
+    }
 
     glm::vec3 lo, hi;
-    bounds_without_ground(scene, {true, false}, 0.0, lo, hi);
+    std::vector<bool> is_ground(scene.objects.size(), false);
+    is_ground[0] = true;
+    bounds_without_ground(scene, is_ground, 0.0, lo, hi);
     scene.camera = camera_framing(lo, hi);
     return scene;
 }

@@ -1,5 +1,6 @@
 // libFuzzer target: load_gltf on one .glb or .gltf (a .glb when the input starts with "glTF").
 // The folder also holds buffer.bin, so .gltf inputs can refer to an external buffer.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -7,6 +8,7 @@
 
 #include "fuzz_support.h"
 #include "scene/gltf.h"
+#include "scene/gltf_material.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace envshadow;
@@ -24,9 +26,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto path = fuzz::write_input(binary ? "input.glb" : "input.gltf", data, size);
     try {
         const GltfModel model = load_gltf(path);
-        if (!model.mesh) fuzz::finding("loaded without a mesh");
-        fuzz::check_mesh(*model.mesh);
-        if (!fuzz::finite(model.base_color)) fuzz::finding("non-finite base colour");
+        if (model.parts.empty()) fuzz::finding("loaded without a mesh");
+        for (const GltfPart& part : model.parts) {
+            if (!part.mesh) fuzz::finding("a part without a mesh");
+            fuzz::check_mesh(*part.mesh);
+            // The mapping keeps every albedo in [0, 1] and n in the shading's range.
+            const Material& m = part.material;
+            if (!fuzz::finite(m.rho_d) || !(std::min({m.rho_d.r, m.rho_d.g, m.rho_d.b}) >= 0.0f) ||
+                !(std::max({m.rho_d.r, m.rho_d.g, m.rho_d.b}) <= 1.0f) || !(m.rho_s >= 0.0f && m.rho_s <= 1.0f) ||
+                !(m.shininess >= kGltfMinShininess && m.shininess <= kGltfMaxShininess))
+                fuzz::finding("material out of range");
+        }
     } catch (const InputError& e) {
         fuzz::check_error_message(e, path);
     }

@@ -1,7 +1,7 @@
 // The rasteriser against the ground truth on 64 x 64 pictures, both through the `envshadow` executable
 // (the same scene file, loader, camera and conventions): the white furnace and a diffuse plane under
 // builtin:sky's sun must agree within 2% (relative RMSE over the pixels both call object pixels), and
-// so must the sky at a --time.
+// so must the sky at a --time, and a glTF model of two materials must show both colours in both.
 // The error here is computed from the two EXRs directly, not by `envshadow compare`.
 #include <cmath>
 #include <cstdlib>
@@ -13,6 +13,7 @@
 
 #include "common/test_files.h"
 #include "core/image.h"
+#include "scene/gltf_writer.h"
 
 namespace envshadow {
 namespace {
@@ -123,6 +124,63 @@ TEST(RasterAgreesWithReference, TheSkyAtATime) {
     EXPECT_NEAR(same_time.mean_ratio, 1.0, 0.02);
     const Agreement noon = compare(render_with("render", scene, "plane_at_0_raster"), reference);
     EXPECT_GT(noon.relative_rmse, 0.15) << "the sky at noon and at 15 h light the plane alike";
+}
+
+// The mean RGB of the object pixels left (x < width / 2) or right of the middle.
+glm::dvec3 mean_of_half(const Image& image, bool left) {
+    glm::dvec3 sum(0.0);
+    int count = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = left ? 0 : image.width / 2; x < (left ? image.width / 2 : image.width); ++x)
+            if (image.at(x, y).a >= 1.0f) {
+                sum += glm::dvec3(image.at(x, y));
+                ++count;
+            }
+    EXPECT_GT(count, 200) << (left ? "left" : "right");
+    return count > 0 ? sum / double(count) : sum;
+}
+
+// One glTF mesh, two primitives: a red quad left of x = 0 and a green one right of it, facing the
+// camera, each with its own material (rough dielectrics). Under builtin:constant (radiance 1) a
+// facing quad reflects rho_d = 0.96 base plus the specular albedo, at most F0 = 0.04.
+TEST(RasterAgreesWithReference, AModelOfTwoMaterialsShowsBothColours) {
+    fs::create_directories(kOutput);
+    test::GltfWriter w;
+    const auto quad = [&](float x0, float x1) {
+        return w.vec3s({{x0, -0.5f, 0.0f}, {x1, -0.5f, 0.0f}, {x1, 0.5f, 0.0f}, {x0, 0.5f, 0.0f}});
+    };
+    const int mesh = w.mesh(quad(-1.1f, -0.1f), w.indices({0, 1, 2, 0, 2, 3}));
+    nlohmann::json green = w.doc["meshes"][mesh]["primitives"][0];
+    green["attributes"]["POSITION"] = quad(0.1f, 1.1f);
+    green["material"] = 1;
+    w.doc["meshes"][mesh]["primitives"][0]["material"] = 0;
+    w.doc["meshes"][mesh]["primitives"].push_back(green);
+    const auto rough = [](double r, double g, double b) {
+        return nlohmann::json{{"pbrMetallicRoughness", {{"baseColorFactor", {r, g, b, 1.0}}, {"metallicFactor", 0.0}}}};
+    };
+    w.doc["materials"] = nlohmann::json::array({rough(0.8, 0.1, 0.1), rough(0.1, 0.8, 0.1)});
+    w.scene({w.node({{"mesh", mesh}})});
+    const fs::path model = w.write(kOutput, "two_materials");
+    const fs::path scene = write_scene("two_materials", R"({"environment": "builtin:constant",
+        "camera": {"position": [0, 0, 3], "target": [0, 0, 0], "fov": 45},
+        "objects": [{"model": ")" + model.string() + R"("}]})");
+    const fs::path raster = render_with("render", scene, "two_materials_raster");
+    const fs::path reference = render_with("reference", scene, "two_materials_reference");
+    ASSERT_FALSE(HasFatalFailure());
+    for (const fs::path& exr : {raster, reference}) {
+        SCOPED_TRACE(exr.string());
+        const Image image = read_exr(exr).image;
+        const glm::dvec3 left = mean_of_half(image, true), right = mean_of_half(image, false);
+        for (int c = 0; c < 3; ++c) {  // 0.96 * 0.8 or 0.96 * 0.1, plus 0 ... 0.04 of specular
+            const double base_left = c == 0 ? 0.768 : 0.096, base_right = c == 1 ? 0.768 : 0.096;
+            EXPECT_GT(left[c], base_left - 0.01) << "left, channel " << c;
+            EXPECT_LT(left[c], base_left + 0.05) << "left, channel " << c;
+            EXPECT_GT(right[c], base_right - 0.01) << "right, channel " << c;
+            EXPECT_LT(right[c], base_right + 0.05) << "right, channel " << c;
+        }
+    }
+    const Agreement agreement = compare(raster, reference);
+    EXPECT_LT(agreement.relative_rmse, 0.02);
 }
 
 }  // namespace

@@ -40,6 +40,11 @@ void expect_sound_mesh(const Mesh& mesh, const std::string& what) {
         }
 }
 
+void expect_sound_model(const GltfModel& model, const std::string& what) {
+    ASSERT_FALSE(model.parts.empty()) << what;
+    for (const GltfPart& part : model.parts) expect_sound_mesh(*part.mesh, what);
+}
+
 // Loads `file` expecting an InputError whose one line names it and contains `expected`.
 void expect_input_error(const fs::path& file, const std::string& expected) {
     try {
@@ -64,19 +69,25 @@ TEST(RobustGltf, TheSampleModelsLoadWithTheirKnownShape) {
     for (const char* name : {"box.glb", "embedded.gltf", "external.gltf"}) {
         // A unit box turned 45 degrees about +Y and lifted by 0.5: x and z reach +-sqrt(1/2).
         const GltfModel model = load_gltf(dir / name);
-        EXPECT_EQ(model.mesh->triangle_count(), 12u) << name;
-        EXPECT_NEAR(model.mesh->bounds_max.x, std::sqrt(0.5f), 1e-5f) << name;
-        EXPECT_NEAR(model.mesh->bounds_min.z, -std::sqrt(0.5f), 1e-5f) << name;
-        EXPECT_NEAR(model.mesh->bounds_min.y, 0.0f, 1e-6f) << name;
-        EXPECT_NEAR(model.mesh->bounds_max.y, 1.0f, 1e-6f) << name;
-        EXPECT_NEAR(model.base_color.g, 0.2f, 1e-6f) << name;
+        EXPECT_EQ(model.triangle_count(), 12u) << name;
+        EXPECT_NEAR(model.bounds_max.x, std::sqrt(0.5f), 1e-5f) << name;
+        EXPECT_NEAR(model.bounds_min.z, -std::sqrt(0.5f), 1e-5f) << name;
+        EXPECT_NEAR(model.bounds_min.y, 0.0f, 1e-6f) << name;
+        EXPECT_NEAR(model.bounds_max.y, 1.0f, 1e-6f) << name;
+        // Its one material, base colour (0.8, 0.2, 0.2) and the glTF defaults metallic 1, roughness 1:
+        // a metal (rho_d 0), F0 = the base colour, rho_s = luminance(F0) (n + 1) / (n + 2) at n = 1.
+        ASSERT_EQ(model.parts.size(), 1u) << name;
+        EXPECT_EQ(model.parts[0].material.rho_d, glm::vec3(0.0f)) << name;
+        EXPECT_NEAR(model.parts[0].material.rho_s, (0.2126f * 0.8f + 0.7152f * 0.2f + 0.0722f * 0.2f) * 2.0f / 3.0f,
+                    1e-6f)
+            << name;
     }
     // A 4-vertex strip (two triangles) under a matrix scaling by 2 and moving +1 along x.
     test::write_sample_gltf_interleaved_strip(dir / "strip.gltf");
     const GltfModel strip = load_gltf(dir / "strip.gltf");
-    EXPECT_EQ(strip.mesh->triangle_count(), 2u);
-    EXPECT_EQ(strip.mesh->bounds_min, glm::vec3(1, 0, 0));
-    EXPECT_EQ(strip.mesh->bounds_max, glm::vec3(3, 2, 0));
+    EXPECT_EQ(strip.triangle_count(), 2u);
+    EXPECT_EQ(strip.bounds_min, glm::vec3(1, 0, 0));
+    EXPECT_EQ(strip.bounds_max, glm::vec3(3, 2, 0));
 }
 
 TEST(RobustGltf, EveryTruncatedGlbIsRefused) {
@@ -112,7 +123,7 @@ TEST(RobustGltf, BitFlippedGlbLoadsSoundlyOrIsRefused) {
         test::write_bytes(file, bytes);
         const std::string what = "mutant " + std::to_string(index++);
         loads_or_fails_cleanly(
-            file, [&] { expect_sound_mesh(*load_gltf(file).mesh, what); }, what);
+            file, [&] { expect_sound_model(load_gltf(file), what); }, what);
     }
 }
 
@@ -125,7 +136,7 @@ TEST(RobustGltf, BitFlippedEmbeddedGltfLoadsSoundlyOrIsRefused) {
         test::write_bytes(file, bytes);
         const std::string what = "mutant " + std::to_string(index++);
         loads_or_fails_cleanly(
-            file, [&] { expect_sound_mesh(*load_gltf(file).mesh, what); }, what);
+            file, [&] { expect_sound_model(load_gltf(file), what); }, what);
     }
 }
 
@@ -259,7 +270,7 @@ TEST(RobustGltf, AZeroScaleNodeGivesASoundMesh) {
     write_text(dir / "flat.gltf", doc.dump());
     const fs::path file = dir / "flat.gltf";
     EXPECT_TRUE(loads_or_fails_cleanly(
-        file, [&] { expect_sound_mesh(*load_gltf(file).mesh, "flat"); }, "flat"));
+        file, [&] { expect_sound_model(load_gltf(file), "flat"); }, "flat"));
 }
 
 }  // namespace

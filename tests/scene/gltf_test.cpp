@@ -22,6 +22,12 @@ using test::test_folder;
 
 const fs::path kModels = "/usr/share/assimp/models/glTF2";
 
+// The mesh of a model with one material (one part).
+const Mesh& only_part(const GltfModel& model) {
+    EXPECT_EQ(model.parts.size(), 1u);
+    return *model.parts.at(0).mesh;
+}
+
 bool contains_point(const Mesh& m, const glm::vec3& p, float tolerance = 1e-5f) {
     for (const glm::vec3& q : m.positions)
         if (glm::distance(p, q) <= tolerance) return true;
@@ -45,13 +51,13 @@ TEST(SceneGltf, EngineNodeTransformsGiveTheIndependentlyComputedBounds) {
     const GltfModel model = load_gltf(kModels / "2CylinderEngine-glTF-Binary/2CylinderEngine.glb");
     // From tests/scene/tools/gltf_world_bounds.py (plain Python over the .glb): 29 meshes, several
     // instanced by more than one node (75,730 triangles stored, 121,496 in the scene).
-    EXPECT_EQ(model.mesh->triangle_count(), 121496u);
+    EXPECT_EQ(model.triangle_count(), 121496u);
     const glm::vec3 lo(-371.6923f, -180.9716f, -140.0f), hi(371.6922f, 92.0416f, 128.0f);
     for (int k = 0; k < 3; ++k) {
-        EXPECT_NEAR(model.mesh->bounds_min[k], lo[k], 1e-3f) << "axis " << k;
-        EXPECT_NEAR(model.mesh->bounds_max[k], hi[k], 1e-3f) << "axis " << k;
+        EXPECT_NEAR(model.bounds_min[k], lo[k], 1e-3f) << "axis " << k;
+        EXPECT_NEAR(model.bounds_max[k], hi[k], 1e-3f) << "axis " << k;
     }
-    EXPECT_LT(test::worst_normal_length_error(*model.mesh), 1e-5);
+    for (const GltfPart& part : model.parts) EXPECT_LT(test::worst_normal_length_error(*part.mesh), 1e-5);
 }
 
 TEST(SceneGltf, TrsParentAndMatrixChildCompose) {
@@ -64,7 +70,7 @@ TEST(SceneGltf, TrsParentAndMatrixChildCompose) {
         w.node({{"children", {child}}, {"translation", {10, 0, 0}}, {"rotation", {0, h, 0, h}}, {"scale", {2, 2, 2}}});
     w.scene({parent});
     const GltfModel model = load_gltf(w.write(test_folder(), "hierarchy"));
-    const Mesh& m = *model.mesh;
+    const Mesh& m = only_part(model);
     // By hand: p -> p + (0,1,0) -> 2p -> 90 degrees about +Y: (x, y, z) -> (z, y, -x) -> + (10, 0, 0).
     ASSERT_EQ(m.positions.size(), 3u);
     EXPECT_TRUE(contains_point(m, {10, 2, 0}));
@@ -80,7 +86,7 @@ TEST(SceneGltf, NormalsTransformWithTheInverseTranspose) {
     const int mesh = w.mesh(w.vec3s({{1, 0, 0}, {0, 1, 0}, {1, 0, 1}}), w.indices({0, 1, 2}), w.vec3s({n, n, n}));
     w.scene({w.node({{"mesh", mesh}, {"scale", {2, 1, 1}}})});
     const GltfModel model = load_gltf(w.write(test_folder(), "stretched"));
-    const Mesh& m = *model.mesh;
+    const Mesh& m = only_part(model);
     // Stretched by 2 along x the plane becomes x / 2 + y = 1, whose normal is (1, 2, 0) / sqrt 5.
     const glm::vec3 expected = glm::normalize(glm::vec3(1, 2, 0));
     for (const glm::vec3& v : m.normals) EXPECT_LT(glm::distance(v, expected), 1e-5f);
@@ -93,7 +99,7 @@ TEST(SceneGltf, MirroringNodeKeepsFacesAgreeingWithNormals) {
     const int mesh = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), w.indices({0, 1, 2}), w.vec3s({z, z, z}));
     w.scene({w.node({{"mesh", mesh}, {"scale", {-1, 1, 1}}})});
     const GltfModel model = load_gltf(w.write(test_folder(), "mirrored"));
-    const Mesh& m = *model.mesh;
+    const Mesh& m = only_part(model);
     EXPECT_TRUE(contains_point(m, {-1, 0, 0}));
     for (const glm::vec3& v : m.normals) EXPECT_EQ(v, z);  // a mirror in x leaves +z alone
     EXPECT_GT(test::face_normal(m, 0).z, 0.0);             // so the face must still look along +z
@@ -113,7 +119,7 @@ TEST(SceneGltf, MissingNormalsAreComputedUnitAndOutwardOnABox) {
     GltfWriter w;
     w.scene({w.node({{"mesh", w.mesh(w.vec3s(corners), w.indices(order))}})});
     const GltfModel model = load_gltf(w.write(test_folder(), "cube"));
-    const Mesh& m = *model.mesh;
+    const Mesh& m = only_part(model);
     ASSERT_EQ(m.positions.size(), 8u);
     EXPECT_LT(test::worst_normal_length_error(m), 1e-6);
     for (std::size_t i = 0; i < 8; ++i) {
@@ -131,7 +137,7 @@ TEST(SceneGltf, MissingNormalsOnASpherePointAwayFromItsCentre) {
     std::vector<std::uint16_t> order(sphere.indices.begin(), sphere.indices.end());
     w.scene({w.node({{"mesh", w.mesh(w.vec3s(sphere.positions), w.indices(order))}})});
     const GltfModel model = load_gltf(w.write(test_folder(), "sphere"));
-    const Mesh& m = *model.mesh;
+    const Mesh& m = only_part(model);
     EXPECT_LT(test::worst_normal_length_error(m), 1e-6);
     for (std::size_t i = 0; i < m.positions.size(); ++i)
         EXPECT_GT(glm::dot(m.normals[i], glm::normalize(m.positions[i])), 0.999f) << i;
@@ -144,7 +150,7 @@ TEST(SceneGltf, StripsFansAndListsGiveTheSameFrontFacingQuad) {
             kModels / "glTF-Asset-Generator/Mesh_PrimitiveMode" / (std::string("Mesh_PrimitiveMode_") + n + ".gltf");
         SCOPED_TRACE(file.string());
         const GltfModel model = load_gltf(file);
-        const Mesh& m = *model.mesh;
+        const Mesh& m = only_part(model);
         EXPECT_EQ(m.triangle_count(), 2u);
         EXPECT_EQ(m.bounds_min, glm::vec3(-0.5f, -0.5f, 0.0f));
         EXPECT_EQ(m.bounds_max, glm::vec3(0.5f, 0.5f, 0.0f));
@@ -167,7 +173,7 @@ TEST(SceneGltf, LinesBesideTrianglesAreSkipped) {
     const int lines = w.mesh(positions, -1, -1, 1);
     w.scene({w.node({{"mesh", triangles}}), w.node({{"mesh", lines}})});
     const GltfModel model = load_gltf(w.write(test_folder(), "mixed"));
-    EXPECT_EQ(model.mesh->triangle_count(), 1u);
+    EXPECT_EQ(model.triangle_count(), 1u);
     EXPECT_EQ(model.skipped_primitives, 1u);
 }
 
@@ -176,25 +182,9 @@ TEST(SceneGltf, VerticesNoTriangleUsesAreLeftOut) {
     const int mesh = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {100, 100, 100}}), w.indices({0, 1, 2}));
     w.scene({w.node({{"mesh", mesh}})});
     const GltfModel model = load_gltf(w.write(test_folder(), "unused"));
-    const Mesh& m = *model.mesh;
+    const Mesh& m = only_part(model);
     EXPECT_EQ(m.positions.size(), 3u);
     EXPECT_EQ(m.bounds_max, glm::vec3(1, 1, 0));
-}
-
-TEST(SceneGltf, BaseColorIsTheTriangleWeightedMean) {
-    GltfWriter w;
-    const int one = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
-    const int three = w.mesh(
-        w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
-    w.doc["meshes"][one]["primitives"][0]["material"] = 0;
-    w.doc["meshes"][three]["primitives"][0]["material"] = 1;
-    w.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 0.0, 0.0, 1.0}}}}},
-                                      {{"pbrMetallicRoughness", {{"baseColorFactor", {0.0, 0.4, 0.0, 1.0}}}}}});
-    w.scene({w.node({{"mesh", one}}), w.node({{"mesh", three}})});
-    const GltfModel model = load_gltf(w.write(test_folder(), "colours"));
-    EXPECT_NEAR(model.base_color.r, 0.25f, 1e-6f);
-    EXPECT_NEAR(model.base_color.g, 0.3f, 1e-6f);
-    EXPECT_NEAR(model.base_color.b, 0.0f, 1e-6f);
 }
 
 TEST(SceneGltf, TheDefaultSceneIsTheOneNamedByScene) {
@@ -203,7 +193,7 @@ TEST(SceneGltf, TheDefaultSceneIsTheOneNamedByScene) {
     const int large = w.node({{"mesh", w.mesh(w.vec3s({{0, 0, 0}, {5, 0, 0}, {0, 5, 0}}))}});
     w.doc["scenes"] = json::array({{{"nodes", {small}}}, {{"nodes", {large}}}});
     w.doc["scene"] = 1;
-    EXPECT_EQ(load_gltf(w.write(test_folder(), "two_scenes")).mesh->bounds_max, glm::vec3(5, 5, 0));
+    EXPECT_EQ(load_gltf(w.write(test_folder(), "two_scenes")).bounds_max, glm::vec3(5, 5, 0));
 }
 
 // The malformed models shipped with assimp's tests, each checked for what it really contains.

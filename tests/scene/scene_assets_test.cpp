@@ -189,10 +189,26 @@ TEST(SceneAssets, VirusesAreSeveralSpikyBalls) {
 
 TEST(SceneAssets, EngineIsTheAssimpModelAtAHumanScale) {
     const Scene s = load_scene(kScenes / "engine.json");
-    const Object& engine = named(s, "engine");
-    EXPECT_EQ(engine.mesh->triangle_count(), 121496u);  // 75,730 stored, some parts instanced
-    glm::vec3 lo, hi;
-    object_bounds(engine, 0.0, lo, hi);
+    // One object per distinct material (7, tests/scene/gltf_material_test.cpp), named engine/<material>,
+    // each with its own colour and the scene's specular 0.2 and shininess 40.
+    std::size_t triangles = 0, parts = 0;
+    std::set<std::tuple<float, float, float>> colours;
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (const Object& o : s.objects) {
+        if (o.name.rfind("engine/", 0) != 0) continue;
+        ++parts;
+        triangles += o.mesh->triangle_count();
+        colours.insert({o.material.rho_d.r, o.material.rho_d.g, o.material.rho_d.b});
+        EXPECT_EQ(o.material.rho_s, 0.2f) << o.name;
+        EXPECT_EQ(o.material.shininess, 40.0f) << o.name;
+        glm::vec3 part_lo, part_hi;
+        object_bounds(o, 0.0, part_lo, part_hi);
+        lo = glm::min(lo, part_lo);
+        hi = glm::max(hi, part_hi);
+    }
+    EXPECT_EQ(parts, 7u);
+    EXPECT_EQ(colours.size(), 7u);
+    EXPECT_EQ(triangles, 121496u);  // 75,730 stored, some parts instanced
     EXPECT_NEAR(std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}), 0.75f, 1e-3f);
     EXPECT_NEAR(lo.y, s.ground_height, 1e-4f);
 }

@@ -188,7 +188,9 @@ TEST(SceneFile, ModelMaterialComesFromGltfUnlessTheSceneGivesOne) {
     GltfWriter w;
     const int mesh = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
     w.doc["meshes"][mesh]["primitives"][0]["material"] = 0;
-    w.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}}}}});
+    w.doc["materials"] = json::array(
+        {{{"pbrMetallicRoughness",
+           {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.5}}}}});
     w.scene({w.node({{"mesh", mesh}})});
     w.write(dir, "tinted");
     json scene = minimal_scene();
@@ -196,11 +198,82 @@ TEST(SceneFile, ModelMaterialComesFromGltfUnlessTheSceneGivesOne) {
                         {{"model", "tinted.gltf"}, {"material", {{"specular", 0.3}}}},
                         {{"model", "tinted.gltf"}, {"material", {{"diffuse", {0.9, 0.8, 0.7}}}}}};
     const Scene s = load_scene(write_scene(dir, scene));
-    expect_near(s.objects[0].material.rho_d, {0.2f, 0.4f, 0.6f});
-    expect_near(s.objects[1].material.rho_d, {0.2f, 0.4f, 0.6f});
+    ASSERT_EQ(s.objects.size(), 3u);
+    // The glTF's, mapped (docs/SCENES.md): rho_d = 0.96 base, n = 30 (roughness 0.5), rho_s = 0.04 * 31 / 32.
+    expect_near(s.objects[0].material.rho_d, {0.192f, 0.384f, 0.576f});
+    EXPECT_NEAR(s.objects[0].material.rho_s, 0.03875f, 1e-6f);
+    EXPECT_NEAR(s.objects[0].material.shininess, 30.0f, 1e-4f);
+    // Each key given replaces the glTF's; the others stay.
+    expect_near(s.objects[1].material.rho_d, {0.192f, 0.384f, 0.576f});
     EXPECT_EQ(s.objects[1].material.rho_s, 0.3f);
+    EXPECT_NEAR(s.objects[1].material.shininess, 30.0f, 1e-4f);
     expect_near(s.objects[2].material.rho_d, {0.9f, 0.8f, 0.7f});
+    EXPECT_NEAR(s.objects[2].material.rho_s, 0.03875f, 1e-6f);
     EXPECT_EQ(s.objects[0].mesh, s.objects[2].mesh);  // one file, loaded once
+}
+
+// A model of two materials (a triangle at x in [0, 1], another at x in [3, 4]) as two objects.
+fs::path two_material_model(const fs::path& dir) {
+    GltfWriter w;
+    const int mesh = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+    json second = w.doc["meshes"][mesh]["primitives"][0];
+    second["attributes"]["POSITION"] = w.vec3s({{3, 0, 0}, {4, 0, 0}, {3, 1, 0}});
+    second["material"] = 1;
+    w.doc["meshes"][mesh]["primitives"][0]["material"] = 0;
+    w.doc["meshes"][mesh]["primitives"].push_back(second);
+    w.doc["materials"] = json::array(
+        {{{"name", "red"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}, {"metallicFactor", 0}}}},
+         {{"name", "steel"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"roughnessFactor", 0.5}}}}});
+    w.scene({w.node({{"mesh", mesh}})});
+    return w.write(dir, "two");
+}
+
+TEST(SceneFile, AModelOfTwoMaterialsIsTwoObjectsThatTheSceneMaterialOverrides) {
+    const fs::path dir = test_folder();
+    two_material_model(dir);
+    json scene = minimal_scene();
+    scene["objects"] = {
+        {{"model", "two.gltf"}, {"fit", 2.0}},
+        {{"model", "two.gltf"}, {"name", "painted"}, {"material", {{"diffuse", 0.5}}}},
+        {{"model", "two.gltf"}, {"material", {{"diffuse", 0.25}, {"specular", 0.1}, {"shininess", 7}}}}};
+    const Scene s = load_scene(write_scene(dir, scene));
+    ASSERT_EQ(s.objects.size(), 6u);
+    EXPECT_EQ(s.objects[0].name, "two/red");
+    EXPECT_EQ(s.objects[1].name, "two/steel");
+    EXPECT_EQ(s.objects[2].name, "painted/red");
+    // red: a rough dielectric, rho_d = 0.96 (1, 0, 0); steel: a metal (metallic 1 by default), rho_d = 0,
+    // F0 = 1, n = 30, rho_s = 31 / 32.
+    expect_near(s.objects[0].material.rho_d, {0.96f, 0.0f, 0.0f});
+    expect_near(s.objects[1].material.rho_d, {0.0f, 0.0f, 0.0f});
+    EXPECT_NEAR(s.objects[1].material.rho_s, 31.0f / 32.0f, 1e-6f);
+    EXPECT_NEAR(s.objects[1].material.shininess, 30.0f, 1e-4f);
+    // Both parts share one placement: the whole model (4 wide) fitted to 2 m, not each part alone.
+    for (const std::size_t i : {0u, 1u}) EXPECT_EQ(s.objects[i].transform, s.objects[0].transform);
+    glm::vec3 lo, hi;
+    Scene first;
+    first.objects = {s.objects[0], s.objects[1]};
+    first.bounds_at(0.0, lo, hi);
+    expect_near(lo, {-1.0f, 0.0f, 0.0f}, 1e-5f);
+    expect_near(hi, {1.0f, 0.5f, 0.0f}, 1e-5f);
+    // A partial override replaces its keys on every part.
+    for (const std::size_t i : {2u, 3u}) expect_near(s.objects[i].material.rho_d, glm::vec3(0.5f));
+    EXPECT_NEAR(s.objects[3].material.rho_s, 31.0f / 32.0f, 1e-6f);
+    // A full one makes the parts alike.
+    for (const std::size_t i : {4u, 5u}) {
+        expect_near(s.objects[i].material.rho_d, glm::vec3(0.25f));
+        EXPECT_EQ(s.objects[i].material.rho_s, 0.1f);
+        EXPECT_EQ(s.objects[i].material.shininess, 7.0f);
+    }
+}
+
+TEST(SceneFile, ABareModelOfTwoMaterialsStandsOnTheGroundAsTwoObjects) {
+    const Scene s = load_scene(two_material_model(test_folder()));
+    ASSERT_EQ(s.objects.size(), 3u);
+    EXPECT_EQ(s.objects[0].name, "ground");
+    EXPECT_EQ(s.objects[1].name, "two/red");
+    EXPECT_EQ(s.objects[2].name, "two/steel");
+    expect_near(s.objects[1].material.rho_d, {0.96f, 0.0f, 0.0f});
+    EXPECT_EQ(s.objects[1].transform, s.objects[2].transform);
 }
 
 TEST(SceneFile, IdenticalBuiltinMeshesAreShared) {
@@ -411,25 +484,29 @@ TEST(SceneFile, TheDocumentedExampleLoads) {
     const fs::path path = test_folder() / "example.json";
     std::ofstream(path) << text.substr(begin + 8, end - begin - 8);
     const Scene s = load_scene(path);
-    EXPECT_EQ(s.objects.size(), 5u);
+    EXPECT_EQ(s.objects.size(), 4u + 7u);  // the engine model is one object per material (7)
     EXPECT_TRUE(s.has_ground);
-    EXPECT_EQ(s.objects[4].animation.kind, Animation::Kind::orbit);
+    EXPECT_EQ(s.objects.back().animation.kind, Animation::Kind::orbit);
 }
 
 TEST(SceneFile, BareGlbStandsOnAGroundPlaneInView) {
     const Scene s = load_scene(kEngine);
     EXPECT_TRUE(s.has_ground);
     EXPECT_EQ(s.ground_height, 0.0f);
-    ASSERT_EQ(s.objects.size(), 2u);
+    ASSERT_EQ(s.objects.size(), 1u + 7u);  // the ground, then one object per material
     const Object& ground = s.objects[0];
-    const Object& model = s.objects[1];
     EXPECT_FALSE(ground.casts_shadows);
-    EXPECT_TRUE(model.casts_shadows);
-    EXPECT_EQ(model.name, "2CylinderEngine");
-    EXPECT_EQ(model.mesh->triangle_count(), 121496u);
-
     Scene only_model;
-    only_model.objects = {model};
+    std::size_t triangles = 0;
+    for (std::size_t i = 1; i < s.objects.size(); ++i) {
+        const Object& part = s.objects[i];
+        EXPECT_TRUE(part.casts_shadows);
+        EXPECT_EQ(part.name.rfind("2CylinderEngine/Material_", 0), 0u) << part.name;
+        EXPECT_EQ(part.transform, s.objects[1].transform);
+        triangles += part.mesh->triangle_count();
+        only_model.objects.push_back(part);
+    }
+    EXPECT_EQ(triangles, 121496u);
     glm::vec3 lo, hi;
     only_model.bounds_at(0.0, lo, hi);
     EXPECT_NEAR(lo.y, 0.0f, 1e-4f);  // standing on the ground
