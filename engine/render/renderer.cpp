@@ -382,7 +382,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     // shade.vert's gl_Position is invariant), so the light loop runs once per pixel.
     glDepthFunc(settings_.depth_prepass ? GL_EQUAL : GL_LESS);
     glDepthMask(settings_.depth_prepass ? GL_FALSE : GL_TRUE);
-    glDisable(GL_CULL_FACE);  // two-sided (shade.frag turns the normal to the viewer)
+    glDisable(GL_CULL_FACE);  // two-sided: shade.frag turns the normal by gl_FrontFacing (docs/DESIGN.md §5.4)
     for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
         const ObjectFrame& object = plan.objects[i];
         const gl::Program& shade = object.program == ShadeProgram::flat_receiver  ? shade_flat_program_
@@ -395,6 +395,9 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE, &object.world_from_object[0][0]);
         glProgramUniformMatrix3fv(program, loc::world_normal_from_object, 1, GL_FALSE,
                                   &object.world_normal_from_object[0][0]);
+        // Counter-clockwise in object space is the front (the vertex normals' side); a mirroring transform
+        // turns it clockwise on screen.
+        glFrontFace(glm::determinant(glm::mat3(object.world_from_object)) < 0.0f ? GL_CW : GL_CCW);
         glProgramUniform3f(program, loc::k_d, object.k_d.r, object.k_d.g, object.k_d.b);
         glProgramUniform1f(program, loc::k_s, object.k_s);
         glProgramUniform1f(program, loc::shininess, object.shininess);
@@ -408,6 +411,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         instance_meshes_[i]->draw();
     }
     glBindSampler(unit::atlas, 0);
+    glFrontFace(GL_CCW);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
 }
