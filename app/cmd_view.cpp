@@ -25,6 +25,7 @@ Command add_view_command(CLI::App& parent) {
     add_shading_option(app, &options->shading);
     add_tile_sizes_option(app, &options->tile_sizes);
     add_tonemap_option(app, &options->tonemap);
+    add_msaa_option(app, &options->msaa);
     app->add_option("--frames", options->frames, "Quit after this many frames (automated runs)")
         ->check(CLI::Range(1, 1000000));
     app->add_option("--screenshot", options->screenshot, "With --frames: write the window, UI included, to this PNG");

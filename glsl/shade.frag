@@ -18,8 +18,10 @@
 #include "latlong.glsl"
 #endif
 
-layout(location = 0) in vec3 v_world_position;
-layout(location = 1) in vec3 v_world_normal;
+// centroid: with MSAA, interpolated inside the triangle (at a covered sample) rather than at the pixel
+// centre, which may lie beyond a silhouette edge; the same as the centre at one sample per pixel.
+layout(location = 0) centroid in vec3 v_world_position;
+layout(location = 1) centroid in vec3 v_world_normal;
 
 layout(location = LOC_EYE) uniform vec3 u_eye;
 layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;

@@ -32,6 +32,12 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings), librar
     uniform_block_fits_ = std::size_t(max_block) >= std::size_t(size::max_lights) * sizeof(LightRecord);
     use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
     max_viewports_ = std::clamp(max_viewports_, 1, kMaxViewports);
+    GLint color_samples = 1, depth_samples = 1, samples = 1;
+    glGetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &color_samples);
+    glGetIntegerv(GL_MAX_DEPTH_TEXTURE_SAMPLES, &depth_samples);
+    glGetIntegerv(GL_MAX_SAMPLES, &samples);
+    max_samples_ = std::max(1, std::min({color_samples, depth_samples, samples}));
+    samples_ = drawn_samples();
     empty_vertex_array_ = gl::VertexArray::create();
     // Hardware depth comparison with bilinear filtering of the results: 2x2 PCF per lookup.
     shadow_sampler_ = gl::Sampler::create({.min_filter = GL_LINEAR,
@@ -53,7 +59,9 @@ void Renderer::build_programs() {
     // render/shader_interface.h are in every stage already).
     std::vector<std::string> light_defines;
     if (use_uniform_block_) light_defines.push_back("LIGHTS_UNIFORM_BLOCK");
-    tiles_program_ = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, light_defines);
+    std::vector<std::string> tiles_defines = light_defines;
+    if (samples_ > 1) tiles_defines.push_back("DEPTH_SAMPLES " + std::to_string(samples_));  // a sampler2DMS
+    tiles_program_ = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, tiles_defines);
     std::vector<std::string> atlas_defines = light_defines;
     if (settings_.atlas == AtlasMode::viewport_array && !GLAD_GL_ARB_shader_viewport_layer_array) {
         log::warn("GL_ARB_shader_viewport_layer_array is missing: drawing the shadow atlas with clip distances");
@@ -93,8 +101,10 @@ void Renderer::set_settings(const RenderSettings& settings) {
     if (old.atlas != settings.atlas || old.diffuse != settings.diffuse || old.specular != settings.specular ||
         old.pcf != settings.pcf || old.lights_uniform_block != settings.lights_uniform_block ||
         old.shadow_tile_lists != settings.shadow_tile_lists || old.depth_prepass != settings.depth_prepass ||
-        old.shading != settings.shading)
+        old.shading != settings.shading || old.msaa != settings.msaa) {
+        samples_ = drawn_samples();
         build_programs();
+    }
     if (old.skip_lights != settings.skip_lights) select_lights();
 }
 
@@ -216,17 +226,37 @@ void Renderer::ensure_atlas() {
     atlas_.check_complete("shadow atlas");
 }
 
+int Renderer::drawn_samples() const {
+    if (settings_.msaa > max_samples_ && !warned_samples_) {
+        log::warn("MSAA: " + std::to_string(settings_.msaa) + " samples asked for, the driver's maximum is " +
+                  std::to_string(max_samples_) + "; using " + std::to_string(max_samples_));
+        warned_samples_ = true;
+    }
+    return std::min(settings_.msaa, max_samples_);
+}
+
 void Renderer::ensure_target(int width, int height) {
-    if (color_ && color_.width() == width && color_.height() == height) return;
+    if (color_ && color_.width() == width && color_.height() == height && depth_.samples() == samples_) return;
     color_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
-    depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
-    depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
+    target_ = gl::Framebuffer::create();
+    if (samples_ > 1) {
+        multisample_color_ = gl::Texture::create_2d_multisample(GL_RGBA32F, width, height, samples_);
+        depth_ = gl::Texture::create_2d_multisample(GL_DEPTH_COMPONENT32F, width, height, samples_);
+        target_.attach(GL_COLOR_ATTACHMENT0, multisample_color_);
+        resolved_ = gl::Framebuffer::create();
+        resolved_.attach(GL_COLOR_ATTACHMENT0, color_);
+        resolved_.check_complete("resolved render target");
+    } else {
+        multisample_color_ = {};
+        resolved_ = {};
+        depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
+        depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
+        target_.attach(GL_COLOR_ATTACHMENT0, color_);
+    }
     screen_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
                                (height + size::screen_tile - 1) / size::screen_tile);
     tile_lists_ = gl::Buffer::create(std::size_t(screen_tiles_.x) * std::size_t(screen_tiles_.y) *
                                      std::size_t(size::max_lights + 1) * sizeof(std::uint32_t));
-    target_ = gl::Framebuffer::create();
-    target_.attach(GL_COLOR_ATTACHMENT0, color_);
     target_.attach(GL_DEPTH_ATTACHMENT, depth_);
     target_.check_complete("render target");
 }
@@ -467,6 +497,12 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     glClearNamedFramebufferfv(target_.id(), GL_DEPTH, 0, &clear_depth);
     draw_objects(plan, view);
     draw_background(view);
+    if (samples_ > 1) {
+        // The mean of each pixel's samples, in linear HDR (tone mapping comes after, on the resolved colour).
+        gl::ScopedPass resolve(&timer_, "msaa resolve");
+        glBlitNamedFramebuffer(target_.id(), resolved_.id(), 0, 0, view.width, view.height, 0, 0, view.width,
+                               view.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
     FrameStats stats;
@@ -481,7 +517,7 @@ FrameStats Renderer::render(double time, const CameraView& view) {
 }
 
 Image Renderer::read_back() const {
-    return gl::read_color(target_, color_.width(), color_.height());
+    return gl::read_color(framebuffer(), color_.width(), color_.height());
 }
 
 }  // namespace envshadow::render

@@ -45,6 +45,8 @@ std::vector<BuiltProgram> engine_programs() {
     add("depth pre-pass", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
     add("background", {{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
     add("shadow_tiles.comp", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, {"LIGHTS_UNIFORM_BLOCK"});
+    add("shadow_tiles.comp (MSAA depth)", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}},
+        {"LIGHTS_UNIFORM_BLOCK", "DEPTH_SAMPLES 4"});
     add("fs_importance.comp", {{GL_COMPUTE_SHADER, "fs_importance.comp"}});
     add("fs_lights.comp", {{GL_COMPUTE_SHADER, "fs_lights.comp"}});
     add("fs_cell_assign.comp", {{GL_COMPUTE_SHADER, "fs_cell_assign.comp"}});
