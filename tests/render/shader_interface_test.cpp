@@ -119,7 +119,8 @@ TEST_P(ShaderInterfaceTest, EveryProgramUsesTheTablesNumbers) {
             const GLint type = resource_property(id, GL_UNIFORM, index, GL_TYPE);
             const GLint location = resource_property(id, GL_UNIFORM, index, GL_LOCATION);
             EXPECT_EQ(glGetUniformLocation(id, name.c_str()), location);
-            if (type == GL_SAMPLER_2D || type == GL_SAMPLER_2D_SHADOW || type == GL_IMAGE_2D) {
+            if (type == GL_SAMPLER_2D || type == GL_SAMPLER_2D_SHADOW || type == GL_SAMPLER_2D_MULTISAMPLE ||
+                type == GL_IMAGE_2D) {
                 GLint unit = -1;  // layout(binding = N): the sampler's or image's initial value
                 glGetUniformiv(id, location, &unit);
                 expect(built.name, (type == GL_IMAGE_2D ? "image/" : "unit/") + name.substr(2), unit);
