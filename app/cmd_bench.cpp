@@ -36,6 +36,7 @@ struct BenchOptions {
     std::string json, sweep, atlas = "clip-distances", variants, pass_timing = "auto", shading = "cells";
     OptimisationFlags optimisations;
     int frames = 100, warmup = 10, tile = 256, depth_bits = 16;
+    int msaa = kDefaultMsaa;           // as render and view: bench measures what a user sees
     std::string tile_sizes = "share";  // --tile-sizes
     double time_step = 1.0 / 60.0;     // animation seconds per frame
 };
@@ -237,6 +238,7 @@ int run_bench(const BenchOptions& o) {
     settings.tile_sizing = tile_sizing(o.tile_sizes);
     settings.atlas = naming_flag("--atlas", [&] { return render::parse_atlas_mode(o.atlas); });
     settings.shading = shading_mode(o.shading);
+    settings.msaa = o.msaa;
     settings = apply(o.optimisations, settings);
     render::validate(settings);
     // One renderer per variant (each with its own atlas), all in one context.
@@ -301,11 +303,12 @@ Command add_bench_command(CLI::App& parent) {
         ->check(finite_number());
     add_pass_timing_option(app, &o->pass_timing);
     add_shading_option(app, &o->shading);
+    add_msaa_option(app, &o->msaa);
     app->add_option("--json", o->json, "Write the results as JSON");
     app->add_option(
         "--variants", o->variants,
         "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, ubo, "
-        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf, shading, tile-sizes); ratios to the first");
+        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf, shading, tile-sizes, msaa); ratios to the first");
     add_optimisation_options(app, &o->optimisations);
     app->add_option("--sweep", o->sweep, "One row per setting: lights=16,32,…  resolution=640x360,…  tile=128,…");
     return {app, [o] { return run_bench(*o); }};

@@ -38,7 +38,7 @@ struct RenderOptions {
     CommonOptions common;  // --scene, --env, --lights, --method, --seed, --width, --height, --backend
     std::string out, exr;
     std::string pcf = "2x2", specular = "blended", cap = "weighted", diffuse = "center", shading = "cells", atlas;
-    int tile = 256, depth_bits = 16, frames = 1;
+    int tile = 256, depth_bits = 16, frames = 1, msaa = kDefaultMsaa;
     std::string tile_sizes = "share";
     std::string tonemap = "aces";
     double time = 0.0;
@@ -58,6 +58,7 @@ render::RenderSettings settings_from(const RenderOptions& o) {
     s.diffuse = naming_flag("--diffuse", [&] { return render::parse_diffuse_mode(o.diffuse); });
     s.shading = shading_mode(o.shading);
     s.background = !o.no_background;
+    s.msaa = o.msaa;
     if (o.per_tile_atlas) s.atlas = render::AtlasMode::per_tile;
     s = apply(o.optimisations, s);
     render::validate(s);
@@ -143,6 +144,7 @@ int run_render(const RenderOptions& o) {
         "shading: %s (specular %s, cap %s, diffuse %s)\n", std::string(render::to_string(settings.shading)).c_str(),
         std::string(render::to_string(settings.specular)).c_str(), std::string(render::to_string(settings.cap)).c_str(),
         std::string(render::to_string(settings.diffuse)).c_str());
+    std::printf("msaa: %d samples per pixel\n", renderer.samples());
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     const bool uniform_tiles = stats.atlas.sizing == render::TileSizing::uniform;
@@ -205,6 +207,7 @@ Command add_render_command(CLI::App& parent) {
     app->add_option("--diffuse", o->diffuse, "center (the paper's sample) or cap (exact clamped cosine)")
         ->check(CLI::IsMember(render::names<render::DiffuseMode>()));
     add_shading_option(app, &o->shading);
+    add_msaa_option(app, &o->msaa);
     app->add_flag("--per-tile-atlas", o->per_tile_atlas, "Draw the shadow atlas one tile at a time (baseline)");
     app->add_option("--atlas", o->atlas, "clip-distances, viewport-array, per-tile, or all (times each, interleaved)")
         ->check(CLI::IsMember(atlas_choices()));

@@ -25,6 +25,7 @@ Command add_view_command(CLI::App& parent) {
     add_shading_option(app, &options->shading);
     add_tile_sizes_option(app, &options->tile_sizes);
     add_tonemap_option(app, &options->tonemap);
+    add_msaa_option(app, &options->msaa);
     app->add_option("--target-ms", options->target_ms,
                     "While the view changes, shade at the fraction of the window that holds this frame time; "
                     "full size once still (0: always full size; default 100)")

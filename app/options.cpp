@@ -170,6 +170,14 @@ render::ShadingMode shading_mode(const std::string& value) {
     return naming_flag("--shading", [&] { return render::parse_shading_mode(value); });
 }
 
+void add_msaa_option(CLI::App* app, int* samples) {
+    const std::span<const int> counts = render::msaa_sample_counts();
+    app->add_option("--msaa", *samples,
+                    "Multisample anti-aliasing: samples per pixel, 1, 2, 4 (default) or 8, averaged in linear HDR "
+                    "before tone mapping")
+        ->check(CLI::IsMember(std::vector<int>(counts.begin(), counts.end())));
+}
+
 void add_tonemap_option(CLI::App* app, std::string* value) {
     std::vector<std::string> names;
     for (std::string_view name : tone_map_names()) names.emplace_back(name);

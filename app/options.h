@@ -101,6 +101,10 @@ render::RenderSettings apply(const OptimisationFlags& flags, render::RenderSetti
 // unshadowed reflection from the prefiltered map (docs/DESIGN.md §4.1).
 void add_shading_option(CLI::App* app, std::string* value);
 render::ShadingMode shading_mode(const std::string& value);
+// --msaa 1|2|4|8 (render, bench, view): samples per pixel of the shading target, resolved before tone
+// mapping (render::RenderSettings::msaa). The commands' default.
+inline constexpr int kDefaultMsaa = 4;
+void add_msaa_option(CLI::App* app, int* samples);
 // --tonemap aces|agx|neutral|linear (render, reference, view): the display transform of 8-bit output
 // (core/tonemap.h); EXR stays linear.
 void add_tonemap_option(CLI::App* app, std::string* value);

@@ -79,11 +79,13 @@ render::RenderSettings apply_variant(render::RenderSettings settings, std::strin
             settings.pcf = render::parse_pcf_kernel(value);
         } else if (key == "shading") {
             settings.shading = render::parse_shading_mode(value);
+        } else if (key == "msaa") {
+            settings.msaa = int(parse_number(value));
         } else {
             std::string keys = "caster-lod";
             for (const render::OptimisationSwitch& s : switches) keys += ", " + std::string(s.name);
             throw UsageError("unknown key '" + std::string(key) + "' (" + keys +
-                             ", depth-bits, tile, atlas, pcf, shading, tile-sizes)");
+                             ", depth-bits, tile, atlas, pcf, shading, tile-sizes, msaa)");
         }
     }
     render::validate(settings);

@@ -18,8 +18,10 @@
 #include "latlong.glsl"
 #endif
 
-layout(location = 0) in vec3 v_world_position;
-layout(location = 1) in vec3 v_world_normal;
+// centroid: with MSAA, interpolated inside the triangle (at a covered sample) rather than at the pixel
+// centre, which may lie beyond a silhouette edge; the same as the centre at one sample per pixel.
+layout(location = 0) centroid in vec3 v_world_position;
+layout(location = 1) centroid in vec3 v_world_normal;
 
 layout(location = LOC_EYE) uniform vec3 u_eye;
 layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
@@ -127,11 +129,24 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror) {
     return u_k_d * diffuse + u_k_s * specular;
 }
 
+// Shading normal at p (docs/DESIGN.md §5.4). The side comes from the triangle: seen from behind (an open
+// mesh), the normal is turned round; the interpolated normal itself may still face away from the viewer
+// near a silhouette, and is then bent towards the viewer in the plane of n and v until n.v is about
+// kFacingEpsilon (turning it round instead would point it into the surface: a black rim): a simpler form
+// of Iray's shading normal adaptation (Keller et al. 2017). The reference (engine/reference/reference.cpp)
+// does the same.
+const float kFacingEpsilon = 0.01;
+vec3 shading_normal(vec3 interpolated, vec3 view) {
+    vec3 n = gl_FrontFacing ? interpolated : -interpolated;
+    float facing = dot(n, view);
+    if (facing < kFacingEpsilon) n = normalize(n + (kFacingEpsilon - facing) * view);
+    return n;
+}
+
 void main() {
     vec3 p = v_world_position;
     vec3 view = normalize(u_eye - p);
-    vec3 n = normalize(v_world_normal);
-    if (dot(n, view) < 0.0) n = -n;  // two-sided: open meshes are seen from both sides
+    vec3 n = shading_normal(normalize(v_world_normal), view);
     vec3 mirror = reflect(-view, n);
 
     vec3 radiance = vec3(0.0);

@@ -10,7 +10,11 @@
 
 layout(local_size_x = SCREEN_TILE, local_size_y = SCREEN_TILE) in;
 
+#if defined(DEPTH_SAMPLES)
+layout(binding = UNIT_DEPTH) uniform sampler2DMS u_depth;  // DEPTH_SAMPLES per pixel (MSAA)
+#else
 layout(binding = UNIT_DEPTH) uniform sampler2D u_depth;  // the image's depth after the pre-pass (NEAREST)
+#endif
 layout(location = LOC_WORLD_FROM_CLIP) uniform mat4 u_world_from_clip;
 layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
 layout(location = LOC_PAD) uniform float u_pad;  // world units: the largest normal offset and rounding
@@ -35,6 +39,17 @@ float unordered(uint u) {
     return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7fffffffu : ~u);
 }
 
+// Grows the tile's box by the world point at window position `xy` (pixels) and depth `depth`.
+void include(vec2 xy, vec2 size, float depth) {
+    vec4 ndc = vec4(xy / size * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
+    vec4 world = u_world_from_clip * ndc;
+    vec3 p = world.xyz / world.w;
+    for (int c = 0; c < 3; ++c) {
+        atomicMin(s_lo[c], ordered(p[c]));
+        atomicMax(s_hi[c], ordered(p[c]));
+    }
+}
+
 void main() {
     uint local = gl_LocalInvocationIndex;
     if (local < 3u) {
@@ -45,20 +60,37 @@ void main() {
     barrier();
 
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+#if defined(DEPTH_SAMPLES)
+    ivec2 size = textureSize(u_depth);
+    if (all(lessThan(pixel, size))) {
+        // The samples lie anywhere in the pixel (and shade.frag shades at one of them, centroid): the
+        // pixel's frustum between its nearest and farthest object sample holds them all, and it is the hull
+        // of its 8 corners (clip to world is affine across a plane of constant depth).
+        float nearest = 1.0, farthest = 0.0;
+        for (int k = 0; k < DEPTH_SAMPLES; ++k) {
+            float depth = texelFetch(u_depth, pixel, k).r;
+            if (depth < 1.0) {  // an object (the background keeps the cleared depth 1)
+                nearest = min(nearest, depth);
+                farthest = max(farthest, depth);
+            }
+        }
+        if (nearest < 1.0) {
+            for (int corner = 0; corner < 8; ++corner)
+                include(vec2(pixel + ivec2(corner & 1, (corner >> 1) & 1)), vec2(size),
+                        (corner & 4) != 0 ? farthest : nearest);
+            s_any = 1u;
+        }
+    }
+#else
     ivec2 size = textureSize(u_depth, 0);
     if (all(lessThan(pixel, size))) {
         float depth = texelFetch(u_depth, pixel, 0).r;
         if (depth < 1.0) {  // an object (the background keeps the cleared depth 1)
-            vec4 ndc = vec4((vec2(pixel) + 0.5) / vec2(size) * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
-            vec4 world = u_world_from_clip * ndc;
-            vec3 p = world.xyz / world.w;
-            for (int c = 0; c < 3; ++c) {
-                atomicMin(s_lo[c], ordered(p[c]));
-                atomicMax(s_hi[c], ordered(p[c]));
-            }
+            include(vec2(pixel) + 0.5, vec2(size), depth);
             s_any = 1u;
         }
     }
+#endif
     barrier();
 
     uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;

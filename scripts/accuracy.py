@@ -269,7 +269,7 @@ class Study:
         with lock:
             if not os.path.exists(out):
                 run([self.a.bin, "render", "--scene", mask_scene, "--width", str(w), "--height", str(h),
-                     "--no-background", "--lights", "16", "--out", out])
+                     "--no-background", "--lights", "16", "--msaa", "1", "--out", out])
         return out
 
     def measure(self, scene, map_, method="lloyd", n=128, **opts):
@@ -284,7 +284,9 @@ class Study:
         said = run([self.a.bin, "render", "--scene", f, "--env", MAPS[map_], "--lights", str(n), "--method", method,
              "--width", str(w), "--height", str(h), "--tile", str(o["tile"]), "--specular", o["specular"],
              "--cap", o["cap"], "--diffuse", o["diffuse"], "--seed", str(o["seed"]), "--hemisphere", o["hemisphere"],
-             "--tile-sizes", o["tile_sizes"], "--shading", o["shading"], "--exr", img])
+             "--tile-sizes", o["tile_sizes"], "--shading", o["shading"],
+             # One sample at each pixel's centre, as the reference's one ray per pixel centre.
+             "--msaa", "1", "--exr", img])
         seconds = time.time() - t
         ref = self.reference(scene, map_)  # after the render: renders run ahead of the references
         cmd = [self.a.bin, "compare", ref, img] + (["--mask", mask] if mask else [])

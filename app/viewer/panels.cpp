@@ -164,6 +164,12 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         if (ImGui::Combo("diffuse", &diffuse, "centre sample\0cap integral\0"))
             settings.diffuse = render::DiffuseMode(diffuse), changed = true;
         changed |= ImGui::Checkbox("background", &settings.background);
+        if (ImGui::BeginCombo("msaa", (std::to_string(settings.msaa) + "x").c_str())) {
+            for (int samples : render::msaa_sample_counts())
+                if (ImGui::Selectable((std::to_string(samples) + "x").c_str(), samples == settings.msaa))
+                    settings.msaa = samples, changed = true;
+            ImGui::EndCombo();
+        }
         changes.settings |= changed;
         ImGui::SliderFloat("exposure", &controls.exposure, -6.0f, 6.0f, "%.2f stops");
         if (ImGui::BeginCombo("tone map", std::string(to_string(controls.tone_map)).c_str())) {

@@ -19,6 +19,7 @@ struct ViewerOptions {
     std::string pass_timing = "auto";  // pass_timing()
     std::string shading = "cells";     // --shading: cells or ratio (shading_mode())
     std::string tile_sizes = "share";  // --tile-sizes: tile_sizing()
+    int msaa = kDefaultMsaa;           // --msaa: samples per pixel
     std::string tonemap = "aces";      // --tonemap: the window's and the screenshot PNG's (tone_map_option())
 };
 

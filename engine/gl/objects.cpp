@@ -76,6 +76,24 @@ Texture Texture::create_2d(GLenum internal_format, int width, int height, int le
     return texture;
 }
 
+Texture Texture::create_2d_multisample(GLenum internal_format, int width, int height, int samples) {
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    if (width < 1 || height < 1 || width > max_size || height > max_size)
+        throw PlatformError("texture of " + std::to_string(width) + "x" + std::to_string(height) +
+                            " exceeds GL_MAX_TEXTURE_SIZE (" + std::to_string(max_size) + ")");
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &id);
+    glTextureStorage2DMultisample(id, samples, internal_format, width, height, GL_TRUE);
+    Texture texture;
+    texture.name_ = detail::Name<detail::destroy_texture>(id);
+    texture.width_ = width;
+    texture.height_ = height;
+    texture.samples_ = samples;
+    texture.format_ = internal_format;
+    return texture;
+}
+
 void Texture::set_filter(GLenum min_filter, GLenum mag_filter) {
     glTextureParameteri(id(), GL_TEXTURE_MIN_FILTER, GLint(min_filter));
     glTextureParameteri(id(), GL_TEXTURE_MAG_FILTER, GLint(mag_filter));

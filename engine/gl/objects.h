@@ -68,9 +68,13 @@ class Texture {
 public:
     Texture() = default;
     static Texture create_2d(GLenum internal_format, int width, int height, int levels = 1);
+    // GL_TEXTURE_2D_MULTISAMPLE with `samples` samples per texel at fixed positions (a render target:
+    // no filtering or wrapping state; shaders read it through sampler2DMS).
+    static Texture create_2d_multisample(GLenum internal_format, int width, int height, int samples);
     GLuint id() const { return name_.id(); }
     int width() const { return width_; }
     int height() const { return height_; }
+    int samples() const { return samples_; }  // 1 for a plain 2D texture
     GLenum format() const { return format_; }
     explicit operator bool() const { return id() != 0; }
     void bind(GLuint unit) const { glBindTextureUnit(unit, id()); }
@@ -79,7 +83,7 @@ public:
 
 private:
     detail::Name<detail::destroy_texture> name_;
-    int width_ = 0, height_ = 0;
+    int width_ = 0, height_ = 0, samples_ = 1;
     GLenum format_ = 0;
 };
 

@@ -21,6 +21,7 @@ struct RayTracer::State {
     std::vector<std::size_t> object_of_geometry;    // geometry ID in `everything` -> object index
     std::vector<std::vector<glm::vec3>> positions;  // world space, per object
     std::vector<std::vector<glm::vec3>> normals;    // world space, unit, per object
+    std::vector<bool> mirrored;                     // per object: world_from_object's determinant < 0
     std::vector<const std::vector<std::uint32_t>*> indices;
 
     ~State() {
@@ -66,6 +67,7 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
     }
     s.positions.resize(scene.objects.size());
     s.normals.resize(scene.objects.size());
+    s.mirrored.resize(scene.objects.size(), false);
     s.indices.resize(scene.objects.size(), nullptr);
     double extent = 0.0;
     for (std::size_t k = 0; k < scene.objects.size(); ++k) {
@@ -74,6 +76,7 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
         const Mesh& mesh = *object.mesh;
         const glm::mat4 world_from_object = object.world_from_object(time);
         const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world_from_object)));
+        s.mirrored[k] = glm::determinant(glm::mat3(world_from_object)) < 0.0f;
         std::vector<glm::vec3>& positions = s.positions[k];
         std::vector<glm::vec3>& normals = s.normals[k];
         positions.reserve(mesh.positions.size() + 1);
@@ -128,7 +131,8 @@ std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dve
     hit.object = object;
     hit.distance = query.ray.tfar;
     hit.position = w * p0 + u * p1 + v * p2;
-    const glm::dvec3 face = glm::cross(p1 - p0, p2 - p0);
+    // A mirroring transform turns the winding round: the front stays the side of the object's winding.
+    const glm::dvec3 face = (state_->mirrored[object] ? -1.0 : 1.0) * glm::cross(p1 - p0, p2 - p0);
     const double face_length = glm::length(face);
     hit.geometric_normal = face_length > 0.0 ? face / face_length : -direction;
     const glm::dvec3 n = w * glm::dvec3(normals[triangle[0]]) + u * glm::dvec3(normals[triangle[1]]) +

@@ -15,7 +15,8 @@ struct Hit {
     double distance = 0.0;        // along the (unit) ray
     glm::dvec3 position;          // on the triangle (from the barycentrics, not origin + t d)
     glm::dvec3 shading_normal;    // interpolated vertex normals, world space, unit
-    glm::dvec3 geometric_normal;  // the triangle's (counter-clockwise front), world space, unit
+    glm::dvec3 geometric_normal;  // the triangle's, on the side its vertices turn counter-clockwise in object
+                                  // space (the front, whatever the transform), world space, unit
 };
 
 class RayTracer {

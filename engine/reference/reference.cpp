@@ -68,6 +68,17 @@ void basis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {
     b2 = {b, sign + n.y * n.y * a, -n.y};
 }
 
+// The shading normal (docs/DESIGN.md §5.4), as glsl/shade.frag's shading_normal(): the side from the
+// triangle (turned round where its back is seen), then a normal that still faces away from the viewer
+// near a silhouette bent towards the viewer in the plane of n and v until n.v is about kFacingEpsilon.
+constexpr double kFacingEpsilon = 0.01;  // glsl/shade.frag's
+glm::dvec3 shading_normal(const Hit& hit, const glm::dvec3& view) {
+    glm::dvec3 n = glm::dot(hit.geometric_normal, view) >= 0.0 ? hit.shading_normal : -hit.shading_normal;
+    const double facing = glm::dot(n, view);
+    if (facing < kFacingEpsilon) n = glm::normalize(n + (kFacingEpsilon - facing) * view);
+    return n;
+}
+
 // What the shading of one surface point needs.
 struct SurfacePoint {
     glm::dvec3 position, normal, geometric_normal, mirror;
@@ -233,7 +244,7 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                 s.position = hit->position;
                 s.geometric_normal = hit->geometric_normal;
                 const glm::dvec3 view = -direction;
-                s.normal = glm::dot(hit->shading_normal, view) < 0.0 ? -hit->shading_normal : hit->shading_normal;
+                s.normal = shading_normal(*hit, view);
                 s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
                 basis(s.normal, s.normal_b1, s.normal_b2);
                 basis(s.mirror, s.mirror_b1, s.mirror_b2);

@@ -1,5 +1,6 @@
 #include "render/render_settings.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -51,6 +52,8 @@ constexpr std::array<std::pair<ShadingMode, std::string_view>, 2> kShadingModes{
 constexpr std::array<std::pair<TileSizing, std::string_view>, 3> kTileSizings{
     {{TileSizing::uniform, "uniform"}, {TileSizing::share, "share"}, {TileSizing::sqrt_share, "sqrt"}}};
 
+constexpr std::array<int, 4> kMsaaSampleCounts{1, 2, 4, 8};
+
 constexpr std::array<OptimisationSwitch, 6> kSwitches = {{
     {"prepass", &RenderSettings::depth_prepass},
     {"ubo", &RenderSettings::lights_uniform_block},
@@ -60,6 +63,10 @@ constexpr std::array<OptimisationSwitch, 6> kSwitches = {{
     {"flat", &RenderSettings::flat_receivers},
 }};
 }  // namespace
+
+std::span<const int> msaa_sample_counts() {
+    return kMsaaSampleCounts;
+}
 
 std::string_view to_string(AtlasMode mode) {
     return name_of(kAtlasModes, mode);
@@ -142,6 +149,8 @@ void validate(const RenderSettings& settings) {
                          std::to_string(kMinTileSize) + ".." + std::to_string(kMaxTileSize));
     if (settings.depth_bits != 16 && settings.depth_bits != 32)
         throw UsageError("shadow depth bits " + std::to_string(settings.depth_bits) + " is not 16 or 32");
+    if (std::find(kMsaaSampleCounts.begin(), kMsaaSampleCounts.end(), settings.msaa) == kMsaaSampleCounts.end())
+        throw UsageError("MSAA samples " + std::to_string(settings.msaa) + " is not 1, 2, 4 or 8");
     for (float bias : {settings.slope_bias, settings.normal_offset, settings.depth_bias})
         if (!std::isfinite(bias) || bias < 0.0f) throw UsageError("shadow biases must be finite and >= 0");
     if (!std::isfinite(settings.caster_lod) || settings.caster_lod < 0.0f || settings.caster_lod > kMaxCasterLod) {

@@ -29,6 +29,9 @@ enum class TileSizing { uniform, share, sqrt_share };
 
 inline constexpr float kMaxCasterLod = 4.0f;  // shadow texels
 
+// Samples per pixel of the shading target that RenderSettings::msaa may ask for: 1, 2, 4, 8.
+std::span<const int> msaa_sample_counts();
+
 struct RenderSettings {
     int tile_size = 256;  // kMinTileSize..kMaxTileSize (render/shadow_atlas_layout.h)
     // Lights handed over every frame (the GPU sampler) keep uniform tiles whatever this says. share:
@@ -48,6 +51,11 @@ struct RenderSettings {
     DiffuseMode diffuse = DiffuseMode::center;
     ShadingMode shading = ShadingMode::cells;
     bool background = true;
+    // Samples per pixel of the shading target (multisample anti-aliasing; one of msaa_sample_counts()),
+    // resolved to one linear HDR colour per pixel (their mean) before tone mapping. The driver's maximum
+    // caps it (Renderer::samples()). 1 here: the per-pixel values the engine's tests compare; the commands
+    // default to 4 (app/options.h).
+    int msaa = 1;
     AtlasMode atlas = AtlasMode::clip_distances;
     bool skip_lights = true;  // drop lights hidden by the ground or negligible (render/lights.h)
     // Optimisations of issue 10 (docs/PERFORMANCE.md); baseline() turns them all off.
@@ -128,7 +136,7 @@ std::vector<std::string> names<ShadingMode>();
 template <>
 std::vector<std::string> names<TileSizing>();
 
-// UsageError if a value is out of range (tile size, depth bits, negative biases, caster LOD).
+// UsageError if a value is out of range (tile size, depth bits, MSAA samples, negative biases, caster LOD).
 void validate(const RenderSettings& settings);
 
 }  // namespace envshadow::render

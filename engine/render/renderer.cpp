@@ -34,6 +34,12 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings), librar
     uniform_block_fits_ = std::size_t(max_block) >= std::size_t(size::max_lights) * sizeof(LightRecord);
     use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
     max_viewports_ = std::clamp(max_viewports_, 1, kMaxViewports);
+    GLint color_samples = 1, depth_samples = 1, samples = 1;
+    glGetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &color_samples);
+    glGetIntegerv(GL_MAX_DEPTH_TEXTURE_SAMPLES, &depth_samples);
+    glGetIntegerv(GL_MAX_SAMPLES, &samples);
+    max_samples_ = std::max(1, std::min({color_samples, depth_samples, samples}));
+    samples_ = drawn_samples();
     empty_vertex_array_ = gl::VertexArray::create();
     // Hardware depth comparison with bilinear filtering of the results: 2x2 PCF per lookup.
     shadow_sampler_ = gl::Sampler::create({.min_filter = GL_LINEAR,
@@ -55,7 +61,9 @@ void Renderer::build_programs() {
     // render/shader_interface.h are in every stage already).
     std::vector<std::string> light_defines;
     if (use_uniform_block_) light_defines.push_back("LIGHTS_UNIFORM_BLOCK");
-    tiles_program_ = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, light_defines);
+    std::vector<std::string> tiles_defines = light_defines;
+    if (samples_ > 1) tiles_defines.push_back("DEPTH_SAMPLES " + std::to_string(samples_));  // a sampler2DMS
+    tiles_program_ = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, tiles_defines);
     std::vector<std::string> atlas_defines = light_defines;
     if (settings_.atlas == AtlasMode::viewport_array && !GLAD_GL_ARB_shader_viewport_layer_array) {
         log::warn("GL_ARB_shader_viewport_layer_array is missing: drawing the shadow atlas with clip distances");
@@ -95,8 +103,10 @@ void Renderer::set_settings(const RenderSettings& settings) {
     if (old.atlas != settings.atlas || old.diffuse != settings.diffuse || old.specular != settings.specular ||
         old.pcf != settings.pcf || old.lights_uniform_block != settings.lights_uniform_block ||
         old.shadow_tile_lists != settings.shadow_tile_lists || old.depth_prepass != settings.depth_prepass ||
-        old.shading != settings.shading)
+        old.shading != settings.shading || old.msaa != settings.msaa) {
+        samples_ = drawn_samples();
         build_programs();
+    }
     if (old.skip_lights != settings.skip_lights) select_lights();
 }
 
@@ -231,17 +241,37 @@ void Renderer::ensure_atlas() {
     atlas_.check_complete("shadow atlas");
 }
 
+int Renderer::drawn_samples() const {
+    if (settings_.msaa > max_samples_ && !warned_samples_) {
+        log::warn("MSAA: " + std::to_string(settings_.msaa) + " samples asked for, the driver's maximum is " +
+                  std::to_string(max_samples_) + "; using " + std::to_string(max_samples_));
+        warned_samples_ = true;
+    }
+    return std::min(settings_.msaa, max_samples_);
+}
+
 void Renderer::ensure_target(int width, int height) {
-    if (color_ && color_.width() == width && color_.height() == height) return;
+    if (color_ && color_.width() == width && color_.height() == height && depth_.samples() == samples_) return;
     color_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
-    depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
-    depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
+    target_ = gl::Framebuffer::create();
+    if (samples_ > 1) {
+        multisample_color_ = gl::Texture::create_2d_multisample(GL_RGBA32F, width, height, samples_);
+        depth_ = gl::Texture::create_2d_multisample(GL_DEPTH_COMPONENT32F, width, height, samples_);
+        target_.attach(GL_COLOR_ATTACHMENT0, multisample_color_);
+        resolved_ = gl::Framebuffer::create();
+        resolved_.attach(GL_COLOR_ATTACHMENT0, color_);
+        resolved_.check_complete("resolved render target");
+    } else {
+        multisample_color_ = {};
+        resolved_ = {};
+        depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
+        depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
+        target_.attach(GL_COLOR_ATTACHMENT0, color_);
+    }
     screen_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
                                (height + size::screen_tile - 1) / size::screen_tile);
     tile_lists_ = gl::Buffer::create(std::size_t(screen_tiles_.x) * std::size_t(screen_tiles_.y) *
                                      std::size_t(size::max_lights + 1) * sizeof(std::uint32_t));
-    target_ = gl::Framebuffer::create();
-    target_.attach(GL_COLOR_ATTACHMENT0, color_);
     target_.attach(GL_DEPTH_ATTACHMENT, depth_);
     target_.check_complete("render target");
 }
@@ -397,7 +427,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     // shade.vert's gl_Position is invariant), so the light loop runs once per pixel.
     glDepthFunc(settings_.depth_prepass ? GL_EQUAL : GL_LESS);
     glDepthMask(settings_.depth_prepass ? GL_FALSE : GL_TRUE);
-    glDisable(GL_CULL_FACE);  // two-sided (shade.frag turns the normal to the viewer)
+    glDisable(GL_CULL_FACE);  // two-sided: shade.frag turns the normal by gl_FrontFacing (docs/DESIGN.md §5.4)
     for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
         const ObjectFrame& object = plan.objects[i];
         const gl::Program& shade = object.program == ShadeProgram::flat_receiver  ? shade_flat_program_
@@ -410,6 +440,9 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE, &object.world_from_object[0][0]);
         glProgramUniformMatrix3fv(program, loc::world_normal_from_object, 1, GL_FALSE,
                                   &object.world_normal_from_object[0][0]);
+        // Counter-clockwise in object space is the front (the vertex normals' side); a mirroring transform
+        // turns it clockwise on screen.
+        glFrontFace(glm::determinant(glm::mat3(object.world_from_object)) < 0.0f ? GL_CW : GL_CCW);
         glProgramUniform3f(program, loc::k_d, object.k_d.r, object.k_d.g, object.k_d.b);
         glProgramUniform1f(program, loc::k_s, object.k_s);
         glProgramUniform1f(program, loc::shininess, object.shininess);
@@ -423,6 +456,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         instance_meshes_[i]->draw();
     }
     glBindSampler(unit::atlas, 0);
+    glFrontFace(GL_CCW);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
 }
@@ -478,6 +512,12 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     glClearNamedFramebufferfv(target_.id(), GL_DEPTH, 0, &clear_depth);
     draw_objects(plan, view);
     draw_background(view);
+    if (samples_ > 1) {
+        // The mean of each pixel's samples, in linear HDR (tone mapping comes after, on the resolved colour).
+        gl::ScopedPass resolve(&timer_, "msaa resolve");
+        glBlitNamedFramebuffer(target_.id(), resolved_.id(), 0, 0, view.width, view.height, 0, 0, view.width,
+                               view.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
     FrameStats stats;
@@ -492,7 +532,7 @@ FrameStats Renderer::render(double time, const CameraView& view) {
 }
 
 Image Renderer::read_back() const {
-    return gl::read_color(target_, color_.width(), color_.height());
+    return gl::read_color(framebuffer(), color_.width(), color_.height());
 }
 
 }  // namespace envshadow::render

@@ -90,10 +90,14 @@ public:
     // The last frame, linear, row 0 at the top.
     Image read_back() const;
 
+    // The last frame's linear colour, one sample per pixel (the multisampled target resolved).
     const gl::Texture& color_texture() const { return color_; }
     const gl::Texture& environment_texture() const { return environment_; }  // RGB32F lat-long, or empty
     const gl::Texture& atlas_texture() const { return atlas_depth_; }
-    const gl::Framebuffer& framebuffer() const { return target_; }
+    // Holds color_texture(): the target itself at one sample per pixel, else the resolve's destination.
+    const gl::Framebuffer& framebuffer() const { return samples_ > 1 ? resolved_ : target_; }
+    // Samples per pixel drawn: RenderSettings::msaa, capped by the driver's maximum.
+    int samples() const { return samples_; }
     const AtlasLayout& atlas_layout() const { return layout_; }
     std::size_t atlas_bytes() const { return layout_.bytes(settings_.depth_bits); }
     int light_count() const { return int(lights_.kept.size()); }
@@ -103,6 +107,7 @@ private:
     void select_lights();
     void ensure_atlas();
     void ensure_target(int width, int height);
+    int drawn_samples() const;  // settings_.msaa capped by max_samples_ (a warning, once, where it is)
     void upload(const FramePlan& plan);
     void draw_atlas(const FramePlan& plan);
     void draw_objects(const FramePlan& plan, const CameraView& view);
@@ -147,8 +152,13 @@ private:
     gl::Texture environment_;
     PrefilteredEnvironment prefiltered_levels_;  // the levels' shininess and size (texels dropped)
     std::vector<gl::Texture> prefiltered_;       // per level, RGB32F lat-long
-    gl::Texture color_, depth_;
-    gl::Framebuffer target_;
+    // Drawn into target_: colour and depth with samples_ samples per pixel. At one sample color_ is target_'s
+    // colour; with more, target_'s is multisample_color_, resolved into color_ through resolved_.
+    int samples_ = 1;
+    mutable bool warned_samples_ = false;
+    int max_samples_ = 1;  // what the driver supports for RGBA32F colour and 32-bit float depth together
+    gl::Texture color_, depth_, multisample_color_;
+    gl::Framebuffer target_, resolved_;
     glm::ivec2 screen_tiles_{0, 0};  // shader::size::screen_tile^2-pixel tiles of the target
     gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
     gl::Buffer caster_rect_buffer_;  // FramePlan::caster_rects

@@ -48,7 +48,8 @@ fs::path render_with(const std::string& command, const fs::path& scene, const st
     const fs::path exr = kOutput / (output + ".exr");
     const std::string common = "--scene '" + scene.string() + "' --width 64 --height 64 " + flags;
     if (command == "render")
-        run("render " + common + " --lights 64 --tile 128 --backend egl --exr '" + exr.string() + "'",
+        // One sample per pixel, at its centre, as the reference's one ray per pixel.
+        run("render " + common + " --lights 64 --tile 128 --msaa 1 --backend egl --exr '" + exr.string() + "'",
             kOutput / (output + ".log"));
     else
         run("reference " + common + " --seed 7 --exr '" + exr.string() + "'", kOutput / (output + ".log"));

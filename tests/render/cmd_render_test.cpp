@@ -1,5 +1,6 @@
 // `envshadow render` through the real executable: what it writes and prints, and its exit codes
 // (2 for bad usage, 3 for bad input) with no output file left behind.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -114,6 +115,63 @@ TEST(CmdRender, BadFilesAreInputErrors) {
     run = render(scene("spheres.json") + " --env '" + (kOutput / "no_such_map.exr").string() + "' " + kSmall + out);
     EXPECT_EQ(run.status, 3) << run.output;
     EXPECT_NE(run.output.find("no_such_map.exr"), std::string::npos) << run.output;
+    EXPECT_FALSE(fs::exists(png));
+}
+
+// --msaa: a box against the background. At 4 samples per pixel the silhouette's pixels are partly covered
+// (alpha strictly between 0 and 1 in the EXR) and their colour lies between the box's and the
+// background's; at 1 sample every pixel is one or the other. A count outside 1, 2, 4, 8 is bad usage.
+TEST(CmdRender, MultisamplingBlendsTheSilhouetteAndOneSampleDoesNot) {
+    const fs::path scene_file = kOutput / "msaa_box.json";
+    {
+        fs::create_directories(kOutput);
+        std::ofstream out(scene_file);
+        out << R"({"environment": {"source": "builtin:constant"},
+                   "camera": {"position": [1.2, 1.0, 2.5], "target": [0, 0, 0], "fov": 40},
+                   "objects": [{"name": "box", "mesh": {"type": "box", "size": [1, 1, 1]},
+                                "transform": {"rotation": [0, 25, 0]}, "material": {"diffuse": 0.2}}]})";
+    }
+    const auto frame = [&](int samples) {
+        const fs::path exr = kOutput / ("msaa_" + std::to_string(samples) + ".exr");
+        fs::remove(exr);
+        const CommandResult run = render("--scene '" + scene_file.string() + "' " + kSmall + " --msaa " +
+                                         std::to_string(samples) + " --exr '" + exr.string() + "'");
+        EXPECT_EQ(run.status, 0) << run.output;
+        EXPECT_NE(run.output.find("msaa: " + std::to_string(samples) + " samples per pixel"), std::string::npos)
+            << run.output;
+        return read_exr(exr).image;
+    };
+    const float background = 1.0f;  // builtin:constant
+    for (int samples : {1, 4}) {
+        const Image image = frame(samples);
+        float box_brightest = 0.0f;  // the box's fully covered pixels
+        for (const glm::vec4& p : image.pixels)
+            if (p.a == 1.0f) box_brightest = std::max(box_brightest, p.r);
+        ASSERT_GT(box_brightest, 0.0f);
+        ASSERT_LT(box_brightest, 0.5f);  // rho_d 0.2 under a unit sky
+        int partial = 0, between = 0;
+        for (const glm::vec4& p : image.pixels) {
+            if (p.a == 0.0f) {
+                EXPECT_EQ(p.r, background);
+            }
+            if (p.a <= 0.0f || p.a >= 1.0f) continue;
+            ++partial;
+            between += p.r > box_brightest + 0.02f && p.r < background - 0.02f;
+        }
+        if (samples == 1) {
+            EXPECT_EQ(partial, 0);
+        } else {
+            EXPECT_GT(partial, 40) << "a box's outline at 64x48 crosses that many pixels";
+            EXPECT_EQ(between, partial);
+        }
+    }
+
+    const fs::path png = kOutput / "msaa_bad.png";
+    fs::remove(png);
+    const CommandResult bad = render(scene("spheres.json") + " " + kSmall + " --msaa 3 --out '" + png.string() + "'");
+    EXPECT_EQ(bad.status, 2) << bad.output;
+    EXPECT_NE(bad.output.find("--msaa"), std::string::npos) << bad.output;
+    EXPECT_EQ(std::count(bad.output.begin(), bad.output.end(), '\n'), 1) << bad.output;  // one line
     EXPECT_FALSE(fs::exists(png));
 }
 

@@ -17,6 +17,7 @@ TEST(RenderSettings, DefaultsAreTheDocumentedOnes) {
     EXPECT_EQ(s.specular, SpecularMode::blended);
     EXPECT_EQ(s.diffuse, DiffuseMode::center);
     EXPECT_EQ(s.atlas, AtlasMode::clip_distances);
+    EXPECT_EQ(s.msaa, 1);  // the engine's; the commands ask for 4
     EXPECT_NO_THROW(validate(s));
 }
 
@@ -54,6 +55,13 @@ TEST(RenderSettings, BadValuesAreUsageErrorsSayingWhatIsAllowed) {
     s = RenderSettings{};
     s.caster_lod = 5.0f;
     EXPECT_EQ(usage_error_of([&] { validate(s); }), "caster LOD error 5 is outside 0..4 shadow texels");
+    for (int samples : msaa_sample_counts()) {
+        s = RenderSettings{};
+        s.msaa = samples;
+        EXPECT_NO_THROW(validate(s)) << samples;
+    }
+    s.msaa = 3;
+    EXPECT_EQ(usage_error_of([&] { validate(s); }), "MSAA samples 3 is not 1, 2, 4 or 8");
     s = RenderSettings{};
     s.normal_offset = -1.0f;
     EXPECT_THROW(validate(s), UsageError);

@@ -45,6 +45,8 @@ std::vector<BuiltProgram> engine_programs() {
     add("depth pre-pass", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
     add("background", {{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
     add("shadow_tiles.comp", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, {"LIGHTS_UNIFORM_BLOCK"});
+    add("shadow_tiles.comp (MSAA depth)", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}},
+        {"LIGHTS_UNIFORM_BLOCK", "DEPTH_SAMPLES 4"});
     add("fs_importance.comp", {{GL_COMPUTE_SHADER, "fs_importance.comp"}});
     add("fs_lights.comp", {{GL_COMPUTE_SHADER, "fs_lights.comp"}});
     add("fs_cell_assign.comp", {{GL_COMPUTE_SHADER, "fs_cell_assign.comp"}});
@@ -117,7 +119,8 @@ TEST_P(ShaderInterfaceTest, EveryProgramUsesTheTablesNumbers) {
             const GLint type = resource_property(id, GL_UNIFORM, index, GL_TYPE);
             const GLint location = resource_property(id, GL_UNIFORM, index, GL_LOCATION);
             EXPECT_EQ(glGetUniformLocation(id, name.c_str()), location);
-            if (type == GL_SAMPLER_2D || type == GL_SAMPLER_2D_SHADOW || type == GL_IMAGE_2D) {
+            if (type == GL_SAMPLER_2D || type == GL_SAMPLER_2D_SHADOW || type == GL_SAMPLER_2D_MULTISAMPLE ||
+                type == GL_IMAGE_2D) {
                 GLint unit = -1;  // layout(binding = N): the sampler's or image's initial value
                 glGetUniformiv(id, location, &unit);
                 expect(built.name, (type == GL_IMAGE_2D ? "image/" : "unit/") + name.substr(2), unit);
