@@ -370,7 +370,10 @@ public:
     // kCcvtSmallestStep if no cell falls under half the smallest mass now and |target - mass| shrinks by
     // (1 - alpha / 4) (the damped Newton method of Kitagawa, Merigot and Thibert 2019). Where the linear
     // model fails (a bright edge in reach), every overfull cell instead lowers its bias just enough to
-    // pass its excess on to its runner-ups. Leaves `state` and `bias` at the best balance seen.
+    // pass its excess on to its runner-ups. Stops early when the last kCcvtStallSteps steps together
+    // lowered the best variation by less than kCcvtStallGain of it (a stalled solve: on studio each such
+    // step spent up to 7 evaluations for a fraction of a point). Leaves `state` and `bias` at the best
+    // balance seen.
     void improve(const std::vector<glm::dvec3>& sites, std::vector<double>& bias, State& state, int steps) {
         double floor = std::numeric_limits<double>::infinity();
         for (double m : state.statistics.mass)
@@ -378,7 +381,12 @@ public:
         double best_variation = state.variation;
         std::vector<double> best_bias = bias;
         State best_state = state;
-        for (int s = 0; s < steps && state.variation >= kCcvtCapacityTolerance && !exhausted(); ++s) {
+        std::vector<double> best_after{best_variation};  // the best variation after each step
+        auto stalled = [&] {
+            return best_after.size() > size_t(kCcvtStallSteps) &&
+                   best_variation > (1.0 - kCcvtStallGain) * best_after[best_after.size() - 1 - kCcvtStallSteps];
+        };
+        for (int s = 0; s < steps && state.variation >= kCcvtCapacityTolerance && !exhausted() && !stalled(); ++s) {
             std::vector<double> step = solve_laplacian(state.statistics.borders, state.excess);
             // A cell without borders (empty at this resolution) has no slope to follow: it waits.
             std::vector<bool> bordered(step.size(), false);
@@ -415,6 +423,7 @@ public:
                 best_bias = bias;
                 best_state = state;
             }
+            best_after.push_back(best_variation);
         }
         if (best_variation < state.variation) {  // shedding may have made it worse: the best seen stays
             bias = std::move(best_bias);

@@ -1,8 +1,20 @@
 // Times each decomposition method on a 1024 x 512 photograph (city; lloyd and ccvt on studio too) at
 // N = 64 and 128, and the nearest-site search against the brute force it replaces, in one run:
 //   build/tests/bench/bench_decompose [--benchmark_repetitions=5 --benchmark_report_aggregates_only=true]
+// BM_cli_cold/MAP/HEMISPHERE is what `envshadow decompose` (full) and `render` on a scene with a ground
+// (upper) print: lloyd at the CLI's defaults, the first decompose() of a new process (this binary run
+// again with --cold), after the map's loading, with the CLI's malloc settings; BM_cli_warm the same
+// call repeated in one process.
 #include <benchmark/benchmark.h>
+#include <malloc.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <array>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
 #include <string>
 
 #include "env/cells.h"
@@ -80,6 +92,74 @@ void BM_assign_brute_force(benchmark::State& state) {
     }
 }
 
+const std::array<const char*, 8> kMaps = {"city",  "courtyard", "forest",  "interior",
+                                          "night", "studio",    "sunrise", "sunset"};
+
+// What the CLI decomposes at load time: its DecomposeOptions defaults (lloyd, N = 128, seed 1).
+DecomposeOptions cli_options(Hemisphere hemisphere) {
+    DecomposeOptions options;
+    options.hemisphere = hemisphere;
+    return options;
+}
+
+// The malloc settings of app/main.cpp, which the printed time depends on (freed pages kept mapped).
+void use_cli_malloc_settings() {
+#if defined(__GLIBC__)
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+#endif
+}
+
+// bench_decompose --cold MAP HEMISPHERE: loads the map, decomposes it once and prints the seconds
+// Decomposition::seconds holds, the interval the CLI prints.
+int run_cold(const char* map_name, const char* hemisphere) {
+    use_cli_malloc_settings();
+    const EnvironmentMap map = load_environment(std::string(kWorld) + map_name + ".exr");
+    std::printf("%.9f\n", decompose(map, cli_options(parse_hemisphere(hemisphere))).seconds);
+    return 0;
+}
+
+// One cold run in a new process of this binary; its printed seconds.
+double cold_seconds(const char* map_name, const char* hemisphere) {
+    int out[2];
+    if (pipe(out) != 0) throw std::runtime_error("pipe failed");
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+    posix_spawn_file_actions_addclose(&actions, out[0]);
+    std::string exe = "/proc/self/exe", flag = "--cold", map = map_name, half = hemisphere;
+    char* argv[] = {exe.data(), flag.data(), map.data(), half.data(), nullptr};
+    pid_t pid = 0;
+    const int spawned = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    close(out[1]);
+    std::string text;
+    char buffer[64];
+    for (ssize_t n; (n = read(out[0], buffer, sizeof buffer)) > 0;) text.append(buffer, size_t(n));
+    close(out[0]);
+    int status = 0;
+    if (spawned != 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0 ||
+        text.empty())
+        throw std::runtime_error("the cold run of " + map + " failed");
+    return std::stod(text);
+}
+
+void BM_cli_cold(benchmark::State& state, const char* map_name, const char* hemisphere) {
+    for (auto _ : state) state.SetIterationTime(cold_seconds(map_name, hemisphere));
+}
+
+void BM_cli_warm(benchmark::State& state, const char* map_name, const char* hemisphere) {
+    use_cli_malloc_settings();
+    const EnvironmentMap map = load_environment(std::string(kWorld) + map_name + ".exr");
+    const DecomposeOptions options = cli_options(parse_hemisphere(hemisphere));
+    Decomposition d;
+    for (auto _ : state) {
+        d = decompose(map, options);
+        benchmark::DoNotOptimize(d.cells.data());
+    }
+    state.counters["iterations"] = d.iterations;
+}
+
 // N = 64 and 128, wall-clock milliseconds (the work runs on both cores).
 void light_counts(benchmark::internal::Benchmark* b) {
     b->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -99,4 +179,23 @@ BENCHMARK(BM_assign_brute_force)->Apply(light_counts);
 }  // namespace
 }  // namespace envshadow
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+    using namespace envshadow;
+    if (argc == 4 && std::strcmp(argv[1], "--cold") == 0) return run_cold(argv[2], argv[3]);
+    for (const char* map : kMaps)
+        for (const char* hemisphere : {"full", "upper"}) {
+            const std::string name = std::string(map) + "/" + hemisphere;
+            benchmark::RegisterBenchmark(("BM_cli_cold/" + name).c_str(), BM_cli_cold, map, hemisphere)
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(5);
+            benchmark::RegisterBenchmark(("BM_cli_warm/" + name).c_str(), BM_cli_warm, map, hemisphere)
+                ->Unit(benchmark::kMillisecond)
+                ->UseRealTime();
+        }
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
