@@ -79,11 +79,13 @@ render::RenderSettings apply_variant(render::RenderSettings settings, std::strin
             settings.pcf = render::parse_pcf_kernel(value);
         } else if (key == "shading") {
             settings.shading = render::parse_shading_mode(value);
+        } else if (key == "shadows") {
+            settings.shadows = render::parse_shadow_mode(value);
         } else {
             std::string keys = "caster-lod";
             for (const render::OptimisationSwitch& s : switches) keys += ", " + std::string(s.name);
             throw UsageError("unknown key '" + std::string(key) + "' (" + keys +
-                             ", depth-bits, tile, atlas, pcf, shading, tile-sizes)");
+                             ", depth-bits, tile, atlas, pcf, shading, shadows, tile-sizes)");
         }
     }
     render::validate(settings);

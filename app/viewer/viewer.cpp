@@ -130,6 +130,7 @@ public:
         display_ = std::make_unique<render::Display>();
         panels_ = std::make_unique<Panels>(*display_);
         controls_.settings.shading = shading_mode(options.shading);
+        controls_.settings.shadows = shadow_mode(options.shadows);
         controls_.settings.tile_sizing = tile_sizing(options.tile_sizes);
         controls_.tone_map = tone_map_option(options.tonemap);
         renderer_ = std::make_unique<render::Renderer>(controls_.settings);
@@ -483,6 +484,7 @@ private:
                 {"cap", render::to_string(s.cap)},
                 {"diffuse", render::to_string(s.diffuse)},
                 {"shading", render::to_string(s.shading)},
+                {"shadows", render::to_string(s.shadows)},
                 {"slope_bias", s.slope_bias},
                 {"depth_bias", s.depth_bias},
                 {"normal_offset", s.normal_offset},

@@ -45,6 +45,9 @@ constexpr std::array<std::pair<ShadingMode, std::string_view>, 2> kShadingModes{
 constexpr std::array<std::pair<TileSizing, std::string_view>, 3> kTileSizings{
     {{TileSizing::uniform, "uniform"}, {TileSizing::share, "share"}, {TileSizing::sqrt_share, "sqrt"}}};
 
+constexpr std::array<std::pair<ShadowMode, std::string_view>, 2> kShadowModes{
+    {{ShadowMode::hard, "hard"}, {ShadowMode::soft, "soft"}}};
+
 constexpr std::array<OptimisationSwitch, 6> kSwitches = {{
     {"prepass", &RenderSettings::depth_prepass},
     {"ubo", &RenderSettings::lights_uniform_block},
@@ -78,6 +81,10 @@ std::string_view to_string(TileSizing sizing) {
     return name_of(kTileSizings, sizing);
 }
 
+std::string_view to_string(ShadowMode mode) {
+    return name_of(kShadowModes, mode);
+}
+
 AtlasMode parse_atlas_mode(std::string_view name) {
     return parse(kAtlasModes, name);
 }
@@ -99,6 +106,10 @@ ShadingMode parse_shading_mode(std::string_view name) {
 
 TileSizing parse_tile_sizing(std::string_view name) {
     return parse(kTileSizings, name);
+}
+
+ShadowMode parse_shadow_mode(std::string_view name) {
+    return parse(kShadowModes, name);
 }
 
 void validate(const RenderSettings& settings) {
