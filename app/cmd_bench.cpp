@@ -38,7 +38,8 @@ struct BenchOptions {
     int frames = 100, warmup = 10, tile = 256, depth_bits = 16;
     int msaa = kDefaultMsaa;           // as render and view: bench measures what a user sees
     std::string tile_sizes = "share";  // --tile-sizes
-    double time_step = 1.0 / 60.0;     // animation seconds per frame
+    std::string shadows = kDefaultShadows;
+    double time_step = 1.0 / 60.0;  // animation seconds per frame
 };
 
 struct Row {
@@ -142,10 +143,10 @@ void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std:
                  std::size_t triangles, gl::PassTiming timing, Hemisphere hemisphere) {
     std::printf(
         "envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s  |  "
-        "lights from the %s  |  shading %s\n",
+        "lights from the %s  |  shading %s  |  shadows %s\n",
         o.common.scene.c_str(), renderer_name.c_str(), o.common.backend.c_str(), triangles, o.frames, o.warmup,
         timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries",
-        hemisphere_words(hemisphere), o.shading.c_str());
+        hemisphere_words(hemisphere), o.shading.c_str(), o.shadows.c_str());
     std::vector<std::string> pass_names;  // union over the rows, in pipeline order
     for (const Row& r : rows)
         for (std::size_t i = 0; i < r.pass_order.size(); ++i)
@@ -239,6 +240,7 @@ int run_bench(const BenchOptions& o) {
     settings.atlas = naming_flag("--atlas", [&] { return render::parse_atlas_mode(o.atlas); });
     settings.shading = shading_mode(o.shading);
     settings.msaa = o.msaa;
+    settings.shadows = shadow_mode(o.shadows);
     settings = apply(o.optimisations, settings);
     render::validate(settings);
     // One renderer per variant (each with its own atlas), all in one context.
@@ -304,11 +306,14 @@ Command add_bench_command(CLI::App& parent) {
     add_pass_timing_option(app, &o->pass_timing);
     add_shading_option(app, &o->shading);
     add_msaa_option(app, &o->msaa);
+    add_shadows_option(app, &o->shadows);
     app->add_option("--json", o->json, "Write the results as JSON");
     app->add_option(
         "--variants", o->variants,
         "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, ubo, "
-        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf, shading, tile-sizes, msaa); ratios to the first");
+        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf, shading, shadows, tile-sizes, msaa); ratios to "
+        "the "
+        "first");
     add_optimisation_options(app, &o->optimisations);
     app->add_option("--sweep", o->sweep, "One row per setting: lights=16,32,…  resolution=640x360,…  tile=128,…");
     return {app, [o] { return run_bench(*o); }};

@@ -41,6 +41,7 @@ struct RenderOptions {
     int tile = 256, depth_bits = 16, frames = 1, msaa = kDefaultMsaa;
     std::string tile_sizes = "share";
     std::string tonemap = "aces";
+    std::string shadows = kDefaultShadows;
     double time = 0.0;
     std::string pass_timing = "auto";
     OptimisationFlags optimisations;
@@ -57,6 +58,7 @@ render::RenderSettings settings_from(const RenderOptions& o) {
     s.cap = naming_flag("--cap", [&] { return render::parse_cap_kind(o.cap); });
     s.diffuse = naming_flag("--diffuse", [&] { return render::parse_diffuse_mode(o.diffuse); });
     s.shading = shading_mode(o.shading);
+    s.shadows = shadow_mode(o.shadows);
     s.background = !o.no_background;
     s.msaa = o.msaa;
     if (o.per_tile_atlas) s.atlas = render::AtlasMode::per_tile;
@@ -140,10 +142,12 @@ int run_render(const RenderOptions& o) {
         std::printf("decomposition: %s, %zu cells of %dx%d %s, %s, %.3f s\n", std::string(to_string(d.method)).c_str(),
                     d.cells.size(), d.width, d.height, map.source.c_str(), hemisphere_words(d.hemisphere), d.seconds);
     }
-    std::printf(
-        "shading: %s (specular %s, cap %s, diffuse %s)\n", std::string(render::to_string(settings.shading)).c_str(),
-        std::string(render::to_string(settings.specular)).c_str(), std::string(render::to_string(settings.cap)).c_str(),
-        std::string(render::to_string(settings.diffuse)).c_str());
+    std::printf("shading: %s (specular %s, cap %s, diffuse %s), shadows %s\n",
+                std::string(render::to_string(settings.shading)).c_str(),
+                std::string(render::to_string(settings.specular)).c_str(),
+                std::string(render::to_string(settings.cap)).c_str(),
+                std::string(render::to_string(settings.diffuse)).c_str(),
+                std::string(render::to_string(settings.shadows)).c_str());
     std::printf("msaa: %d samples per pixel\n", renderer.samples());
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
@@ -208,6 +212,7 @@ Command add_render_command(CLI::App& parent) {
         ->check(CLI::IsMember(render::names<render::DiffuseMode>()));
     add_shading_option(app, &o->shading);
     add_msaa_option(app, &o->msaa);
+    add_shadows_option(app, &o->shadows);
     app->add_flag("--per-tile-atlas", o->per_tile_atlas, "Draw the shadow atlas one tile at a time (baseline)");
     app->add_option("--atlas", o->atlas, "clip-distances, viewport-array, per-tile, or all (times each, interleaved)")
         ->check(CLI::IsMember(atlas_choices()));

@@ -23,6 +23,7 @@ Command add_view_command(CLI::App& parent) {
     add_time_option(app, &options->time);
     add_pass_timing_option(app, &options->pass_timing);
     add_shading_option(app, &options->shading);
+    add_shadows_option(app, &options->shadows);
     add_tile_sizes_option(app, &options->tile_sizes);
     add_tonemap_option(app, &options->tonemap);
     add_msaa_option(app, &options->msaa);

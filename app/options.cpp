@@ -178,6 +178,18 @@ void add_msaa_option(CLI::App* app, int* samples) {
         ->check(CLI::IsMember(std::vector<int>(counts.begin(), counts.end())));
 }
 
+void add_shadows_option(CLI::App* app, std::string* value) {
+    app->add_option("--shadows", *value,
+                    "Each cell's shadow: hard (one 2x2 lookup at its centre direction) or soft (a penumbra as wide as "
+                    "the cell's cap, percentage-closer soft shadows); default " +
+                        kDefaultShadows)
+        ->check(CLI::IsMember(render::names<render::ShadowMode>()));
+}
+
+render::ShadowMode shadow_mode(const std::string& value) {
+    return naming_flag("--shadows", [&] { return render::parse_shadow_mode(value); });
+}
+
 void add_tonemap_option(CLI::App* app, std::string* value) {
     std::vector<std::string> names;
     for (std::string_view name : tone_map_names()) names.emplace_back(name);

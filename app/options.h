@@ -108,6 +108,11 @@ void add_msaa_option(CLI::App* app, int* samples);
 // --tonemap aces|agx|neutral|linear (render, reference, view): the display transform of 8-bit output
 // (core/tonemap.h); EXR stays linear.
 void add_tonemap_option(CLI::App* app, std::string* value);
+// --shadows hard|soft (render, bench, view): each cell's 2x2 shadow lookup, or its penumbra from the cell's
+// cap (docs/DESIGN.md §5.9). kDefaultShadows: RenderSettings' default, by name.
+inline const std::string kDefaultShadows{render::to_string(render::RenderSettings{}.shadows)};
+void add_shadows_option(CLI::App* app, std::string* value);
+render::ShadowMode shadow_mode(const std::string& value);
 ToneMap tone_map_option(const std::string& value);
 // The directions that reach the objects of `scene`: the upper hemisphere where a ground hides the rest
 // (as in the reference), whatever --hemisphere the cells were cut from. Ratio shading prefilters these.

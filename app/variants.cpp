@@ -81,11 +81,13 @@ render::RenderSettings apply_variant(render::RenderSettings settings, std::strin
             settings.shading = render::parse_shading_mode(value);
         } else if (key == "msaa") {
             settings.msaa = int(parse_number(value));
+        } else if (key == "shadows") {
+            settings.shadows = render::parse_shadow_mode(value);
         } else {
             std::string keys = "caster-lod";
             for (const render::OptimisationSwitch& s : switches) keys += ", " + std::string(s.name);
             throw UsageError("unknown key '" + std::string(key) + "' (" + keys +
-                             ", depth-bits, tile, atlas, pcf, shading, tile-sizes, msaa)");
+                             ", depth-bits, tile, atlas, pcf, shading, shadows, tile-sizes, msaa)");
         }
     }
     render::validate(settings);

@@ -9,7 +9,8 @@ struct Light {
     vec4 radiance;         // rgb: L~_i = integral of L_env over the cell; w: unused
     mat4 clip_from_world;  // orthographic along -w_i, fitted to the casters: the tile's [-1, 1]^3
     vec4 tile;             // xy: the tile's lower-left corner in atlas uv, zw: its size in atlas uv
-    vec4 bias;             // x: receiver depth bias (depth units), y: normal offset (world units)
+    vec4 bias;             // x: receiver depth bias (depth units), y: normal offset (world units),
+                           // zw: the cap's penumbra in tile texels (x, y) per unit of depth (docs/DESIGN.md §5.9)
 };
 
 #if defined(LIGHTS_UNIFORM_BLOCK)

@@ -10,6 +10,7 @@
 //   FLAT_RECEIVER    (with DIFFUSE_ONLY and SHADOW_TILE_LISTS) the unshadowed sum from u_unshadowed
 //   DIFFUSE_ONLY     for materials with k_s = 0: the specular code left out (a uniform branch on
 //                    u_k_s still costs its whole body on SIMD CPU rasterisers such as llvmpipe)
+//   SOFT_SHADOWS     each cell's penumbra from its cap (percentage-closer soft shadows, docs/DESIGN.md §5.9)
 //   SHADING_RATIO    the ratio estimator (docs/DESIGN.md §4.1): the unshadowed k_d E(n) + k_s S_n(r) from
 //                    the prefiltered map, times the cells' shadowed fraction sum V L~ a / sum L~ a
 #include "cells.glsl"
@@ -76,10 +77,77 @@ layout(std430, binding = BINDING_TILE_LISTS) readonly buffer TileLists { uint ti
 
 layout(location = 0) out vec4 o_color;
 
-#if defined(PCF_WIDE)
+#if defined(PCF_WIDE) && !defined(SOFT_SHADOWS)
 const float kKernelTexels = 1.5;  // tap offsets of 1 texel plus the 2x2 bilinear footprint
 #else
 const float kKernelTexels = 0.5;
+#endif
+
+#if defined(SOFT_SHADOWS)
+// Percentage-closer soft shadows per cell (docs/DESIGN.md §5.9): a cap of radius r_i shadows a receiver
+// at depth d behind a blocker at depth d_b over a penumbra of (d - d_b) tan r_i; light.bias.zw turns a
+// depth difference into tile texels. Taps on Vogel discs (radius sqrt((k + 0.5) / K), golden angle).
+layout(binding = UNIT_ATLAS_DEPTH) uniform sampler2D u_atlas_depth;  // the atlas's depths (NEAREST)
+
+const int kBlockerTaps = 8;
+const vec2 kBlockerDisc[kBlockerTaps] = vec2[](vec2(0.2500, 0.0000), vec2(-0.3193, 0.2925), vec2(0.0489, -0.5569),
+                                               vec2(0.4024, 0.5249), vec2(-0.7385, -0.1306), vec2(0.6996, -0.4450),
+                                               vec2(-0.2340, 0.8705), vec2(-0.4463, -0.8593));
+const int kFilterTaps = 12;
+const vec2 kFilterDisc[kFilterTaps] = vec2[](
+    vec2(0.2041, 0.0000), vec2(-0.2607, 0.2388), vec2(0.0399, -0.4547), vec2(0.3286, 0.4286), vec2(-0.6030, -0.1067),
+    vec2(0.5712, -0.3634), vec2(-0.1911, 0.7107), vec2(-0.3644, -0.7016), vec2(0.7906, 0.2887), vec2(-0.8224, 0.3395),
+    vec2(0.3965, -0.8472), vec2(0.2930, 0.9341));
+
+// Depth change per tile texel (x, y) along the receiver's tangent plane, so that taps away from the
+// centre compare against the receiver's own depth there (no acne on planes). The normal in clip space
+// is M^-T n = (M n)_k / |row_k|^2 for the orthographic M = diag(1 / half) R; slopes clamped at 5.
+vec2 receiver_depth_slope(Light light, vec3 n) {
+    mat3 m = mat3(light.clip_from_world);
+    vec3 row_sq = vec3(dot(vec3(m[0][0], m[1][0], m[2][0]), vec3(m[0][0], m[1][0], m[2][0])),
+                       dot(vec3(m[0][1], m[1][1], m[2][1]), vec3(m[0][1], m[1][1], m[2][1])),
+                       dot(vec3(m[0][2], m[1][2], m[2][2]), vec3(m[0][2], m[1][2], m[2][2])));
+    vec3 n_clip = normalize((m * n) / row_sq);
+    float nz = n_clip.z < 0.0 ? min(n_clip.z, -0.2) : max(n_clip.z, 0.2);
+    float tile_texels = light.tile.z / u_atlas_texel.x;
+    return -n_clip.xy / nz / tile_texels;  // d(0.5 z + 0.5) per texel: clip x spans 2 over tile_texels
+}
+
+// A per-pixel, per-light rotation of the discs: interleaved gradient noise of the pixel (deterministic:
+// the same every frame and run) plus a hash of the tile's corner, so the N cells' patterns differ.
+mat2 disc_rotation(Light light) {
+    float noise = fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715))));
+    float angle = 6.2831853 * fract(noise + dot(light.tile.xy, vec2(7.1313, 3.7171)));
+    float c = cos(angle), s = sin(angle);
+    return mat2(c, s, -s, c);
+}
+
+// uv: the receiver's (unclamped) position in the atlas, depth: its biased depth, hard: the 2x2 lookup there.
+float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard) {
+    vec2 per_depth = light.bias.zw;
+    vec2 search = per_depth * depth;  // the widest penumbra: a blocker at depth 0
+    if (max(search.x, search.y) < 1.0) return hard;
+    vec2 lo = light.tile.xy + 0.5 * u_atlas_texel, hi = light.tile.xy + light.tile.zw - 0.5 * u_atlas_texel;
+    vec2 slope = receiver_depth_slope(light, n);
+    mat2 rotation = disc_rotation(light);
+    float blocker_sum = 0.0, blockers = 0.0;
+    for (int k = 0; k < kBlockerTaps; ++k) {
+        vec2 offset = rotation * kBlockerDisc[k] * search;  // texels
+        float z = textureLod(u_atlas_depth, clamp(uv + offset * u_atlas_texel, lo, hi), 0.0).r;
+        if (z < depth + dot(slope, offset)) blocker_sum += z, blockers += 1.0;
+    }
+    if (blockers == 0.0) return hard;
+    // Every tap of the widest region a blocker, and the centre too: the (smaller) filter region is umbra.
+    if (blockers == float(kBlockerTaps) && hard == 0.0) return 0.0;
+    vec2 radius = per_depth * max(depth - blocker_sum / blockers, 0.0);
+    if (max(radius.x, radius.y) < 1.0) return hard;  // the penumbra is under a texel
+    float sum = 0.0;
+    for (int k = 0; k < kFilterTaps; ++k) {
+        vec2 offset = rotation * kFilterDisc[k] * radius;
+        sum += texture(u_atlas, vec3(clamp(uv + offset * u_atlas_texel, lo, hi), min(depth + dot(slope, offset), 1.0)));
+    }
+    return sum / float(kFilterTaps);
+}
 #endif
 
 // Fraction of the cell's shadow map that sees `p`. The receiver is moved along its normal by the
@@ -93,10 +161,12 @@ float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
     vec3 q = p + n * (light.bias.y * max(sin_theta, 0.2));
     vec4 clip = light.clip_from_world * vec4(q, 1.0);
     vec2 margin = kKernelTexels * u_atlas_texel;
-    vec2 uv = clamp(light.tile.xy + (0.5 * clip.xy + 0.5) * light.tile.zw, light.tile.xy + margin,
-                    light.tile.xy + light.tile.zw - margin);
+    vec2 unclamped = light.tile.xy + (0.5 * clip.xy + 0.5) * light.tile.zw;
+    vec2 uv = clamp(unclamped, light.tile.xy + margin, light.tile.xy + light.tile.zw - margin);
     float depth = min(0.5 * clip.z + 0.5 - light.bias.x, 1.0);
-#if defined(PCF_WIDE)
+#if defined(SOFT_SHADOWS)
+    return soft_visibility(light, n, unclamped, depth, texture(u_atlas, vec3(uv, depth)));
+#elif defined(PCF_WIDE)
     float sum = 0.0;
     for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x) sum += texture(u_atlas, vec3(uv + vec2(x, y) * u_atlas_texel, depth));

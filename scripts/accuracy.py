@@ -850,6 +850,8 @@ def write_accuracy(ctx, path):
     for (map_, m), d in sorted(ctx["dstats"].items()):
         w(f"| {map_} | {m} | {pct(d['max'])} | {pct(d['top8'])} | {d['seconds']:.1f} |")
     w("")
+    w(soft_shadows_section())
+    w("")
     w(weaknesses(ctx))
     w("")
     w("All results, including render times, are in [`accuracy/results.csv`](accuracy/results.csv).")
@@ -946,6 +948,26 @@ def write_paper(ctx, path):
     w(f"only {ctx['args'].bench_frames} frames on a shared, loaded machine a single ratio is uncertain (rerun with --bench-frames 20 on an idle machine).")
     with atomic_open(path) as f:
         f.write("\n".join(L) + "\n")
+
+
+def soft_shadows_section():
+    """--shadows hard against soft, measured by hand (docs/accuracy/soft_shadows_by_hand.md): not rerun here."""
+    return """## Soft shadows per cell: `--shadows hard` against `soft` (N = 128, lloyd; measured by hand)
+
+Each cell's penumbra from its cap (docs/DESIGN.md §5.9) against the hard 2×2 lookup, everything else at this
+report's defaults, same references and pixels (details, commands and a box-on-ground case with its own
+reference: [accuracy/soft_shadows_by_hand.md](accuracy/soft_shadows_by_hand.md)):
+
+| scene / map | hard | soft |
+| --- | ---: | ---: |
+| engine / courtyard | 5.71% | 5.69% |
+| figure / studio | 0.845% | 0.769% |
+| figure / city | 0.749% | 0.575% |
+| sphere_ground / courtyard | 0.314% | 0.314% |
+| box_ground / courtyard, N = 64, ground pixels | 1.38% | 1.07% |
+
+No worse anywhere, better where a shadow falls on another surface; `hard` stays the default for its cost
+(2.3× the frame on flyover, [PERFORMANCE.md](PERFORMANCE.md)). Not yet part of this script's runs."""
 
 
 def weaknesses(ctx):

@@ -17,6 +17,15 @@ done
 # The glossy spheres again with the ratio estimator (--shading ratio): a smooth reflection, no dot per cell.
 "$envshadow" render --scene assets/scenes/spheres.json --width 960 --height 540 --lights 128 --tile 256 \
   --shading ratio --out screenshots/gallery/spheres_ratio.png | sed "s/^/spheres_ratio: /"
+# A bare glTF box under courtyard with N = 64: each cell's hard edge (a fan of 64 copies) against its
+# penumbra from the cell's cap (--shadows soft, docs/DESIGN.md §5.9).
+box=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
+if [ -f "$box" ]; then
+  for shadows in hard soft; do
+    "$envshadow" render --scene "$box" --width 960 --height 540 --lights 64 --tile 256 --shadows "$shadows" \
+      --out "screenshots/gallery/box_shadows_$shadows.png" | sed "s/^/box_shadows_$shadows: /"
+  done
+fi
 if command -v xvfb-run >/dev/null; then
   xvfb-run -a -s '-screen 0 1600x900x24' "$envshadow" view --scene assets/scenes/default.json --lights 64 \
     --width 1600 --height 900 --frames 20 --screenshot screenshots/gallery/viewer.png

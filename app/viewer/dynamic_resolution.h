@@ -1,5 +1,5 @@
 #pragma once
-// Dynamic resolution for the viewer (docs/DESIGN.md §5.9): while the view changes (the camera is
+// Dynamic resolution for the viewer (docs/DESIGN.md §5.10): while the view changes (the camera is
 // dragged, the animation plays) the frame is shaded at a fraction of the window that holds a
 // frame-time target; once the view has been still for a moment, at the window's full size.
 // Pure bookkeeping on times the viewer measures, so it is tested without a window.

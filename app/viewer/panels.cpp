@@ -137,6 +137,9 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             settings.depth_bits = depth ? 32 : 16, changed = true;
         int pcf = int(settings.pcf);
         if (ImGui::Combo("PCF", &pcf, "2x2 hardware\0wide\0")) settings.pcf = render::PcfKernel(pcf), changed = true;
+        int shadows = int(settings.shadows);
+        if (ImGui::Combo("shadows", &shadows, "hard (2x2 per cell)\0soft (penumbra per cap)\0"))
+            settings.shadows = render::ShadowMode(shadows), changed = true;
         changed |= ImGui::SliderFloat("slope bias", &settings.slope_bias, 0.0f, 8.0f);
         changed |= ImGui::SliderFloat("depth bias", &settings.depth_bias, 0.0f, 8.0f);
         changed |= ImGui::SliderFloat("normal offset", &settings.normal_offset, 0.0f, 4.0f);

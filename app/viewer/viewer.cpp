@@ -173,6 +173,7 @@ public:
         panels_ = std::make_unique<Panels>(*display_);
         controls_.settings.shading = shading_mode(options.shading);
         controls_.settings.msaa = options.msaa;
+        controls_.settings.shadows = shadow_mode(options.shadows);
         controls_.settings.tile_sizing = tile_sizing(options.tile_sizes);
         controls_.tone_map = tone_map_option(options.tonemap);
         renderer_ = std::make_unique<render::Renderer>(controls_.settings);
@@ -390,7 +391,7 @@ private:
     }
 
     // The size to shade this frame at: the window's, or a fraction of it while the view changes
-    // (docs/DESIGN.md §5.9).
+    // (docs/DESIGN.md §5.10).
     DrawnFrame plan_frame(const Camera& camera, int width, int height) {
         DrawnFrame frame;
         frame.changing = !last_camera_ || !same_view(*last_camera_, camera) || animation_playing();
@@ -592,6 +593,7 @@ private:
                 {"diffuse", render::to_string(s.diffuse)},
                 {"shading", render::to_string(s.shading)},
                 {"msaa", s.msaa},
+                {"shadows", render::to_string(s.shadows)},
                 {"slope_bias", s.slope_bias},
                 {"depth_bias", s.depth_bias},
                 {"normal_offset", s.normal_offset},

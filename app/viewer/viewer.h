@@ -21,6 +21,8 @@ struct ViewerOptions {
     std::string tile_sizes = "share";  // --tile-sizes: tile_sizing()
     int msaa = kDefaultMsaa;           // --msaa: samples per pixel
     std::string tonemap = "aces";      // --tonemap: the window's and the screenshot PNG's (tone_map_option())
+    // --shadows: hard or soft (shadow_mode())
+    std::string shadows = kDefaultShadows;
 };
 
 int run_viewer(const ViewerOptions& options);

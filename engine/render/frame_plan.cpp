@@ -38,6 +38,18 @@ CameraView camera_view(const Scene& scene, int width, int height, double time) {
     return view;
 }
 
+glm::vec2 penumbra_texels_per_depth(const glm::mat4& clip_from_world, int tile_size, float cos_radius) {
+    const float c = std::clamp(cos_radius, 1e-3f, 1.0f);
+    const float tan_radius = std::sqrt(std::max(1.0f - c * c, 0.0f)) / c;
+    // Rows of the orthographic projection: |row| = 1 / half-extent along that axis (clip units per world).
+    auto row_length = [&](int r) {
+        return glm::length(glm::vec3(clip_from_world[0][r], clip_from_world[1][r], clip_from_world[2][r]));
+    };
+    const float depth_range = 2.0f / row_length(2);  // world distance of depth 0..1
+    const glm::vec2 texels_per_world = 0.5f * float(tile_size) * glm::vec2(row_length(0), row_length(1));
+    return tan_radius * depth_range * texels_per_world;
+}
+
 bool uses_tile_lists(const RenderSettings& settings) {
     return settings.shadow_tile_lists && settings.depth_prepass;
 }
@@ -60,7 +72,7 @@ const FramePlan& FramePlanner::plan(double time, const CameraView& view, const A
                                     const RenderSettings& settings) {
     place_objects(time);
     fit_lights(layout, settings);
-    fit_caster_rects(layout);
+    fit_caster_rects(layout, settings);
     shade_objects(view, settings);
     return plan_;
 }
@@ -96,8 +108,9 @@ void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& s
         record.clip_from_world = fit.clip_from_world;
         record.tile =
             glm::vec4(glm::vec2(float(tile.x), float(tile.y)) / atlas_size, glm::vec2(float(tile.size)) / atlas_size);
-        record.bias = glm::vec4(settings.depth_bias * fit.texel_world / fit.depth_range,
-                                settings.normal_offset * fit.texel_world, 0.0f, 0.0f);
+        record.bias =
+            glm::vec4(settings.depth_bias * fit.texel_world / fit.depth_range, settings.normal_offset * fit.texel_world,
+                      penumbra_texels_per_depth(fit.clip_from_world, tile.size, record.direction.w));
         plan_.min_texel_world = std::min(plan_.min_texel_world, fit.texel_world);
     }
     if (plan_.lights.empty()) plan_.min_texel_world = 0.0f;
@@ -107,7 +120,8 @@ void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& s
         plan_.receiver_pad = std::max(plan_.receiver_pad, record.bias.y + plan_.min_texel_world);
 }
 
-void FramePlanner::fit_caster_rects(const AtlasLayout& layout) {
+void FramePlanner::fit_caster_rects(const AtlasLayout& layout, const RenderSettings& settings) {
+    const bool soft = settings.shadows == ShadowMode::soft;
     const std::size_t casters = caster_points_.size() / 8;
     const bool each = casters >= 1 && casters <= std::size_t(kMaxCasterRects);
     plan_.caster_rects_per_light = each ? int(casters) : 1;
@@ -118,12 +132,20 @@ void FramePlanner::fit_caster_rects(const AtlasLayout& layout) {
             const float pad = 2.0f * 2.0f / float(layout.tiles.at(k).size);  // 2 texels of its tile in clip units
             for (std::size_t c = 0; c < casters; ++c) {
                 glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+                float nearest = 1.0f;  // the caster's smallest depth (0..1) in this tile
                 for (std::size_t j = 0; j < 8; ++j) {
-                    const glm::vec2 xy(plan_.lights[k].clip_from_world * glm::vec4(caster_points_[8 * c + j], 1.0f));
-                    lo = glm::min(lo, xy);
-                    hi = glm::max(hi, xy);
+                    const glm::vec3 xyz(plan_.lights[k].clip_from_world * glm::vec4(caster_points_[8 * c + j], 1.0f));
+                    lo = glm::min(lo, glm::vec2(xyz));
+                    hi = glm::max(hi, glm::vec2(xyz));
+                    nearest = std::min(nearest, 0.5f * xyz.z + 0.5f);
                 }
-                plan_.caster_rects[k * casters + c] = glm::vec4(lo - pad, hi + pad);
+                // Soft shadows reach past the caster by the widest penumbra it can cast, a receiver at the
+                // far plane: (1 - nearest) times the penumbra per depth (docs/DESIGN.md §5.9).
+                glm::vec2 reach(pad);
+                if (soft)
+                    reach += glm::vec2(plan_.lights[k].bias.z, plan_.lights[k].bias.w) *
+                             std::max(1.0f - nearest, 0.0f) * (2.0f / float(layout.tiles.at(k).size));
+                plan_.caster_rects[k * casters + c] = glm::vec4(lo - reach, hi + reach);
             }
         }
     }

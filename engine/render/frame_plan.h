@@ -42,6 +42,11 @@ inline constexpr int kMaxCasterRects = 16;
 // Whether the screen-tile light lists run (glsl/shadow_tiles.comp): they need the depth pre-pass.
 bool uses_tile_lists(const RenderSettings& settings);
 
+// A cell's penumbra in its tile's texels (x, y) per unit of depth (0..1) between blocker and receiver:
+// tan r_i times the tile's depth range in the world times its texels per world unit along x and y
+// (docs/DESIGN.md §5.9). LightRecord::bias.zw.
+glm::vec2 penumbra_texels_per_depth(const glm::mat4& clip_from_world, int tile_size, float cos_radius);
+
 // One drawn object as the plan sees it.
 struct PlannedObject {
     Object object;                                 // transform, animation, material (the mesh pointer is not used)
@@ -101,7 +106,7 @@ public:
 private:
     void place_objects(double time);
     void fit_lights(const AtlasLayout& layout, const RenderSettings& settings);
-    void fit_caster_rects(const AtlasLayout& layout);
+    void fit_caster_rects(const AtlasLayout& layout, const RenderSettings& settings);
     void shade_objects(const CameraView& view, const RenderSettings& settings);
 
     std::vector<PlannedObject> objects_;

@@ -19,7 +19,8 @@ struct LightRecord {
     glm::vec4 radiance{0.0f};                     // rgb: L~_i
     glm::mat4 clip_from_world{1.0f};              // the cell's orthographic projection (tile clip cube)
     glm::vec4 tile{0.0f};                         // xy: tile corner in atlas uv, zw: tile size in atlas uv
-    glm::vec4 bias{0.0f};                         // x: receiver depth bias (depth units), y: normal offset (world)
+    glm::vec4 bias{
+        0.0f};  // x: receiver depth bias (depth units), y: normal offset (world), zw: penumbra texels per depth
 };
 static_assert(sizeof(LightRecord) == 128, "must match the std430 layout of glsl/cells.glsl's Light");
 

@@ -53,6 +53,8 @@ constexpr std::array<std::pair<TileSizing, std::string_view>, 3> kTileSizings{
     {{TileSizing::uniform, "uniform"}, {TileSizing::share, "share"}, {TileSizing::sqrt_share, "sqrt"}}};
 
 constexpr std::array<int, 4> kMsaaSampleCounts{1, 2, 4, 8};
+constexpr std::array<std::pair<ShadowMode, std::string_view>, 2> kShadowModes{
+    {{ShadowMode::hard, "hard"}, {ShadowMode::soft, "soft"}}};
 
 constexpr std::array<OptimisationSwitch, 6> kSwitches = {{
     {"prepass", &RenderSettings::depth_prepass},
@@ -89,6 +91,10 @@ std::string_view to_string(ShadingMode mode) {
 
 std::string_view to_string(TileSizing sizing) {
     return name_of(kTileSizings, sizing);
+}
+
+std::string_view to_string(ShadowMode mode) {
+    return name_of(kShadowModes, mode);
 }
 
 AtlasMode parse_atlas_mode(std::string_view name) {
@@ -141,6 +147,14 @@ std::vector<std::string> names<ShadingMode>() {
 template <>
 std::vector<std::string> names<TileSizing>() {
     return names_in(kTileSizings);
+}
+template <>
+std::vector<std::string> names<ShadowMode>() {
+    return names_in(kShadowModes);
+}
+
+ShadowMode parse_shadow_mode(std::string_view name) {
+    return parse(kShadowModes, name);
 }
 
 void validate(const RenderSettings& settings) {

@@ -21,6 +21,9 @@ enum class DiffuseMode { center, cap };        // k_d cos theta_c, or its exact 
 // The paper's sum over the cells, or the ratio estimator (docs/DESIGN.md §4.1): the unshadowed reflection
 // from the prefiltered map (Renderer::set_prefiltered), the cells' estimate only for the shadowed fraction.
 enum class ShadingMode { cells, ratio };
+// Each cell's shadow lookup: the hard 2x2 comparison at the cell's centre direction, or a penumbra as
+// wide as the cell's cap sees it (percentage-closer soft shadows per tile, docs/DESIGN.md §5.9).
+enum class ShadowMode { hard, soft };
 
 // How big each light's shadow tile is (render/shadow_atlas_layout.h): all tile_size^2, or power-of-two
 // sizes whose areas follow the light's luminance share (share) or its square root (sqrt), within the
@@ -50,6 +53,7 @@ struct RenderSettings {
     CapKind cap = CapKind::weighted;
     DiffuseMode diffuse = DiffuseMode::center;
     ShadingMode shading = ShadingMode::cells;
+    ShadowMode shadows = ShadowMode::hard;
     bool background = true;
     // Samples per pixel of the shading target (multisample anti-aliasing; one of msaa_sample_counts()),
     // resolved to one linear HDR colour per pixel (their mean) before tone mapping. The driver's maximum
@@ -106,9 +110,10 @@ std::string_view to_string(CapKind kind);
 std::string_view to_string(DiffuseMode mode);
 std::string_view to_string(ShadingMode mode);
 std::string_view to_string(TileSizing sizing);
+std::string_view to_string(ShadowMode mode);
 // Parse the names above ("2x2"/"wide", "blended"/"single", "solid-angle"/"weighted",
 // "center"/"cap", "cells"/"ratio", "clip-distances"/"viewport-array"/"per-tile",
-// "uniform"/"share"/"sqrt"); UsageError listing the names.
+// "uniform"/"share"/"sqrt", "hard"/"soft"); UsageError listing the names.
 AtlasMode parse_atlas_mode(std::string_view name);
 PcfKernel parse_pcf_kernel(std::string_view name);
 SpecularMode parse_specular_mode(std::string_view name);
@@ -116,6 +121,7 @@ CapKind parse_cap_kind(std::string_view name);
 DiffuseMode parse_diffuse_mode(std::string_view name);
 ShadingMode parse_shading_mode(std::string_view name);
 TileSizing parse_tile_sizing(std::string_view name);
+ShadowMode parse_shadow_mode(std::string_view name);
 
 // The names a setting accepts, in the order above: for the command line's validators, so that a
 // name added to a table is accepted everywhere at once.
@@ -135,6 +141,8 @@ template <>
 std::vector<std::string> names<ShadingMode>();
 template <>
 std::vector<std::string> names<TileSizing>();
+template <>
+std::vector<std::string> names<ShadowMode>();
 
 // UsageError if a value is out of range (tile size, depth bits, MSAA samples, negative biases, caster LOD).
 void validate(const RenderSettings& settings);

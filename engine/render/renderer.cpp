@@ -48,6 +48,9 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings), librar
                                            .wrap_t = GL_CLAMP_TO_EDGE,
                                            .compare_mode = GL_COMPARE_REF_TO_TEXTURE,
                                            .compare_func = GL_LEQUAL});
+    // The same atlas read as depths, for the soft shadows' blocker search (docs/DESIGN.md §5.9).
+    atlas_depth_sampler_ = gl::Sampler::create(
+        {.min_filter = GL_NEAREST, .mag_filter = GL_NEAREST, .wrap_s = GL_CLAMP_TO_EDGE, .wrap_t = GL_CLAMP_TO_EDGE});
     // Room for every record the shaders may index: a uniform block's bound range must cover its
     // whole declared array (MAX_LIGHTS). Made once: set_lights() and render() only upload.
     light_buffer_ = gl::Buffer::create(std::size_t(size::max_lights) * sizeof(LightRecord));
@@ -79,6 +82,7 @@ void Renderer::build_programs() {
     if (settings_.pcf == PcfKernel::wide) shade_defines.push_back("PCF_WIDE");
     if (uses_tile_lists(settings_)) shade_defines.push_back("SHADOW_TILE_LISTS");
     if (settings_.shading == ShadingMode::ratio) shade_defines.push_back("SHADING_RATIO");
+    if (settings_.shadows == ShadowMode::soft) shade_defines.push_back("SOFT_SHADOWS");
     shade_program_ =
         library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
     shade_defines.push_back("DIFFUSE_ONLY");
@@ -103,7 +107,7 @@ void Renderer::set_settings(const RenderSettings& settings) {
     if (old.atlas != settings.atlas || old.diffuse != settings.diffuse || old.specular != settings.specular ||
         old.pcf != settings.pcf || old.lights_uniform_block != settings.lights_uniform_block ||
         old.shadow_tile_lists != settings.shadow_tile_lists || old.depth_prepass != settings.depth_prepass ||
-        old.shading != settings.shading || old.msaa != settings.msaa) {
+        old.shading != settings.shading || old.msaa != settings.msaa || old.shadows != settings.shadows) {
         samples_ = drawn_samples();
         build_programs();
     }
@@ -415,6 +419,10 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     }
     atlas_depth_.bind(unit::atlas);
     shadow_sampler_.bind(unit::atlas);
+    if (settings_.shadows == ShadowMode::soft) {
+        atlas_depth_.bind(unit::atlas_depth);
+        atlas_depth_sampler_.bind(unit::atlas_depth);
+    }
     const bool ratio = settings_.shading == ShadingMode::ratio;
     if (ratio) {
         const glm::mat3 env_from_world = map_from_world(rotation_degrees_);
@@ -457,6 +465,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     }
     glBindSampler(unit::atlas, 0);
     glFrontFace(GL_CCW);
+    glBindSampler(unit::atlas_depth, 0);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
 }

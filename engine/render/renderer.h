@@ -122,6 +122,7 @@ private:
     gl::Program tiles_program_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
     gl::Sampler shadow_sampler_;
+    gl::Sampler atlas_depth_sampler_;  // the atlas without comparison: SOFT_SHADOWS' blocker search
     gl::GpuTimer timer_;
     bool timer_warmed_up_ = false;
 

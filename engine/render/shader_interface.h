@@ -67,6 +67,7 @@ namespace envshadow::render::shader {
     X(unit, irradiance, 3)     /* shade.frag SHADING_RATIO: env/prefilter.h level 0 (n = 1) */         \
     X(unit, specular_lower, 4) /* shade.frag SHADING_RATIO: the two levels about n */                  \
     X(unit, specular_upper, 5)                                                                         \
+    X(unit, atlas_depth, 6) /* shade.frag SOFT_SHADOWS: the atlas as depths (blocker search) */        \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \

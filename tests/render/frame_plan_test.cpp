@@ -275,6 +275,39 @@ TEST(FramePlan, BiasesFollowTheSettingsInTexelsOfEachFit) {
     EXPECT_NEAR(plan.receiver_pad, max_offset + min_texel, 1e-6f);
 }
 
+// A 4 m x 1 m x 2 m box (z, y, x) under a zenith cell with tan r = 0.1: light_frame's right is +Z and
+// up is +X, the fit spans 4 m and 2 m widened by 256 / 250 (3-texel margins) and 1 m in depth padded to
+// 1.01 m + 2 x 0.004 m (the floor: 1e-3 of the largest extent), so a unit of depth is 1.018 m and a tile texel 4 *
+// 256/250 / 256 and 2 * 256/250 / 256 m.
+TEST(FramePlan, PenumbraPerDepthIsTheCapsTangentInTexelsOfTheFit) {
+    FramePlanner planner;
+    planner.set_objects({box_at({0, 0, 0}, {1.0f, 0.5f, 2.0f})});
+    WorldLight zenith = light({0, 1, 0});
+    zenith.cos_radius_weighted = 1.0f / std::sqrt(1.01f);  // tan r = 0.1
+    planner.set_lights(std::vector<WorldLight>{zenith});
+    const AtlasLayout layout = plan_atlas(1, kTile, 16384);
+    ASSERT_EQ(layout.tiles.at(0).size, kTile);
+    RenderSettings settings;
+    const FramePlan hard = planner.plan(0.0, eye_at({0, 2, 6}), layout, settings);
+    const float depth_metres = 1.01f + 2.0f * 0.004f;
+    EXPECT_NEAR(hard.lights[0].bias.z, 0.1f * depth_metres * 250.0f / 4.0f, 1e-3f);
+    EXPECT_NEAR(hard.lights[0].bias.w, 0.1f * depth_metres * 250.0f / 2.0f, 1e-3f);
+    const glm::vec4 hard_rect = hard.caster_rects.at(0);
+
+    // Soft shadows: the rectangle reaches a penumbra further, that of a receiver at the far plane behind
+    // the box's top (depth (1 - 0.5 / 0.509) / 2).
+    settings.shadows = ShadowMode::soft;
+    const FramePlan soft = planner.plan(0.0, eye_at({0, 2, 6}), layout, settings);
+    const float nearest = 0.5f * (1.0f - 0.5f / (0.5f * depth_metres));
+    const glm::vec2 reach =
+        glm::vec2(soft.lights[0].bias.z, soft.lights[0].bias.w) * (1.0f - nearest) * 2.0f / float(kTile);
+    const glm::vec4 rect = soft.caster_rects.at(0);
+    EXPECT_NEAR(rect.x, hard_rect.x - reach.x, 1e-4f);
+    EXPECT_NEAR(rect.y, hard_rect.y - reach.y, 1e-4f);
+    EXPECT_NEAR(rect.z, hard_rect.z + reach.x, 1e-4f);
+    EXPECT_NEAR(rect.w, hard_rect.w + reach.y, 1e-4f);
+}
+
 TEST(FramePlan, WithoutLightsThereIsOneEmptyRectangleAndNoTexel) {
     FramePlanner planner = three_casters({});
     const FramePlan& plan = planner.plan(0.0, eye_at({0, 2, 6}), plan_atlas(1, kTile, 16384), RenderSettings{});

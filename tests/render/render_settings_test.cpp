@@ -17,7 +17,8 @@ TEST(RenderSettings, DefaultsAreTheDocumentedOnes) {
     EXPECT_EQ(s.specular, SpecularMode::blended);
     EXPECT_EQ(s.diffuse, DiffuseMode::center);
     EXPECT_EQ(s.atlas, AtlasMode::clip_distances);
-    EXPECT_EQ(s.msaa, 1);  // the engine's; the commands ask for 4
+    EXPECT_EQ(s.msaa, 1);                    // the engine's; the commands ask for 4
+    EXPECT_EQ(s.shadows, ShadowMode::hard);  // soft costs 2-4x the shading on flyover (docs/PERFORMANCE.md)
     EXPECT_NO_THROW(validate(s));
 }
 
@@ -28,6 +29,8 @@ TEST(RenderSettings, NamesRoundTrip) {
     for (auto m : {SpecularMode::blended, SpecularMode::single}) EXPECT_EQ(parse_specular_mode(to_string(m)), m);
     for (auto c : {CapKind::solid_angle, CapKind::weighted}) EXPECT_EQ(parse_cap_kind(to_string(c)), c);
     for (auto d : {DiffuseMode::center, DiffuseMode::cap}) EXPECT_EQ(parse_diffuse_mode(to_string(d)), d);
+    for (auto m : {ShadowMode::hard, ShadowMode::soft}) EXPECT_EQ(parse_shadow_mode(to_string(m)), m);
+    EXPECT_EQ(parse_shadow_mode("soft"), ShadowMode::soft);
     EXPECT_EQ(parse_pcf_kernel("2x2"), PcfKernel::hardware_2x2);
     EXPECT_EQ(parse_cap_kind("solid-angle"), CapKind::solid_angle);
 }
@@ -44,6 +47,7 @@ std::string usage_error_of(const auto& throwing) {
 
 TEST(RenderSettings, BadValuesAreUsageErrorsSayingWhatIsAllowed) {
     EXPECT_EQ(usage_error_of([] { parse_pcf_kernel("3x3"); }), "'3x3' is not one of 2x2, wide");
+    EXPECT_EQ(usage_error_of([] { parse_shadow_mode("pcss"); }), "'pcss' is not one of hard, soft");
     RenderSettings s;
     s.tile_size = 64;
     EXPECT_EQ(usage_error_of([&] { validate(s); }), "shadow tile size 64 is outside 128..2048");

@@ -42,6 +42,10 @@ std::vector<BuiltProgram> engine_programs() {
     add("shade (flat receiver)", shade, {"SHADOW_TILE_LISTS", "DIFFUSE_ONLY", "FLAT_RECEIVER"});
     add("shade (ratio, every light)", shade, {"SHADING_RATIO"});
     add("shade (ratio, flat receiver)", shade, {"SHADING_RATIO", "SHADOW_TILE_LISTS", "DIFFUSE_ONLY", "FLAT_RECEIVER"});
+    add("shade (soft shadows, tile lists, uniform block)", shade,
+        {"SOFT_SHADOWS", "SHADOW_TILE_LISTS", "LIGHTS_UNIFORM_BLOCK"});
+    add("shade (soft shadows, ratio, flat receiver)", shade,
+        {"SOFT_SHADOWS", "SHADING_RATIO", "SHADOW_TILE_LISTS", "DIFFUSE_ONLY", "FLAT_RECEIVER"});
     add("depth pre-pass", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
     add("background", {{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
     add("shadow_tiles.comp", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, {"LIGHTS_UNIFORM_BLOCK"});

@@ -1,0 +1,180 @@
+// --shadows soft (docs/DESIGN.md §5.9): one cell of cap radius r over a table (a slab on a leg) on the
+// ground. The slab's edge casts a penumbra about 2 (receiver - blocker) tan r wide, a ramp where hard
+// lookups give a step; as r -> 0 soft is hard; a ground that casts into its own tile under a wide cap is
+// not shadowed by itself.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <glm/ext/matrix_clip_space.hpp>
+#include <glm/ext/matrix_transform.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "env/cells.h"
+#include "gl_fixture.h"
+#include "render/renderer.h"
+#include "scene/meshes.h"
+
+namespace envshadow::testing {
+namespace {
+
+using SoftShadowsTest = GlTest;
+ENVSHADOW_INSTANTIATE_GL_TEST(SoftShadowsTest);
+
+constexpr int kWidth = 160, kHeight = 120;
+constexpr float kSlabTop = 1.1f;  // the nearest surface seen from the zenith: the blocker depth
+constexpr float kSlabEdge = 0.5f;
+
+render::CameraView look_at(glm::vec3 eye, glm::vec3 target) {
+    render::CameraView view;
+    view.eye = eye;
+    view.view_from_world = glm::lookAt(eye, target, glm::vec3(0, 1, 0));
+    view.clip_from_view = glm::perspective(glm::radians(40.0f), float(kWidth) / float(kHeight), 0.1f, 50.0f);
+    view.width = kWidth;
+    view.height = kHeight;
+    return view;
+}
+
+glm::ivec2 pixel_of(const render::CameraView& view, glm::vec3 p) {
+    const glm::vec4 clip = view.clip_from_view * view.view_from_world * glm::vec4(p, 1.0f);
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    return {int((ndc.x * 0.5f + 0.5f) * float(view.width)), int((0.5f - ndc.y * 0.5f) * float(view.height))};
+}
+
+Object box(glm::vec3 size, glm::vec3 centre, bool casts = true) {
+    Object object;
+    object.mesh = std::make_shared<Mesh>(make_mesh(BoxShape{size}));
+    object.transform = glm::translate(glm::mat4(1.0f), centre);
+    object.material = {glm::vec3(0.7f), 0.0f, 1.0f};
+    object.casts_shadows = casts;
+    return object;
+}
+
+Object ground(float size, bool casts) {
+    Object object;
+    object.mesh = std::make_shared<Mesh>(make_mesh(PlaneShape{size}));
+    object.material = {glm::vec3(0.7f), 0.0f, 1.0f};
+    object.casts_shadows = casts;
+    return object;
+}
+
+// A 1 m x 0.1 m x 1 m slab (top at kSlabTop) on a thin leg, so the caster fit's depth reaches the
+// ground (receivers beyond the far plane would measure their penumbra from there, docs/DESIGN.md §5.9).
+Scene table() {
+    Scene scene;
+    scene.has_ground = true;
+    scene.objects.push_back(ground(8.0f, false));
+    scene.objects.push_back(box({1.0f, 0.1f, 1.0f}, {0.0f, kSlabTop - 0.05f, 0.0f}));
+    scene.objects.push_back(box({0.1f, 1.0f, 0.1f}, {0.0f, 0.5f, 0.0f}));
+    return scene;
+}
+
+Cell cell_towards(glm::vec3 direction, float radius) {
+    Cell cell;
+    cell.direction = glm::normalize(direction);
+    cell.radiance = glm::vec3(1.0f);
+    cell.cos_radius = cell.cos_radius_weighted = std::cos(radius);
+    cell.solid_angle = 2.0f * std::numbers::pi_v<float> * (1.0f - cell.cos_radius);
+    return cell;
+}
+
+Image render_one(const Scene& scene, const Cell& cell, render::ShadowMode shadows, const render::CameraView& view) {
+    render::RenderSettings settings;
+    settings.shadows = shadows;
+    settings.background = false;
+    render::Renderer renderer(settings);
+    renderer.set_scene(scene);
+    renderer.set_lights({cell}, render::Renderer::CellSpace::world);
+    renderer.render(0.0, view);
+    return renderer.read_back();
+}
+
+// The camera stands off to +x, so it sees the ground under the slab's edge at x = 0.5.
+const render::CameraView kTableView = look_at({3.0f, 3.0f, 0.0f}, {0.5f, 0.0f, 0.0f});
+
+// Visibility along the ground line y = 0, z = 0 at x = 0.2, 0.21, ..., 0.8: each sample the mean green
+// of 9 pixels over z in [-0.2, 0.2] (the discs' rotation differs per pixel), over the lit ground's value.
+std::vector<float> profile(const Image& image) {
+    auto mean_at = [&](float x) {
+        float sum = 0.0f;
+        for (int k = -4; k <= 4; ++k) {
+            const glm::ivec2 p = pixel_of(kTableView, {x, 0.0f, 0.05f * float(k)});
+            sum += image.at(p.x, p.y).g;
+        }
+        return sum / 9.0f;
+    };
+    const float lit = mean_at(1.2f);
+    std::vector<float> v;
+    for (int i = 0; i <= 60; ++i) v.push_back(mean_at(0.2f + 0.01f * float(i)) / lit);
+    return v;
+}
+
+int intermediate(const std::vector<float>& v) {
+    return int(std::count_if(v.begin(), v.end(), [](float x) { return x > 0.05f && x < 0.95f; }));
+}
+
+TEST_P(SoftShadowsTest, AnEdgeCastsAMonotoneRampAsWideAsTheCapSees) {
+    const float radius = 0.1f;  // 5.7 degrees
+    const Cell cell = cell_towards({0.0f, 1.0f, 0.0f}, radius);
+    const std::vector<float> hard = profile(render_one(table(), cell, render::ShadowMode::hard, kTableView));
+    const std::vector<float> soft = profile(render_one(table(), cell, render::ShadowMode::soft, kTableView));
+    ASSERT_EQ(hard.size(), 61u);
+    EXPECT_LT(hard.front(), 0.05f);  // umbra under the slab
+    EXPECT_GT(hard.back(), 0.95f);   // lit beyond the penumbra
+    EXPECT_LE(intermediate(hard), 3);
+    // The penumbra of a disc of radius r behind a straight edge, depth kSlabTop below it: from
+    // x = 0.5 - kSlabTop tan r to 0.5 + kSlabTop tan r (0.39 .. 0.61), one half at the edge itself.
+    const float half_width = kSlabTop * std::tan(radius);
+    EXPECT_GE(intermediate(soft), 12);
+    EXPECT_GE(intermediate(soft), 4 * intermediate(hard));
+    auto at = [&](float x) { return soft[std::size_t(std::lround((x - 0.2f) / 0.01f))]; };
+    EXPECT_NEAR(at(kSlabEdge), 0.5f, 0.15f);
+    EXPECT_LT(at(kSlabEdge - 0.9f * half_width), 0.2f);
+    EXPECT_GT(at(kSlabEdge + 0.9f * half_width), 0.8f);
+    EXPECT_LT(soft.front(), 0.05f);
+    EXPECT_GT(soft.back(), 0.95f);
+    for (std::size_t i = 1; i < soft.size(); ++i) EXPECT_GE(soft[i], soft[i - 1] - 0.03f) << "sample " << i;
+}
+
+TEST_P(SoftShadowsTest, ACapOfRadiusTowardsZeroIsTheHardLookup) {
+    const Cell cell = cell_towards({0.2f, 1.0f, 0.1f}, 1e-4f);  // a penumbra far under a texel
+    const Image hard = render_one(table(), cell, render::ShadowMode::hard, kTableView);
+    const Image soft = render_one(table(), cell, render::ShadowMode::soft, kTableView);
+    ASSERT_EQ(hard.pixels.size(), soft.pixels.size());
+    int object_pixels = 0, shadowed = 0;
+    for (std::size_t i = 0; i < hard.pixels.size(); ++i) {
+        if (hard.pixels[i].a < 1.0f) continue;
+        ++object_pixels;
+        if (hard.pixels[i].g < 0.01f) ++shadowed;
+        EXPECT_NEAR(soft.pixels[i].g, hard.pixels[i].g, 1e-5f) << "pixel " << i;
+    }
+    EXPECT_GT(object_pixels, kWidth * kHeight / 2);
+    EXPECT_GT(shadowed, 100);  // the image has a shadow to compare
+}
+
+TEST_P(SoftShadowsTest, AGroundCastingIntoItsOwnTileIsNotShadowedByItself) {
+    // A low cell with a wide cap: the blocker search and the filter reach ~40 texels across the
+    // ground's tile; the receiver plane's depth slope keeps the taps from finding the ground itself.
+    const Cell cell = cell_towards({1.0f, 0.7f, 0.3f}, 0.3f);
+    Scene casting;
+    casting.has_ground = true;
+    casting.objects.push_back(ground(4.0f, true));
+    Scene not_casting = casting;
+    not_casting.objects[0].casts_shadows = false;  // no caster at all: V = 1 exactly
+    const render::CameraView view = look_at({0.0f, 3.0f, 3.0f}, {0.0f, 0.0f, 0.0f});
+    const Image soft = render_one(casting, cell, render::ShadowMode::soft, view);
+    const Image unshadowed = render_one(not_casting, cell, render::ShadowMode::soft, view);
+    int ground_pixels = 0;
+    float worst = 0.0f;
+    for (std::size_t i = 0; i < soft.pixels.size(); ++i) {
+        if (unshadowed.pixels[i].a < 1.0f) continue;
+        ++ground_pixels;
+        worst = std::max(worst, std::abs(soft.pixels[i].g / unshadowed.pixels[i].g - 1.0f));
+    }
+    EXPECT_GT(ground_pixels, kWidth * kHeight / 4);
+    EXPECT_LT(worst, 0.01f);
+}
+
+}  // namespace
+}  // namespace envshadow::testing
