@@ -57,12 +57,19 @@ void Buffer::upload_resizing(const void* data, std::size_t bytes) {
         upload(data, bytes);
 }
 
-Texture Texture::create_2d(GLenum internal_format, int width, int height, int levels) {
+namespace {
+// PlatformError unless width x height fits the driver's textures.
+void check_texture_size(int width, int height) {
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
     if (width < 1 || height < 1 || width > max_size || height > max_size)
         throw PlatformError("texture of " + std::to_string(width) + "x" + std::to_string(height) +
                             " exceeds GL_MAX_TEXTURE_SIZE (" + std::to_string(max_size) + ")");
+}
+}  // namespace
+
+Texture Texture::create_2d(GLenum internal_format, int width, int height, int levels) {
+    check_texture_size(width, height);
     GLuint id = 0;
     glCreateTextures(GL_TEXTURE_2D, 1, &id);
     glTextureStorage2D(id, levels, internal_format, width, height);
@@ -77,11 +84,7 @@ Texture Texture::create_2d(GLenum internal_format, int width, int height, int le
 }
 
 Texture Texture::create_2d_multisample(GLenum internal_format, int width, int height, int samples) {
-    GLint max_size = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-    if (width < 1 || height < 1 || width > max_size || height > max_size)
-        throw PlatformError("texture of " + std::to_string(width) + "x" + std::to_string(height) +
-                            " exceeds GL_MAX_TEXTURE_SIZE (" + std::to_string(max_size) + ")");
+    check_texture_size(width, height);
     GLuint id = 0;
     glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &id);
     glTextureStorage2DMultisample(id, samples, internal_format, width, height, GL_TRUE);
