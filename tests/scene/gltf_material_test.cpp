@@ -23,7 +23,7 @@ using nlohmann::json;
 using test::GltfWriter;
 using test::test_folder;
 
-const fs::path kModels = "/usr/share/assimp/models/glTF2";
+const fs::path& kModels = test::kAssimpModels;
 
 static_assert(kGltfMinShininess == kPrefilterMinShininess && kGltfMaxShininess == kPrefilterMaxShininess,
               "the glTF mapping clamps n to the ratio mode's prefiltered range");

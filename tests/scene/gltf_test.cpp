@@ -20,7 +20,7 @@ using nlohmann::json;
 using test::GltfWriter;
 using test::test_folder;
 
-const fs::path kModels = "/usr/share/assimp/models/glTF2";
+const fs::path& kModels = test::kAssimpModels;
 
 // The mesh of a model with one material (one part).
 const Mesh& only_part(const GltfModel& model) {

@@ -16,6 +16,9 @@
 
 namespace envshadow::test {
 
+// The real glTF 2.0 models of Debian's assimp-testmodels (scripts/install-deps.sh installs them).
+inline const std::filesystem::path kAssimpModels = "/usr/share/assimp/models/glTF2";
+
 // A fresh folder per test.
 inline std::filesystem::path test_folder() {
     return fresh_test_folder("envshadow_scene");
