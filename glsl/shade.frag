@@ -50,8 +50,8 @@ vec3 prefiltered(sampler2D level, vec2 uv) {
     return texture(level, vec2(uv.x, (uv.y * (h - 1.0) + 0.5) / h)).rgb;
 }
 
-// k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows (S_n
-// not clipped by the tangent plane).
+// k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows, S_n
+// over the whole lobe (the cells' ratio clips it at the tangent plane: reflectivity_whole_lobe).
 vec3 unshadowed_radiance(vec3 n, vec3 mirror) {
     vec3 result = u_k_d * (PI * prefiltered(u_irradiance, latlong_uv(u_env_from_world * n)));
 #if !defined(DIFFUSE_ONLY)
@@ -176,8 +176,10 @@ float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
 #endif
 }
 
-// a(dw_i, w) of light i: k_d times the cosine term plus k_s times the specular average.
-vec3 reflectivity(int i, vec3 n, vec3 mirror) {
+// a(dw_i, w) of light i: k_d times the cosine term plus k_s times the specular average. `whole_lobe`
+// keeps the specular term of cells under the tangent plane (the ratio's denominator, below).
+#define CLIP_COS_RADIUS 0.9
+vec3 reflectivity(int i, vec3 n, vec3 mirror, bool whole_lobe) {
     vec3 w = lights[i].direction.xyz;
     float cos_r = lights[i].direction.w;
     float cos_theta = dot(n, w);
@@ -188,7 +190,7 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror) {
 #endif
     float specular = 0.0;  // the BRDF is zero under the tangent plane (docs/DESIGN.md §2)
 #if !defined(DIFFUSE_ONLY)
-    if (u_k_s > 0.0 && cos_theta > 0.0) {
+    if (u_k_s > 0.0 && (cos_theta > 0.0 || whole_lobe || cos_r < CLIP_COS_RADIUS)) {
 #if defined(SPECULAR_SINGLE)
         specular = average_specular_single(dot(w, mirror), u_shininess);
 #else
@@ -198,6 +200,28 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror) {
 #endif
     return u_k_d * diffuse + u_k_s * specular;
 }
+
+vec3 reflectivity(int i, vec3 n, vec3 mirror) {
+    return reflectivity(i, n, mirror, false);
+}
+
+#if defined(SHADING_RATIO)
+// The ratio's denominator estimates what the prefiltered map holds: S_n(r) covers the whole lobe, the BRDF
+// only the half above the tangent plane. With the whole lobe below the line and the clipped one above it,
+// the ratio takes off the part of the lobe under the surface as well as the shadows, weighted by where the
+// light really is (a sun inside the kept half keeps all of it); it matters where r grazes the surface
+// (docs/DESIGN.md §4.1).
+vec3 reflectivity_whole_lobe(int i, vec3 n, vec3 mirror) {
+    return reflectivity(i, n, mirror, true);
+}
+
+// A cell too large to clip (its cap wider than acos CLIP_COS_RADIUS) keeps its whole lobe above the line
+// too; where its centre is under the tangent plane its shadow lookup means nothing, and it counts as lit.
+float cell_visibility(int i, vec3 p, vec3 n) {
+    float cos_theta = dot(n, lights[i].direction.xyz);
+    return cos_theta > 0.0 ? visibility(lights[i], p, n, cos_theta) : 1.0;
+}
+#endif
 
 // Shading normal at p (docs/DESIGN.md §5.4). The side comes from the triangle: seen from behind (an open
 // mesh), the normal is turned round; the interpolated normal itself may still face away from the viewer
@@ -228,7 +252,15 @@ void main() {
     vec3 unshadowed = u_unshadowed;  // a plane with a diffuse material: its normal, hence every a_i, is constant
 #else
     vec3 unshadowed = vec3(0.0);
+#if defined(SHADING_RATIO)
+    vec3 whole_lobe = vec3(0.0);
+    for (int i = 0; i < u_light_count; ++i) {
+        unshadowed += lights[i].radiance.rgb * reflectivity(i, n, mirror);
+        whole_lobe += lights[i].radiance.rgb * reflectivity_whole_lobe(i, n, mirror);
+    }
+#else
     for (int i = 0; i < u_light_count; ++i) unshadowed += lights[i].radiance.rgb * reflectivity(i, n, mirror);
+#endif
 #endif
     radiance = unshadowed;
     uvec2 tile = uvec2(gl_FragCoord.xy) / uint(SCREEN_TILE);
@@ -238,23 +270,30 @@ void main() {
         int i = int(tile_lists[base + 1u + k]);
         vec3 a = reflectivity(i, n, mirror);
         if (max(a.r, max(a.g, a.b)) <= 0.0) continue;  // no reflection: skip the shadow lookups
+#if defined(SHADING_RATIO)
+        radiance -= (1.0 - cell_visibility(i, p, n)) * lights[i].radiance.rgb * a;
+#else
         radiance -= (1.0 - visibility(lights[i], p, n, dot(n, lights[i].direction.xyz))) * lights[i].radiance.rgb * a;
+#endif
     }
     radiance = max(radiance, vec3(0.0));  // fully shadowed pixels: the difference may round below zero
 #if defined(SHADING_RATIO)
-    radiance = unshadowed_radiance(n, mirror) * shadowed_fraction(radiance, unshadowed);
+#if defined(FLAT_RECEIVER)
+    vec3 whole_lobe = unshadowed;  // diffuse only: nothing of a lobe to clip
+#endif
+    radiance = unshadowed_radiance(n, mirror) * shadowed_fraction(radiance, whole_lobe);
 #endif
 #elif defined(SHADING_RATIO)
     // Numerator and denominator of the ratio in the one loop over the cells.
-    vec3 shadowed = vec3(0.0), unshadowed = vec3(0.0);
+    vec3 shadowed = vec3(0.0), whole_lobe = vec3(0.0);
     for (int i = 0; i < u_light_count; ++i) {
+        vec3 whole = reflectivity_whole_lobe(i, n, mirror);
+        if (max(whole.r, max(whole.g, whole.b)) <= 0.0) continue;
+        whole_lobe += lights[i].radiance.rgb * whole;
         vec3 a = reflectivity(i, n, mirror);
-        if (max(a.r, max(a.g, a.b)) <= 0.0) continue;
-        vec3 la = lights[i].radiance.rgb * a;
-        unshadowed += la;
-        shadowed += visibility(lights[i], p, n, dot(n, lights[i].direction.xyz)) * la;
+        if (max(a.r, max(a.g, a.b)) > 0.0) shadowed += cell_visibility(i, p, n) * lights[i].radiance.rgb * a;
     }
-    radiance = unshadowed_radiance(n, mirror) * shadowed_fraction(shadowed, unshadowed);
+    radiance = unshadowed_radiance(n, mirror) * shadowed_fraction(shadowed, whole_lobe);
 #else
     for (int i = 0; i < u_light_count; ++i) {
         vec3 a = reflectivity(i, n, mirror);
