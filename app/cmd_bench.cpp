@@ -1,5 +1,5 @@
 // `envshadow bench`: frame times of a scene, headless. Warm-up frames, then F timed frames with the
-// animation running (the shadow atlas really is redrawn every frame); per-pass GPU times from timer
+// animation running (the moving casters' shadows really are redrawn every frame); per-pass GPU times from timer
 // queries and the wall time of each frame; medians and 95th percentiles. `--sweep` repeats the run
 // for each setting, so the growth of the cost with N (or resolution, or tile size) can be read off.
 // `--variants "baseline;optimised;…"` renders every timed frame once per variant (one renderer

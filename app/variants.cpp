@@ -83,11 +83,16 @@ render::RenderSettings apply_variant(render::RenderSettings settings, std::strin
             settings.msaa = int(parse_number(value));
         } else if (key == "shadows") {
             settings.shadows = render::parse_shadow_mode(value);
+        } else if (key == "shadow-cache" || key == "shadow_cache") {
+            settings.shadow_cache = parse_on_off(value);
+        } else if (key == "shadow-fit" || key == "shadow_fit") {
+            settings.shadow_fit = render::parse_shadow_fit(value);
         } else {
             std::string keys = "caster-lod";
             for (const render::OptimisationSwitch& s : switches) keys += ", " + std::string(s.name);
-            throw UsageError("unknown key '" + std::string(key) + "' (" + keys +
-                             ", depth-bits, tile, atlas, pcf, shading, shadows, tile-sizes, msaa)");
+            throw UsageError(
+                "unknown key '" + std::string(key) + "' (" + keys +
+                ", depth-bits, tile, atlas, pcf, shading, shadows, tile-sizes, msaa, shadow-cache, shadow-fit)");
         }
     }
     render::validate(settings);

@@ -17,7 +17,8 @@ struct Variant {
 // `text`: variants separated by ';', each comma-separated items applied left to right to `settings`:
 // a preset ("baseline": render::baseline(); "optimised" or "default": nothing changed) or key=value,
 // with keys caster-lod (texels; "off" = 0), the switches of render::optimisation_switches() (on/off),
-// depth-bits, tile, tile-sizes, atlas, pcf. Every variant validated. Empty text: one variant, `settings`.
+// depth-bits, tile, tile-sizes, atlas, pcf, shading, shadows, msaa, shadow-cache (on/off) and shadow-fit
+// (animation/frame; both also spelt with '_'). Every variant validated. Empty text: one variant, `settings`.
 // UsageError naming --variants.
 std::vector<Variant> parse_variants(std::string_view text, const render::RenderSettings& settings);
 

@@ -147,6 +147,7 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         if (ImGui::Combo("atlas draw", &atlas, "one draw (clip distances)\0viewport arrays\0per tile (baseline)\0"))
             settings.atlas = render::AtlasMode(atlas), changed = true;
         changed |= ImGui::Checkbox("skip hidden/negligible lights", &settings.skip_lights);
+        changed |= ImGui::Checkbox("cache the shadows of what stands still", &settings.shadow_cache);
         changes.settings |= changed;
         ImGui::Text("atlas %dx%d, %.1f MB", stats.atlas.width(), stats.atlas.height(),
                     double(stats.atlas_bytes) / (1 << 20));
@@ -253,6 +254,12 @@ void Panels::timings_panel(ViewerControls& controls, const PanelInputs& in, Pane
             "Times each pass by the clock between glFinish calls: exact on a software\n"
             "rasteriser, whose GL_TIME_ELAPSED queries misplace the work (on by default\n"
             "there); on a GPU the queries are exact and waiting costs the overlap.");
+    // The shadow cache (docs/DESIGN.md §5.11): a frame that moves nothing draws no atlas pass.
+    if (in.stats->atlas_passes == 0)
+        ImGui::TextUnformatted("shadow atlas: kept from the last frame (nothing moved)");
+    else if (in.stats->moving_casters_drawn > 0)
+        ImGui::Text("shadow atlas: %d moving caster(s) over the cached layer%s", in.stats->moving_casters_drawn,
+                    in.stats->static_layer_renders > 0 ? " (layer redrawn)" : "");
     for (const gl::PassTime& pass : in.stats->passes) plot(pass.pass.c_str(), pass_ms_[pass.pass]);
     if (in.lights && in.lights->per_frame()) plot(render::kFsSamplingPass, pass_ms_[render::kFsSamplingPass]);
     ImGui::End();

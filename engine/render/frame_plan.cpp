@@ -62,10 +62,55 @@ glm::vec3 flat_receiver_sum(std::span<const LightRecord> lights, const glm::vec3
     return glm::vec3(sum);
 }
 
+std::vector<glm::vec3> animation_caster_points(std::span<const PlannedObject> objects) {
+    std::vector<glm::vec3> points;
+    for (const PlannedObject& planned : objects) {
+        const Object& object = planned.object;
+        if (!object.casts_shadows) continue;
+        const std::array<glm::vec3, 8> corners = box_corners(planned.bounds_min, planned.bounds_max);
+        if (!object.moves()) {
+            for (const glm::vec3& corner : corners)
+                points.push_back(glm::vec3(object.world_from_object(0.0) * glm::vec4(corner, 1.0f)));
+            continue;
+        }
+        // The corners at kSubsteps times per sample: the path a corner travels between two samples is
+        // at most the sum of its sub-steps' chords (about its arc), and no point of the box between the
+        // samples is farther than that from where it was at one of them.
+        constexpr int kSubsteps = 4;
+        const int steps = kAnimationFitSamples * kSubsteps;
+        const double period = object.animation.period;
+        std::vector<std::array<glm::vec3, 8>> at(std::size_t(steps) + 1);
+        for (int s = 0; s <= steps; ++s) {
+            const glm::mat4 world = object.world_from_object(period * double(s) / double(steps));
+            for (std::size_t c = 0; c < 8; ++c) at[std::size_t(s)][c] = glm::vec3(world * glm::vec4(corners[c], 1.0f));
+        }
+        float reach = 0.0f;  // the farthest any corner travels between two samples
+        for (int sample = 0; sample < kAnimationFitSamples; ++sample)
+            for (std::size_t c = 0; c < 8; ++c) {
+                float path = 0.0f;
+                for (int s = sample * kSubsteps; s < (sample + 1) * kSubsteps; ++s)
+                    path += glm::length(at[std::size_t(s) + 1][c] - at[std::size_t(s)][c]);
+                reach = std::max(reach, path);
+            }
+        for (int sample = 0; sample < kAnimationFitSamples; ++sample)
+            for (const glm::vec3& corner : at[std::size_t(sample * kSubsteps)])
+                for (const glm::vec3& offset : box_corners(glm::vec3(-reach), glm::vec3(reach)))
+                    points.push_back(corner + offset);
+    }
+    return points;
+}
+
+void FramePlanner::set_objects(std::vector<PlannedObject> objects) {
+    objects_ = std::move(objects);
+    animation_points_ = animation_caster_points(objects_);
+    animation_fits_.clear();
+}
+
 void FramePlanner::set_lights(std::span<const WorldLight> lights) {
     lights_.assign(lights.begin(), lights.end());
     frames_.clear();
     for (const WorldLight& light : lights_) frames_.push_back(light_frame(light.direction));
+    animation_fits_.clear();
 }
 
 const FramePlan& FramePlanner::plan(double time, const CameraView& view, const AtlasLayout& layout,
@@ -98,10 +143,31 @@ void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& s
     const bool weighted = settings.cap == CapKind::weighted;
     plan_.lights.resize(lights_.size());
     plan_.min_texel_world = std::numeric_limits<float>::infinity();
+    // Over the animation the fits depend on the lights and the tiles' sizes alone: made once for them.
+    const bool over_animation = settings.shadow_fit == ShadowFit::animation;
+    if (over_animation) {
+        bool same = animation_fits_.size() == lights_.size();
+        for (std::size_t k = 0; same && k < lights_.size(); ++k)
+            same = animation_fit_tile_sizes_[k] == layout.tiles.at(k).size;
+        if (!same) {
+            animation_fits_.clear();
+            animation_fit_tile_sizes_.clear();
+            for (std::size_t k = 0; k < lights_.size(); ++k) {
+                const int size = layout.tiles.at(k).size;
+                animation_fits_.push_back(fit_orthographic(frames_[k], animation_points_, size, kTileMarginTexels));
+                animation_fit_tile_sizes_.push_back(size);
+            }
+        }
+    }
+    bool fits_changed = previous_fits_.size() != lights_.size();
+    previous_fits_.resize(lights_.size());
+    previous_tiles_.resize(lights_.size());
     for (std::size_t k = 0; k < lights_.size(); ++k) {
         const WorldLight& light = lights_[k];
         const TileRect& tile = layout.tiles.at(k);
-        const OrthographicFit fit = fit_orthographic(frames_[k], caster_points_, tile.size, kTileMarginTexels);
+        const OrthographicFit fit = over_animation
+                                        ? animation_fits_[k]
+                                        : fit_orthographic(frames_[k], caster_points_, tile.size, kTileMarginTexels);
         LightRecord& record = plan_.lights[k];
         record.direction = glm::vec4(light.direction, weighted ? light.cos_radius_weighted : light.cos_radius);
         record.radiance = glm::vec4(light.radiance, 0.0f);
@@ -112,7 +178,11 @@ void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& s
             glm::vec4(settings.depth_bias * fit.texel_world / fit.depth_range, settings.normal_offset * fit.texel_world,
                       penumbra_texels_per_depth(fit.clip_from_world, tile.size, record.direction.w));
         plan_.min_texel_world = std::min(plan_.min_texel_world, fit.texel_world);
+        if (previous_fits_[k] != record.clip_from_world || previous_tiles_[k] != record.tile) fits_changed = true;
+        previous_fits_[k] = record.clip_from_world;
+        previous_tiles_[k] = record.tile;
     }
+    if (fits_changed) ++plan_.fit_version;
     if (plan_.lights.empty()) plan_.min_texel_world = 0.0f;
     // Position reconstruction and rounding; V = 1 for 2 texels inside the border anyway.
     plan_.receiver_pad = plan_.min_texel_world;

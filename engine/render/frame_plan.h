@@ -5,6 +5,7 @@
 // light's tile (glsl/shadow_tiles.comp), and the unshadowed sum of the flat receivers. Plain C++, no
 // GL: tested headless (tests/render/frame_plan_test.cpp). Renderer uploads the plan and draws it.
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <vector>
@@ -81,7 +82,19 @@ struct FramePlan {
     int caster_rects_per_light = 1;
     float min_texel_world = 0.0f;  // smallest atlas texel of the fits (world units); 0 without lights
     float receiver_pad = 0.0f;     // tile lists: how far the receivers' bounds are pushed out (world)
+    // Changes whenever a light's projection or tile differs from the last plan's (the shadow cache's
+    // key, docs/DESIGN.md §5.11); the same number while every fit stays the same.
+    std::uint64_t fit_version = 0;
 };
+
+// Samples per period of a moving caster's box for the fits over the animation (ShadowFit::animation).
+inline constexpr int kAnimationFitSamples = 32;
+
+// World points whose boxes, in any light's frame, hold every shadow caster of `objects` at every time
+// (ShadowFit::animation): the 8 corners of each caster that does not move, and for each that moves its
+// box's corners at kAnimationFitSamples times over its period, each pushed out to a cube as wide as the
+// farthest a corner travels between two samples (so the times between samples stay inside).
+std::vector<glm::vec3> animation_caster_points(std::span<const PlannedObject> objects);
 
 // The unshadowed diffuse sum sum_i L~_i k_d max(n . w_i, 0) of a plane with normal `normal`
 // (FLAT_RECEIVER: shade.frag's centre sample, DiffuseMode::center), accumulated in double.
@@ -91,7 +104,7 @@ glm::vec3 flat_receiver_sum(std::span<const LightRecord> lights, const glm::vec3
 // vectors keep their storage).
 class FramePlanner {
 public:
-    void set_objects(std::vector<PlannedObject> objects) { objects_ = std::move(objects); }
+    void set_objects(std::vector<PlannedObject> objects);
     std::span<const PlannedObject> objects() const { return objects_; }
     void set_material(std::size_t object, const Material& material) { objects_.at(object).object.material = material; }
     // World-space lights (select_lights); their frames are made here, once.
@@ -112,7 +125,13 @@ private:
     std::vector<PlannedObject> objects_;
     std::vector<WorldLight> lights_;
     std::vector<LightFrame> frames_;
-    std::vector<glm::vec3> caster_points_;  // 8 box corners per shadow caster, world space
+    std::vector<glm::vec3> caster_points_;     // 8 box corners per shadow caster, world space
+    std::vector<glm::vec3> animation_points_;  // animation_caster_points(objects_)
+    // ShadowFit::animation: the fits are the same every frame while the lights and tile sizes are.
+    std::vector<OrthographicFit> animation_fits_;
+    std::vector<int> animation_fit_tile_sizes_;
+    std::vector<glm::mat4> previous_fits_;  // the last plan's clip_from_world and tile, per light
+    std::vector<glm::vec4> previous_tiles_;
     FramePlan plan_;
 };
 

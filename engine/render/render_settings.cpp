@@ -55,6 +55,8 @@ constexpr std::array<std::pair<TileSizing, std::string_view>, 3> kTileSizings{
 constexpr std::array<int, 4> kMsaaSampleCounts{1, 2, 4, 8};
 constexpr std::array<std::pair<ShadowMode, std::string_view>, 2> kShadowModes{
     {{ShadowMode::hard, "hard"}, {ShadowMode::soft, "soft"}}};
+constexpr std::array<std::pair<ShadowFit, std::string_view>, 2> kShadowFits{
+    {{ShadowFit::frame, "frame"}, {ShadowFit::animation, "animation"}}};
 
 constexpr std::array<OptimisationSwitch, 6> kSwitches = {{
     {"prepass", &RenderSettings::depth_prepass},
@@ -157,6 +159,17 @@ ShadowMode parse_shadow_mode(std::string_view name) {
     return parse(kShadowModes, name);
 }
 
+std::string_view to_string(ShadowFit fit) {
+    return name_of(kShadowFits, fit);
+}
+ShadowFit parse_shadow_fit(std::string_view name) {
+    return parse(kShadowFits, name);
+}
+template <>
+std::vector<std::string> names<ShadowFit>() {
+    return names_in(kShadowFits);
+}
+
 void validate(const RenderSettings& settings) {
     if (settings.tile_size < kMinTileSize || settings.tile_size > kMaxTileSize)
         throw UsageError("shadow tile size " + std::to_string(settings.tile_size) + " is outside " +
@@ -182,6 +195,8 @@ std::span<const OptimisationSwitch> optimisation_switches() {
 RenderSettings baseline(RenderSettings settings) {
     settings.caster_lod = 0.0f;
     for (const auto& [name, member] : kSwitches) settings.*member = false;
+    settings.shadow_cache = false;
+    settings.shadow_fit = ShadowFit::frame;
     return settings;
 }
 

@@ -25,6 +25,12 @@ enum class ShadingMode { cells, ratio };
 // wide as the cell's cap sees it (percentage-closer soft shadows per tile, docs/DESIGN.md §5.9).
 enum class ShadowMode { hard, soft };
 
+// How each light's orthographic projection is fitted to the shadow casters (docs/DESIGN.md §5.11): to
+// this frame's boxes (the sharpest fit, changed whenever anything moves), or to their boxes over the
+// whole animation (the same every frame, so the shadow cache keeps the casters that do not move while
+// others move; coarser texels: 0.37 of the density on flyover, docs/PERFORMANCE.md).
+enum class ShadowFit { frame, animation };
+
 // How big each light's shadow tile is (render/shadow_atlas_layout.h): all tile_size^2, or power-of-two
 // sizes whose areas follow the light's luminance share (share) or its square root (sqrt), within the
 // same budget of N tile_size^2 texels.
@@ -89,6 +95,15 @@ struct RenderSettings {
     // With the tile lists: planes with a diffuse material (the ground) take the unshadowed sum of the
     // lights, the same for all their pixels, from the CPU instead of summing it per pixel.
     bool flat_receivers = true;
+    // Issue 18: the depths of the casters that do not move (Object::moves()) kept in a layer of their
+    // own, redrawn only when the lights, the scene, the fits or the atlas settings change; each frame
+    // copies it into the atlas and draws only the moving casters over it, and a frame where nothing
+    // moves draws no atlas pass at all (docs/DESIGN.md §5.11). The same atlas as drawing every caster
+    // (the depth test keeps the nearest whatever the order). With per-frame fits a frame where anything
+    // moves draws every caster (its tiles moved); ShadowFit::animation keeps them put, but changes the
+    // animated scenes' shadows (viruses' golden: 2.5% of pixels), so it is asked for, not the default.
+    bool shadow_cache = true;
+    ShadowFit shadow_fit = ShadowFit::frame;
 };
 
 // The on/off optimisations of issue 10, each by its short name (docs/PERFORMANCE.md's tables, bench's
@@ -100,7 +115,7 @@ struct OptimisationSwitch {
 std::span<const OptimisationSwitch> optimisation_switches();
 
 // The first working renderer's settings (issue 10's baseline): `settings` with every optimisation
-// of issue 10 off.
+// of issue 10 off, and issue 18's shadow cache off with per-frame fits.
 RenderSettings baseline(RenderSettings settings);
 
 std::string_view to_string(AtlasMode mode);
@@ -111,9 +126,10 @@ std::string_view to_string(DiffuseMode mode);
 std::string_view to_string(ShadingMode mode);
 std::string_view to_string(TileSizing sizing);
 std::string_view to_string(ShadowMode mode);
+std::string_view to_string(ShadowFit fit);
 // Parse the names above ("2x2"/"wide", "blended"/"single", "solid-angle"/"weighted",
 // "center"/"cap", "cells"/"ratio", "clip-distances"/"viewport-array"/"per-tile",
-// "uniform"/"share"/"sqrt", "hard"/"soft"); UsageError listing the names.
+// "uniform"/"share"/"sqrt", "hard"/"soft", "frame"/"animation"); UsageError listing the names.
 AtlasMode parse_atlas_mode(std::string_view name);
 PcfKernel parse_pcf_kernel(std::string_view name);
 SpecularMode parse_specular_mode(std::string_view name);
@@ -122,6 +138,7 @@ DiffuseMode parse_diffuse_mode(std::string_view name);
 ShadingMode parse_shading_mode(std::string_view name);
 TileSizing parse_tile_sizing(std::string_view name);
 ShadowMode parse_shadow_mode(std::string_view name);
+ShadowFit parse_shadow_fit(std::string_view name);
 
 // The names a setting accepts, in the order above: for the command line's validators, so that a
 // name added to a table is accepted everywhere at once.
@@ -143,6 +160,8 @@ template <>
 std::vector<std::string> names<TileSizing>();
 template <>
 std::vector<std::string> names<ShadowMode>();
+template <>
+std::vector<std::string> names<ShadowFit>();
 
 // UsageError if a value is out of range (tile size, depth bits, MSAA samples, negative biases, caster LOD).
 void validate(const RenderSettings& settings);

@@ -4,8 +4,10 @@
 #include <array>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
+#include <utility>
 
 #include <glm/matrix.hpp>
 
@@ -152,6 +154,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         object_plan.flat_normal = mesh.flat_normal();
     }
     planner_.set_objects(std::move(planned));
+    ++content_version_;  // the shadow cache's layers hold the old scene's casters
     has_ground_ = scene.has_ground;
     rotation_degrees_ = scene.environment.rotation_degrees;
     select_lights();
@@ -236,6 +239,7 @@ void Renderer::ensure_atlas() {
                   std::to_string(layout_.tile_size) + "^2 tiles" +
                   (sizing == TileSizing::uniform ? "" : " (the budget of the sized tiles)"));
     atlas_depth_bits_ = settings_.depth_bits;
+    ++content_version_;  // a new atlas holds no depths yet
     atlas_depth_ = gl::Texture::create_2d(settings_.depth_bits == 16 ? GL_DEPTH_COMPONENT16 : GL_DEPTH_COMPONENT32F,
                                           layout_.width(), layout_.height());
     atlas_ = gl::Framebuffer::create();
@@ -285,12 +289,61 @@ void Renderer::upload(const FramePlan& plan) {
     light_buffer_.upload(plan.lights.data(), plan.lights.size() * sizeof(LightRecord));
 }
 
-void Renderer::draw_atlas(const FramePlan& plan) {
+void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
+    const auto moves = [&](std::size_t i) { return planner_.objects()[i].object.moves(); };
+    const auto every = [](std::size_t) { return true; };
+    atlas_triangles_ = 0;
+    int moving = 0;
+    for (std::size_t i = 0; i < plan.objects.size(); ++i) moving += plan.objects[i].casts_shadows && moves(i);
+    const AtlasKey key{plan.fit_version,     content_version_,          settings_.slope_bias,
+                       settings_.caster_lod, settings_.cull_back_faces, settings_.atlas};
+    const std::optional<AtlasKey> last = std::exchange(last_key_, key);
+    if (!settings_.shadow_cache || plan.lights.empty()) {
+        atlas_holds_static_.reset();
+        static_layer_holds_.reset();
+        static_depth_ = {};
+        gl::ScopedPass pass(&timer_, "shadow atlas");
+        draw_casters(plan, every, true);
+        stats.atlas_passes = 1;
+        return;
+    }
+    if (moving == 0) {
+        if (atlas_holds_static_ == key) return;  // the depths of the last frame are this frame's
+        gl::ScopedPass pass(&timer_, "shadow atlas");
+        draw_casters(plan, every, true);
+        atlas_holds_static_ = key;
+        stats.atlas_passes = 1;
+        return;
+    }
+    atlas_holds_static_.reset();  // the moving casters go into the atlas
     gl::ScopedPass pass(&timer_, "shadow atlas");
+    stats.atlas_passes = 1;
+    if (static_layer_holds_ != key) {
+        if (last != key) {  // fits that changed since the last frame may change again: no layer kept yet
+            draw_casters(plan, every, true);
+            return;
+        }
+        draw_casters(plan, std::not_fn(moves), true);
+        if (!static_depth_ || static_depth_.width() != atlas_depth_.width() ||
+            static_depth_.height() != atlas_depth_.height() || static_depth_.format() != atlas_depth_.format())
+            static_depth_ = gl::Texture::create_2d(atlas_depth_.format(), atlas_depth_.width(), atlas_depth_.height());
+        glCopyImageSubData(atlas_depth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, static_depth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                           atlas_depth_.width(), atlas_depth_.height(), 1);
+        static_layer_holds_ = key;
+        stats.static_layer_renders = 1;
+    } else {
+        glCopyImageSubData(static_depth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, atlas_depth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                           atlas_depth_.width(), atlas_depth_.height(), 1);
+    }
+    draw_casters(plan, moves, false);
+    stats.moving_casters_drawn = moving;
+}
+
+void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, bool clear) {
     glBindFramebuffer(GL_FRAMEBUFFER, atlas_.id());
     glDepthMask(GL_TRUE);
     const float far_depth = 1.0f;
-    glClearNamedFramebufferfv(atlas_.id(), GL_DEPTH, 0, &far_depth);
+    if (clear) glClearNamedFramebufferfv(atlas_.id(), GL_DEPTH, 0, &far_depth);
     if (plan.lights.empty()) return;
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -302,11 +355,10 @@ void Renderer::draw_atlas(const FramePlan& plan) {
 
     // Each caster at the coarsest level of detail within settings_.caster_lod of the smallest texel
     // of this frame's tiles (level 0, the full mesh, with caster_lod = 0).
-    atlas_triangles_ = 0;
     auto for_each_caster = [&](int tiles_per_draw, auto&& draw) {
         for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
             const ObjectFrame& object = plan.objects[i];
-            if (!object.casts_shadows) continue;
+            if (!object.casts_shadows || !which(i)) continue;
             const GpuMesh& mesh = *instance_meshes_[i];
             const CasterLod& lod = mesh.caster_lod();
             const int level = choose_caster_level(
@@ -510,7 +562,8 @@ FrameStats Renderer::render(double time, const CameraView& view) {
         timer_warmed_up_ = true;
     }
 
-    draw_atlas(plan);
+    FrameStats stats;
+    draw_atlas(plan, stats);
 
     glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
     glViewport(0, 0, view.width, view.height);
@@ -529,7 +582,6 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
-    FrameStats stats;
     stats.passes = timer_.resolve();
     stats.lights = int(plan.lights.size());
     stats.lights_below_ground = lights_.below_ground;

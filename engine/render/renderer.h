@@ -13,11 +13,13 @@
 //   Image linear = renderer.read_back();
 //
 // render() and set_lights() create no GL objects and reuse their buffers from frame to frame; only a
-// change of image size, light count or settings reallocates (the returned pass-time list is the one
-// per-frame vector).
+// change of image size, light count or settings reallocates (and the shadow cache's layer is made the
+// first time something moves; the returned pass-time list is the one per-frame vector).
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -46,6 +48,12 @@ struct FrameStats {
     std::size_t atlas_bytes = 0;
     AtlasLayout atlas;
     std::size_t atlas_triangles = 0;  // caster triangles drawn into the atlas, all tiles together
+    // The shadow cache (RenderSettings::shadow_cache, docs/DESIGN.md §5.11) this frame: 1 when the atlas
+    // was drawn at all (0: it kept the last frame's depths, nothing having changed), 1 when the layer of
+    // the casters that do not move was redrawn, and the moving casters drawn over its copy.
+    int atlas_passes = 0;
+    int static_layer_renders = 0;
+    int moving_casters_drawn = 0;
 };
 
 class Renderer {
@@ -109,7 +117,10 @@ private:
     void ensure_target(int width, int height);
     int drawn_samples() const;  // settings_.msaa capped by max_samples_ (a warning, once, where it is)
     void upload(const FramePlan& plan);
-    void draw_atlas(const FramePlan& plan);
+    void draw_atlas(const FramePlan& plan, FrameStats& stats);
+    // Draws the casters `which` accepts (by ObjectFrame index) into every tile, over what the atlas holds or
+    // after clearing it.
+    void draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, bool clear);
     void draw_objects(const FramePlan& plan, const CameraView& view);
     void draw_depth_prepass(const FramePlan& plan, const CameraView& view);
     void build_tile_lists(const FramePlan& plan, const CameraView& view);
@@ -146,6 +157,20 @@ private:
     int atlas_depth_bits_ = 0;
     gl::Texture atlas_depth_;
     gl::Framebuffer atlas_;
+    // The shadow cache (docs/DESIGN.md §5.11). What went into a depth layer: the same key, the same depths.
+    struct AtlasKey {
+        std::uint64_t fit_version = 0;      // FramePlan::fit_version
+        std::uint64_t content_version = 0;  // bumped by set_scene and by a new atlas texture
+        float slope_bias = 0.0f, caster_lod = 0.0f;
+        bool cull_back_faces = false;
+        AtlasMode atlas = AtlasMode::clip_distances;
+        bool operator==(const AtlasKey&) const = default;
+    };
+    std::uint64_t content_version_ = 0;
+    std::optional<AtlasKey> atlas_holds_static_;  // atlas_depth_ holds exactly the static casters for this key
+    std::optional<AtlasKey> static_layer_holds_;  // static_depth_ holds them for this key
+    std::optional<AtlasKey> last_key_;            // the last frame's key
+    gl::Texture static_depth_;                    // the static casters' depths, atlas_depth_'s size and format
     int max_viewports_ = 1;
     bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds shader::size::max_lights records
     bool use_uniform_block_ = false;

@@ -59,6 +59,9 @@ struct Object {
     bool casts_shadows = true;
 
     glm::mat4 world_from_object(double t) const { return animation.motion_at(t) * transform; }
+    // Whether anything about the object's world-space geometry depends on t: the one test the shadow
+    // cache (docs/DESIGN.md §5.11) keeps apart what it may draw once from what it draws every frame.
+    bool moves() const { return animation.kind != Animation::Kind::none; }
 };
 
 struct EnvironmentSettings {

@@ -37,6 +37,26 @@ TEST(Variants, ItemsApplyLeftToRight) {
         EXPECT_THROW(apply_variant(base, bad), UsageError) << bad;
 }
 
+// Issue 18's shadow cache: on by default, off in the baseline, as bench --variants writes it.
+TEST(Variants, ShadowCacheAndFit) {
+    const RenderSettings base;
+    EXPECT_TRUE(base.shadow_cache);
+    EXPECT_EQ(base.shadow_fit, render::ShadowFit::frame);
+    const std::vector<Variant> variants = parse_variants("shadow_cache=off;shadow_cache=on", base);
+    ASSERT_EQ(variants.size(), 2u);
+    EXPECT_FALSE(variants[0].settings.shadow_cache);
+    EXPECT_TRUE(variants[1].settings.shadow_cache);
+    EXPECT_FALSE(apply_variant(base, "shadow-cache=off").shadow_cache);
+    EXPECT_EQ(apply_variant(base, "shadow-fit=animation").shadow_fit, render::ShadowFit::animation);
+    EXPECT_EQ(apply_variant(base, "shadow_fit=animation,shadow-fit=frame").shadow_fit, render::ShadowFit::frame);
+    const RenderSettings first = apply_variant(base, "baseline");
+    EXPECT_FALSE(first.shadow_cache);
+    EXPECT_EQ(first.shadow_fit, render::ShadowFit::frame);  // the first renderer's fits, frame by frame
+    EXPECT_TRUE(apply_variant(base, "baseline,shadow_cache=on").shadow_cache);
+    for (const char* bad : {"shadow_cache=yes", "shadow-fit=scene"})
+        EXPECT_THROW(apply_variant(base, bad), UsageError) << bad;
+}
+
 TEST(Variants, SemicolonsSeparateVariantsAndErrorsNameTheFlag) {
     RenderSettings base;
     base.tile_size = 512;

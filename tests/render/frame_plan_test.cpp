@@ -1,7 +1,10 @@
 // The frame plan without GL: casters inside their lights' tiles, caster rectangles, tiles apart,
 // the flat receivers' unshadowed sum against one written out by hand, which shade.frag variant
 // each object gets.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <numbers>
 #include <vector>
 
@@ -10,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include "render/frame_plan.h"
+#include "scene/scene.h"
 
 namespace envshadow::render {
 namespace {
@@ -316,6 +320,119 @@ TEST(FramePlan, WithoutLightsThereIsOneEmptyRectangleAndNoTexel) {
     EXPECT_EQ(plan.min_texel_world, 0.0f);
     EXPECT_EQ(plan.receiver_pad, 0.0f);
     EXPECT_EQ(plan.objects.size(), 4u);
+}
+
+RenderSettings fitted_over_animation() {
+    RenderSettings settings;
+    settings.shadow_fit = ShadowFit::animation;
+    return settings;
+}
+
+// ShadowFit::animation (docs/DESIGN.md §5.11): one projection per light for the whole loop, and the
+// flying caster inside every tile at every time, between the fit's samples too.
+TEST(FramePlan, AnimationFitsStayPutAndHoldTheMovingCasterAtEveryTime) {
+    const std::vector<WorldLight> lights = some_lights(17);
+    FramePlanner planner = three_casters(lights);
+    const AtlasLayout layout = plan_atlas(17, kTile, 16384);
+    const FramePlan first = planner.plan(0.0, eye_at({0, 2, 6}), layout, fitted_over_animation());
+    const float limit = 1.0f - 2.0f * kTileMarginTexels / float(kTile) + 1e-5f;
+    const double period = planner.objects()[2].object.animation.period;
+    for (int step = 1; step <= 301; ++step) {
+        const double time = 2.0 * period * double(step) / 301.0;  // 301: mostly between the 32 samples
+        const FramePlan& plan = planner.plan(time, eye_at({0, 2, 6}), layout, fitted_over_animation());
+        EXPECT_EQ(plan.fit_version, first.fit_version) << time;
+        for (std::size_t k = 0; k < plan.lights.size(); ++k) {
+            ASSERT_EQ(plan.lights[k].clip_from_world, first.lights[k].clip_from_world) << time;
+            for (const glm::vec3& p : world_corners(planner.objects()[2], plan.objects[2])) {
+                const glm::vec4 clip = plan.lights[k].clip_from_world * glm::vec4(p, 1.0f);
+                EXPECT_LE(std::abs(clip.x), limit) << "light " << k << " time " << time;
+                EXPECT_LE(std::abs(clip.y), limit) << "light " << k << " time " << time;
+                EXPECT_LT(std::abs(clip.z), 1.0f) << "light " << k << " time " << time;
+            }
+        }
+    }
+}
+
+TEST(FramePlan, FrameFitsFollowTheMovingCasterAndCountTheirChanges) {
+    const std::vector<WorldLight> lights = some_lights(5);
+    FramePlanner planner = three_casters(lights);
+    const AtlasLayout layout = plan_atlas(5, kTile, 16384);
+    RenderSettings settings;
+    settings.shadow_fit = ShadowFit::frame;
+    const FramePlan at_0 = planner.plan(0.0, eye_at({0, 2, 6}), layout, settings);
+    EXPECT_EQ(planner.plan(0.0, eye_at({1, 3, 6}), layout, settings).fit_version, at_0.fit_version)
+        << "the same casters, the same fits: the camera does not count";
+    const FramePlan at_1 = planner.plan(1.0, eye_at({0, 2, 6}), layout, settings);
+    EXPECT_NE(at_1.fit_version, at_0.fit_version);
+    EXPECT_NE(at_1.lights[0].clip_from_world, at_0.lights[0].clip_from_world);
+    // Over the animation the texels are never smaller than this frame's: the fit holds more points.
+    const FramePlan over = planner.plan(1.0, eye_at({0, 2, 6}), layout, fitted_over_animation());
+    EXPECT_NE(over.fit_version, at_1.fit_version);
+    for (std::size_t k = 0; k < over.lights.size(); ++k) EXPECT_GE(over.lights[k].bias.y, at_1.lights[k].bias.y) << k;
+}
+
+TEST(FramePlan, WithoutMotionBothFitsAreTheSame) {
+    std::vector<PlannedObject> objects = {box_at({0, 0.5f, 0}, {0.5f, 0.5f, 0.5f}),
+                                          box_at({2, 1, -1}, {0.2f, 1.0f, 0.3f})};
+    FramePlanner planner;
+    planner.set_objects(std::move(objects));
+    const std::vector<WorldLight> lights = some_lights(9);
+    planner.set_lights(lights);
+    const AtlasLayout layout = plan_atlas(9, kTile, 16384);
+    RenderSettings frame;
+    frame.shadow_fit = ShadowFit::frame;
+    const FramePlan a = planner.plan(3.0, eye_at({0, 2, 6}), layout, frame);
+    const FramePlan b = planner.plan(3.0, eye_at({0, 2, 6}), layout, fitted_over_animation());
+    for (std::size_t k = 0; k < a.lights.size(); ++k) {
+        EXPECT_EQ(a.lights[k].clip_from_world, b.lights[k].clip_from_world) << k;
+        EXPECT_EQ(a.lights[k].bias, b.lights[k].bias) << k;
+    }
+    EXPECT_EQ(a.fit_version, b.fit_version);
+}
+
+// The texel density ShadowFit::animation gives up on flyover (docs/PERFORMANCE.md, "Shadow caching"):
+// per light and time, (frame fit's texel / animation fit's texel)^2, over 128 lights of the upper
+// hemisphere and 64 times of the flying figure's loop. Printed; bounded by what was measured.
+TEST(FramePlan, FlyoversAnimationFitKeepsMostOfTheTexelDensity) {
+    const Scene scene = load_scene(std::filesystem::path(ENVSHADOW_SOURCE_DIR) / "assets/scenes/flyover.json");
+    std::vector<PlannedObject> objects;
+    for (const Object& object : scene.objects) {
+        PlannedObject& planned = objects.emplace_back();
+        planned.object = object;
+        planned.bounds_min = object.mesh->bounds_min;
+        planned.bounds_max = object.mesh->bounds_max;
+    }
+    FramePlanner planner;
+    planner.set_objects(std::move(objects));
+    std::vector<WorldLight> lights;
+    for (int i = 0; i < 128; ++i) {  // Fibonacci directions over the upper hemisphere
+        const float y = 1.0f - (float(i) + 0.5f) / 128.0f, r = std::sqrt(1.0f - y * y);
+        const float angle = std::numbers::pi_v<float> * (3.0f - std::sqrt(5.0f)) * float(i);
+        lights.push_back(light({r * std::cos(angle), y, r * std::sin(angle)}));
+    }
+    planner.set_lights(lights);
+    const AtlasLayout layout = plan_atlas(128, kTile, 16384);
+    RenderSettings frame;
+    frame.shadow_fit = ShadowFit::frame;
+    double sum = 0.0, lowest = 1.0;
+    int count = 0;
+    for (int step = 0; step < 64; ++step) {
+        const double time = 8.0 * double(step) / 64.0;  // the flying figure's period
+        const FramePlan per_frame = planner.plan(time, eye_at({0, 2.4f, 6.4f}), layout, frame);
+        const FramePlan over = planner.plan(time, eye_at({0, 2.4f, 6.4f}), layout, fitted_over_animation());
+        for (std::size_t k = 0; k < lights.size(); ++k) {
+            const double ratio = double(per_frame.lights[k].bias.y) / double(over.lights[k].bias.y);
+            EXPECT_LE(ratio, 1.0 + 1e-6) << "light " << k << " time " << time;
+            sum += ratio * ratio;
+            lowest = std::min(lowest, ratio * ratio);
+            ++count;
+        }
+    }
+    const double mean = sum / double(count);
+    std::printf("flyover, animation fit against per-frame fit: texel density %.3f on average, %.3f at least\n", mean,
+                lowest);
+    EXPECT_GT(mean, 0.3);  // measured 0.373
+    EXPECT_LT(mean, 0.9) << "the flying figure's loop must widen the fits";
 }
 
 }  // namespace

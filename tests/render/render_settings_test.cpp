@@ -1,5 +1,6 @@
 // Option names and range checks of the renderer's settings.
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -17,8 +18,10 @@ TEST(RenderSettings, DefaultsAreTheDocumentedOnes) {
     EXPECT_EQ(s.specular, SpecularMode::blended);
     EXPECT_EQ(s.diffuse, DiffuseMode::center);
     EXPECT_EQ(s.atlas, AtlasMode::clip_distances);
-    EXPECT_EQ(s.msaa, 1);                    // the engine's; the commands ask for 4
-    EXPECT_EQ(s.shadows, ShadowMode::hard);  // soft costs 2-4x the shading on flyover (docs/PERFORMANCE.md)
+    EXPECT_EQ(s.msaa, 1);                       // the engine's; the commands ask for 4
+    EXPECT_EQ(s.shadows, ShadowMode::hard);     // soft costs 2-4x the shading on flyover (docs/PERFORMANCE.md)
+    EXPECT_TRUE(s.shadow_cache);                // issue 18: the same image, less work (docs/DESIGN.md §5.11)
+    EXPECT_EQ(s.shadow_fit, ShadowFit::frame);  // the goldens' fits; animation asked for (changes their shadows)
     EXPECT_NO_THROW(validate(s));
 }
 
@@ -30,6 +33,9 @@ TEST(RenderSettings, NamesRoundTrip) {
     for (auto c : {CapKind::solid_angle, CapKind::weighted}) EXPECT_EQ(parse_cap_kind(to_string(c)), c);
     for (auto d : {DiffuseMode::center, DiffuseMode::cap}) EXPECT_EQ(parse_diffuse_mode(to_string(d)), d);
     for (auto m : {ShadowMode::hard, ShadowMode::soft}) EXPECT_EQ(parse_shadow_mode(to_string(m)), m);
+    for (auto f : {ShadowFit::animation, ShadowFit::frame}) EXPECT_EQ(parse_shadow_fit(to_string(f)), f);
+    EXPECT_EQ(parse_shadow_fit("frame"), ShadowFit::frame);
+    EXPECT_EQ(names<ShadowFit>(), (std::vector<std::string>{"frame", "animation"}));
     EXPECT_EQ(parse_shadow_mode("soft"), ShadowMode::soft);
     EXPECT_EQ(parse_pcf_kernel("2x2"), PcfKernel::hardware_2x2);
     EXPECT_EQ(parse_cap_kind("solid-angle"), CapKind::solid_angle);
