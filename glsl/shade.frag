@@ -51,7 +51,7 @@ vec3 prefiltered(sampler2D level, vec2 uv) {
 }
 
 // k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows, S_n
-// over the whole lobe (the cells' ratio clips it at the tangent plane: reflectivity_whole_lobe).
+// over the whole lobe (the cells' ratio clips it at the tangent plane: reflectivity's whole_lobe).
 vec3 unshadowed_radiance(vec3 n, vec3 mirror) {
     vec3 result = u_k_d * (PI * prefiltered(u_irradiance, latlong_uv(u_env_from_world * n)));
 #if !defined(DIFFUSE_ONLY)
@@ -176,10 +176,11 @@ float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
 #endif
 }
 
-// a(dw_i, w) of light i: k_d times the cosine term plus k_s times the specular average. `whole_lobe`
-// keeps the specular term of cells under the tangent plane (the ratio's denominator, below).
+// a(dw_i, w) of light i: k_d times the cosine term plus k_s times the specular average, which is zero
+// for a cell whose centre is under the tangent plane. `whole_lobe` hears the same with that cell's specular
+// term kept (the ratio's denominator, below), computed in the same pass.
 #define CLIP_COS_RADIUS 0.9
-vec3 reflectivity(int i, vec3 n, vec3 mirror, bool whole_lobe) {
+vec3 reflectivity(int i, vec3 n, vec3 mirror, out vec3 whole_lobe) {
     vec3 w = lights[i].direction.xyz;
     float cos_r = lights[i].direction.w;
     float cos_theta = dot(n, w);
@@ -188,9 +189,18 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror, bool whole_lobe) {
 #else
     float diffuse = max(cos_theta, 0.0);  // the paper's centre sample, a_d = k_d cos theta_c
 #endif
-    float specular = 0.0;  // the BRDF is zero under the tangent plane (docs/DESIGN.md §2)
+#if defined(SHADING_RATIO)
+    // The BRDF is zero under the tangent plane (docs/DESIGN.md §2), but the whole lobe is wanted too, and
+    // a cell too large to clip (its cap wider than acos CLIP_COS_RADIUS) keeps all of it.
+    bool clipped = cos_theta <= 0.0 && cos_r >= CLIP_COS_RADIUS;
+    bool needed = true;
+#else
+    bool clipped = cos_theta <= 0.0;  // the BRDF is zero under the tangent plane (docs/DESIGN.md §2)
+    bool needed = !clipped;
+#endif
+    float specular = 0.0;
 #if !defined(DIFFUSE_ONLY)
-    if (u_k_s > 0.0 && (cos_theta > 0.0 || whole_lobe || cos_r < CLIP_COS_RADIUS)) {
+    if (u_k_s > 0.0 && needed) {
 #if defined(SPECULAR_SINGLE)
         specular = average_specular_single(dot(w, mirror), u_shininess);
 #else
@@ -198,11 +208,13 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror, bool whole_lobe) {
 #endif
     }
 #endif
-    return u_k_d * diffuse + u_k_s * specular;
+    whole_lobe = u_k_d * diffuse + u_k_s * specular;
+    return clipped ? u_k_d * diffuse : whole_lobe;
 }
 
 vec3 reflectivity(int i, vec3 n, vec3 mirror) {
-    return reflectivity(i, n, mirror, false);
+    vec3 whole_lobe;
+    return reflectivity(i, n, mirror, whole_lobe);
 }
 
 #if defined(SHADING_RATIO)
@@ -211,9 +223,6 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror) {
 // the ratio takes off the part of the lobe under the surface as well as the shadows, weighted by where the
 // light really is (a sun inside the kept half keeps all of it); it matters where r grazes the surface
 // (docs/DESIGN.md §4.1).
-vec3 reflectivity_whole_lobe(int i, vec3 n, vec3 mirror) {
-    return reflectivity(i, n, mirror, true);
-}
 
 // A cell too large to clip (its cap wider than acos CLIP_COS_RADIUS) keeps its whole lobe above the line
 // too; where its centre is under the tangent plane its shadow lookup means nothing, and it counts as lit.
@@ -255,8 +264,9 @@ void main() {
 #if defined(SHADING_RATIO)
     vec3 whole_lobe = vec3(0.0);
     for (int i = 0; i < u_light_count; ++i) {
-        unshadowed += lights[i].radiance.rgb * reflectivity(i, n, mirror);
-        whole_lobe += lights[i].radiance.rgb * reflectivity_whole_lobe(i, n, mirror);
+        vec3 whole;
+        unshadowed += lights[i].radiance.rgb * reflectivity(i, n, mirror, whole);
+        whole_lobe += lights[i].radiance.rgb * whole;
     }
 #else
     for (int i = 0; i < u_light_count; ++i) unshadowed += lights[i].radiance.rgb * reflectivity(i, n, mirror);
@@ -287,10 +297,10 @@ void main() {
     // Numerator and denominator of the ratio in the one loop over the cells.
     vec3 shadowed = vec3(0.0), whole_lobe = vec3(0.0);
     for (int i = 0; i < u_light_count; ++i) {
-        vec3 whole = reflectivity_whole_lobe(i, n, mirror);
+        vec3 whole;
+        vec3 a = reflectivity(i, n, mirror, whole);
         if (max(whole.r, max(whole.g, whole.b)) <= 0.0) continue;
         whole_lobe += lights[i].radiance.rgb * whole;
-        vec3 a = reflectivity(i, n, mirror);
         if (max(a.r, max(a.g, a.b)) > 0.0) shadowed += cell_visibility(i, p, n) * lights[i].radiance.rgb * a;
     }
     radiance = unshadowed_radiance(n, mirror) * shadowed_fraction(shadowed, whole_lobe);

@@ -17,6 +17,7 @@
 #include "env/environment.h"
 #include "env/orientation.h"
 #include "gl_fixture.h"
+#include "render/render_test_util.h"
 #include "render/renderer.h"
 #include "scene/meshes.h"
 
@@ -26,16 +27,6 @@ namespace {
 using render::CameraView;
 using render::Renderer;
 using render::RenderSettings;
-
-CameraView look_at(glm::vec3 eye, glm::vec3 target, int width, int height, float fov_degrees = 40.0f) {
-    CameraView view;
-    view.eye = eye;
-    view.view_from_world = glm::lookAt(eye, target, glm::vec3(0, 1, 0));
-    view.clip_from_view = glm::perspective(glm::radians(fov_degrees), float(width) / float(height), 0.1f, 50.0f);
-    view.width = width;
-    view.height = height;
-    return view;
-}
 
 // The pixel (x, y from the top) that a world point lands on.
 glm::ivec2 pixel_of(const CameraView& view, glm::vec3 p) {
@@ -84,22 +75,6 @@ float luminance(const glm::vec4& c) {
 
 // PSNR (dB) of `a` against `reference` over the RGB of the pixels where the reference has alpha 1 (the
 // objects); the peak is the reference's largest value there.
-double object_psnr(const Image& a, const Image& reference, long* pixels = nullptr) {
-    double squared = 0.0, peak = 0.0;
-    long count = 0;
-    for (std::size_t i = 0; i < reference.pixels.size(); ++i) {
-        if (reference.pixels[i].a < 0.5f) continue;
-        for (int c = 0; c < 3; ++c) {
-            const double d = double(a.pixels[i][c]) - double(reference.pixels[i][c]);
-            squared += d * d;
-            peak = std::max(peak, double(reference.pixels[i][c]));
-        }
-        ++count;
-    }
-    if (pixels) *pixels = count;
-    const double mse = squared / double(3 * std::max(count, 1L));
-    return mse > 0.0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
-}
 
 struct FurnaceError {
     double rms = 0.0, max = 0.0;

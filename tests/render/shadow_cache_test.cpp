@@ -12,6 +12,7 @@
 #include "env/cells.h"
 #include "env/environment.h"
 #include "gl_fixture.h"
+#include "render/render_test_util.h"
 #include "render/renderer.h"
 #include "scene/meshes.h"
 
@@ -26,32 +27,11 @@ using render::RenderSettings;
 constexpr int kWidth = 128, kHeight = 96;
 
 CameraView look_at(glm::vec3 eye, glm::vec3 target) {
-    CameraView view;
-    view.eye = eye;
-    view.view_from_world = glm::lookAt(eye, target, glm::vec3(0, 1, 0));
-    view.clip_from_view = glm::perspective(glm::radians(40.0f), float(kWidth) / float(kHeight), 0.1f, 50.0f);
-    view.width = kWidth;
-    view.height = kHeight;
-    return view;
+    return testing::look_at(eye, target, kWidth, kHeight);
 }
 
 // PSNR (dB) of `a` against `reference` over the RGB of the reference's object pixels (alpha 1); the
 // peak is the reference's largest value there.
-double object_psnr(const Image& a, const Image& reference) {
-    double squared = 0.0, peak = 0.0;
-    long count = 0;
-    for (std::size_t i = 0; i < reference.pixels.size(); ++i) {
-        if (reference.pixels[i].a < 0.5f) continue;
-        for (int c = 0; c < 3; ++c) {
-            const double d = double(a.pixels[i][c]) - double(reference.pixels[i][c]);
-            squared += d * d;
-            peak = std::max(peak, double(reference.pixels[i][c]));
-        }
-        ++count;
-    }
-    const double mse = squared / double(3 * std::max(count, 1L));
-    return mse > 0.0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
-}
 
 Object object_at(Mesh mesh, glm::vec3 position, glm::vec3 albedo, bool casts = true) {
     Object object;

@@ -13,6 +13,7 @@
 
 #include "env/cells.h"
 #include "gl_fixture.h"
+#include "render/render_test_util.h"
 #include "render/renderer.h"
 #include "scene/meshes.h"
 
@@ -27,13 +28,7 @@ constexpr float kSlabTop = 1.1f;  // the nearest surface seen from the zenith: t
 constexpr float kSlabEdge = 0.5f;
 
 render::CameraView look_at(glm::vec3 eye, glm::vec3 target) {
-    render::CameraView view;
-    view.eye = eye;
-    view.view_from_world = glm::lookAt(eye, target, glm::vec3(0, 1, 0));
-    view.clip_from_view = glm::perspective(glm::radians(40.0f), float(kWidth) / float(kHeight), 0.1f, 50.0f);
-    view.width = kWidth;
-    view.height = kHeight;
-    return view;
+    return testing::look_at(eye, target, kWidth, kHeight);
 }
 
 glm::ivec2 pixel_of(const render::CameraView& view, glm::vec3 p) {
