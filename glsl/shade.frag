@@ -23,11 +23,15 @@
 // centre, which may lie beyond a silhouette edge; the same as the centre at one sample per pixel.
 layout(location = 0) centroid in vec3 v_world_position;
 layout(location = 1) centroid in vec3 v_world_normal;
+layout(location = 2) centroid in vec2 v_texcoord;
 
 layout(location = LOC_EYE) uniform vec3 u_eye;
 layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
 layout(location = LOC_ATLAS_TEXEL) uniform vec2 u_atlas_texel;  // size of one atlas texel in uv
 layout(location = LOC_K_D) uniform vec3 u_k_d;                  // rho_d / pi
+// The base-colour texture (linear: an sRGB texture), white without one; it scales k_d at each pixel.
+layout(binding = UNIT_BASE_COLOR) uniform sampler2D u_base_color;
+vec3 k_d;  // u_k_d times the texture at this pixel: main() sets it first
 layout(location = LOC_K_S) uniform float u_k_s;                 // rho_s (n + 2) / (2 pi)
 layout(location = LOC_SHININESS) uniform float u_shininess;
 
@@ -53,7 +57,7 @@ vec3 prefiltered(sampler2D level, vec2 uv) {
 // k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows, S_n
 // over the whole lobe (the cells' ratio clips it at the tangent plane: reflectivity's whole_lobe).
 vec3 unshadowed_radiance(vec3 n, vec3 mirror) {
-    vec3 result = u_k_d * (PI * prefiltered(u_irradiance, latlong_uv(u_env_from_world * n)));
+    vec3 result = k_d * (PI * prefiltered(u_irradiance, latlong_uv(u_env_from_world * n)));
 #if !defined(DIFFUSE_ONLY)
     if (u_k_s > 0.0) {
         vec2 uv = latlong_uv(u_env_from_world * mirror);
@@ -208,8 +212,8 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror, out vec3 whole_lobe) {
 #endif
     }
 #endif
-    whole_lobe = u_k_d * diffuse + u_k_s * specular;
-    return clipped ? u_k_d * diffuse : whole_lobe;
+    whole_lobe = k_d * diffuse + u_k_s * specular;
+    return clipped ? k_d * diffuse : whole_lobe;
 }
 
 vec3 reflectivity(int i, vec3 n, vec3 mirror) {
@@ -247,6 +251,8 @@ vec3 shading_normal(vec3 interpolated, vec3 view) {
 }
 
 void main() {
+    vec3 base_color = texture(u_base_color, v_texcoord).rgb;
+    k_d = u_k_d * base_color;
     vec3 p = v_world_position;
     vec3 view = normalize(u_eye - p);
     vec3 n = shading_normal(normalize(v_world_normal), view);
@@ -258,7 +264,8 @@ void main() {
     // (glsl/shadow_tiles.comp): the others see V = 1 here. The lists are the same for all pixels of a
     // tile, so on SIMD rasterisers the second loop's trip count is uniform.
 #if defined(FLAT_RECEIVER)
-    vec3 unshadowed = u_unshadowed;  // a plane with a diffuse material: its normal, hence every a_i, is constant
+    // A plane with a diffuse material: its normal, hence every a_i up to the texture's factor, is constant.
+    vec3 unshadowed = u_unshadowed * base_color;
 #else
     vec3 unshadowed = vec3(0.0);
 #if defined(SHADING_RATIO)

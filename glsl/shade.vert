@@ -1,8 +1,9 @@
 #version 450 core
-// Objects in the camera's view: world position and normal for shade.frag.
+// Objects in the camera's view: world position, normal and texture coordinates for shade.frag.
 
 layout(location = ATTRIB_POSITION) in vec3 a_position;
 layout(location = ATTRIB_NORMAL) in vec3 a_normal;
+layout(location = ATTRIB_TEXCOORD) in vec2 a_texcoord;
 
 layout(location = LOC_WORLD_FROM_OBJECT) uniform mat4 u_world_from_object;
 layout(location = LOC_WORLD_NORMAL_FROM_OBJECT) uniform mat3 u_world_normal_from_object;  // inverse transpose
@@ -12,10 +13,12 @@ invariant gl_Position;  // the depth pre-pass and the shading pass must give equ
 
 layout(location = 0) out vec3 v_world_position;
 layout(location = 1) out vec3 v_world_normal;
+layout(location = 2) out vec2 v_texcoord;
 
 void main() {
     vec4 world = u_world_from_object * vec4(a_position, 1.0);
     v_world_position = world.xyz;
     v_world_normal = u_world_normal_from_object * a_normal;
+    v_texcoord = a_texcoord;
     gl_Position = u_clip_from_world * world;
 }

@@ -23,6 +23,7 @@ struct RayTracer::State {
     std::vector<std::vector<glm::vec3>> normals;    // world space, unit, per object
     std::vector<bool> mirrored;                     // per object: world_from_object's determinant < 0
     std::vector<const std::vector<std::uint32_t>*> indices;
+    std::vector<const std::vector<glm::vec2>*> texcoords;  // the mesh's, per object (empty: none)
 
     ~State() {
         if (casters) rtcReleaseScene(casters);
@@ -69,6 +70,7 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
     s.normals.resize(scene.objects.size());
     s.mirrored.resize(scene.objects.size(), false);
     s.indices.resize(scene.objects.size(), nullptr);
+    s.texcoords.resize(scene.objects.size(), nullptr);
     double extent = 0.0;
     for (std::size_t k = 0; k < scene.objects.size(); ++k) {
         const Object& object = scene.objects[k];
@@ -90,6 +92,7 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
         }
         positions.push_back(glm::vec3(0.0f));  // padding for Embree's 16-byte vertex reads
         s.indices[k] = &mesh.indices;
+        s.texcoords[k] = &mesh.texcoords;
         attach(s.device, s.everything, positions, mesh.indices);
         s.object_of_geometry.push_back(k);
         if (object.casts_shadows) attach(s.device, s.casters, positions, mesh.indices);
@@ -139,6 +142,9 @@ std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dve
                          v * glm::dvec3(normals[triangle[2]]);
     const double n_length = glm::length(n);
     hit.shading_normal = n_length > 0.0 ? n / n_length : hit.geometric_normal;
+    if (const std::vector<glm::vec2>& uv = *state_->texcoords[object]; !uv.empty())
+        hit.texcoord = glm::vec2(w * glm::dvec2(uv[triangle[0]]) + u * glm::dvec2(uv[triangle[1]]) +
+                                 v * glm::dvec2(uv[triangle[2]]));
     return hit;
 }
 

@@ -2,6 +2,7 @@
 // The scene's triangles at one instant, in world space, in two Embree 3 BVHs: everything (what the
 // camera sees) and the shadow casters (Object::casts_shadows; what blocks the environment).
 #include <cstddef>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <memory>
 #include <optional>
@@ -17,6 +18,7 @@ struct Hit {
     glm::dvec3 shading_normal;    // interpolated vertex normals, world space, unit
     glm::dvec3 geometric_normal;  // the triangle's, on the side its vertices turn counter-clockwise in object
                                   // space (the front, whatever the transform), world space, unit
+    glm::vec2 texcoord{0.0f};     // interpolated Mesh::texcoords; (0, 0) without them
 };
 
 class RayTracer {

@@ -248,9 +248,13 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                 s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
                 basis(s.normal, s.normal_b1, s.normal_b2);
                 basis(s.mirror, s.mirror_b1, s.mirror_b2);
-                s.k_d =
-                    glm::dvec3(brdf::diffuse_coefficient(material.rho_d.r), brdf::diffuse_coefficient(material.rho_d.g),
-                               brdf::diffuse_coefficient(material.rho_d.b));
+                // The base-colour texture scales rho_d at the hit, as shade.frag's k_d (bilinear at full
+                // resolution here; the GPU's mip chain agrees where a texel covers a pixel or more).
+                glm::vec3 rho_d = material.rho_d;
+                if (material.base_color_texture && !scene.objects[hit->object].mesh->texcoords.empty())
+                    rho_d *= sample_linear_rgb(*material.base_color_texture, hit->texcoord);
+                s.k_d = glm::dvec3(brdf::diffuse_coefficient(rho_d.r), brdf::diffuse_coefficient(rho_d.g),
+                                   brdf::diffuse_coefficient(rho_d.b));
                 s.shininess = std::max(0.0, double(material.shininess));
                 s.k_s = material.rho_s > 0.0f ? brdf::specular_coefficient(material.rho_s, material.shininess) : 0.0;
                 s.offset = 1e-5 * (tracer.extent() + glm::length(s.position));

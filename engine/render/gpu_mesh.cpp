@@ -33,6 +33,14 @@ GpuMesh::GpuMesh(const Mesh& mesh, const std::function<void(double fraction)>& p
         glVertexArrayAttribFormat(vao, attribute, 3, GL_FLOAT, GL_FALSE, 0);
         glVertexArrayAttribBinding(vao, attribute, attribute);
     }
+    if (!mesh.texcoords.empty()) {
+        texcoords_ = make(mesh.texcoords);
+        constexpr GLuint texcoord = shader::attrib::texcoord;
+        glVertexArrayVertexBuffer(vao, texcoord, texcoords_.id(), 0, sizeof(glm::vec2));
+        glEnableVertexArrayAttrib(vao, texcoord);
+        glVertexArrayAttribFormat(vao, texcoord, 2, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribBinding(vao, texcoord, texcoord);
+    }
     glVertexArrayElementBuffer(vao, indices_.id());
 
     caster_lod_ = build_caster_lod(mesh.positions, mesh.indices, progress);

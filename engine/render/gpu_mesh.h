@@ -1,5 +1,6 @@
 #pragma once
-// A scene mesh in GPU buffers: attributes shader::attrib::position and normal (object space), 32-bit
+// A scene mesh in GPU buffers: attributes shader::attrib::position and normal (object space) and, where
+// the mesh has them, texcoord; 32-bit
 // indices; and the shadow-caster levels of detail (render/caster_lod.h) in a second index buffer
 // over the same positions. Needs a current GL context.
 #include <functional>
@@ -31,7 +32,7 @@ public:
     void draw_caster(int level, int instances = 1) const;  // glDrawElementsInstanced of that level
 
 private:
-    gl::Buffer positions_, normals_, indices_, caster_indices_;
+    gl::Buffer positions_, normals_, texcoords_, indices_, caster_indices_;
     gl::VertexArray vertex_array_, caster_vertex_array_;
     GLsizei index_count_ = 0;
     CasterLod caster_lod_;

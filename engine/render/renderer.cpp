@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include <glm/matrix.hpp>
@@ -17,6 +18,7 @@
 #include "env/orientation.h"
 #include "gl/readback.h"
 #include "render/embedded_shaders.h"
+#include "render/gpu_texture.h"
 #include "render/shader_interface.h"
 
 namespace envshadow::render {
@@ -126,8 +128,13 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
     meshes_.clear();
     instance_meshes_.clear();
     instance_of_object_.clear();
+    textures_.clear();
+    instance_textures_.clear();
+    if (!white_texture_) white_texture_ = white_texture();
     std::vector<PlannedObject> planned;
     std::map<const Mesh*, const GpuMesh*> uploaded;
+    // One upload per image and sampler state.
+    std::map<std::tuple<const TextureImage*, TextureWrap, TextureWrap, bool>, const gl::Texture*> uploaded_textures;
     for (const Object& object : scene.objects) {
         instance_of_object_.push_back(-1);
         if (!object.mesh || object.mesh->indices.empty()) continue;
@@ -146,6 +153,17 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         }
         const GpuMesh& mesh = *it->second;
         instance_meshes_.push_back(&mesh);
+        const gl::Texture* texture = &white_texture_;
+        if (const auto& t = object.material.base_color_texture; t && !object.mesh->texcoords.empty()) {
+            auto [tex, new_texture] =
+                uploaded_textures.emplace(std::tuple(t->image.get(), t->wrap_s, t->wrap_t, t->nearest), nullptr);
+            if (new_texture) {
+                textures_.push_back(std::make_unique<gl::Texture>(upload_material_texture(*t)));
+                tex->second = textures_.back().get();
+            }
+            texture = tex->second;
+        }
+        instance_textures_.push_back(texture);
         PlannedObject& object_plan = planned.emplace_back();
         object_plan.object = object;
         object_plan.object.mesh.reset();  // the GPU copy is enough
@@ -512,6 +530,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
             prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
             glProgramUniform1f(program, loc::specular_weight, pair.weight);
         }
+        instance_textures_[i]->bind(unit::base_color);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }

@@ -68,6 +68,7 @@ namespace envshadow::render::shader {
     X(unit, specular_lower, 4) /* shade.frag SHADING_RATIO: the two levels about n */                  \
     X(unit, specular_upper, 5)                                                                         \
     X(unit, atlas_depth, 6) /* shade.frag SOFT_SHADOWS: the atlas as depths (blocker search) */        \
+    X(unit, base_color, 7)  /* shade.frag: the material's base-colour texture (white without one) */   \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \
@@ -85,6 +86,7 @@ namespace envshadow::render::shader {
     /* vertex attributes */                                                                            \
     X(attrib, position, 0)                                                                             \
     X(attrib, normal, 1)                                                                               \
+    X(attrib, texcoord, 2) /* unset (0, 0) on meshes without texture coordinates */                    \
     /* sizes */                                                                                        \
     X(size, max_lights, kMaxLights) /* light records the uniform block and the tile lists hold */      \
     X(size, screen_tile, 16)        /* pixels: shadow_tiles.comp's work group, shade.frag's tile */    \

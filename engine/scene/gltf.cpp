@@ -1,5 +1,6 @@
 #include "scene/gltf.h"
 
+#include <stb_image.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -22,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/image.h"
 #include "core/log.h"
 #include "scene/gltf_material.h"
 #include "scene/gltf_schema.h"
@@ -36,6 +38,7 @@ constexpr std::uintmax_t kMaxFileBytes = 2'000'000'000;  // tinygltf takes unsig
 constexpr std::size_t kMaxVertices = 3 * kMaxGltfTriangles;
 constexpr int kMaxNodeDepth = 1000;  // node hierarchy levels: the traversal recurses once per level
 constexpr int kMaxJsonDepth = 64;    // nesting of JSON values: tinygltf converts "extras" recursively
+constexpr std::size_t kMaxTextureTexels = std::size_t(1) << 28;  // all decoded textures together (1 GiB RGBA8)
 
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& reason) {
     throw InputError(file.string() + ": " + reason);
@@ -118,8 +121,14 @@ struct AccessorData {
 
 class Flattener {
 public:
-    Flattener(const std::filesystem::path& path, const tinygltf::Model& model, std::vector<GltfMaterial> materials)
-        : path_(path), model_(model), materials_(std::move(materials)), part_of_material_(materials_.size() + 1, -1) {}
+    // textures: by glTF texture index, the base-colour textures the materials use (others unset).
+    Flattener(const std::filesystem::path& path, const tinygltf::Model& model, std::vector<GltfMaterial> materials,
+              std::vector<std::optional<MaterialTexture>> textures)
+        : path_(path),
+          model_(model),
+          materials_(std::move(materials)),
+          textures_(std::move(textures)),
+          part_of_material_(materials_.size() + 1, -1) {}
 
     GltfModel run() {
         std::vector<int> roots;
@@ -249,6 +258,48 @@ private:
         glm::vec3 v;
         std::memcpy(&v[0], d.bytes + i * d.stride, 12);
         return v;
+    }
+
+    // The base-colour texture reference of glTF material `material`, where it has one that resolved.
+    const GltfTextureRef* texture_ref(int material) const {
+        if (material < 0) return nullptr;
+        const GltfMaterial& m = materials_[std::size_t(material)];
+        return m.base_color && textures_[std::size_t(m.base_color->texture)] ? &*m.base_color : nullptr;
+    }
+
+    // Texture coordinates of the kept vertices `source`: float, or normalised unsigned byte or short,
+    // VEC2 (glTF 2.0 §3.7.2.1), through the material's KHR_texture_transform.
+    std::vector<glm::vec2> read_texcoords(int index, const std::string& what, std::size_t vertex_count,
+                                          const std::vector<std::uint32_t>& source, const glm::mat3& transform) const {
+        const AccessorData d = accessor(index, what);
+        const tinygltf::Accessor& a = model_.accessors[std::size_t(index)];
+        const bool is_float = d.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT;
+        const bool is_unorm = a.normalized && (d.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                               d.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+        if (a.type != TINYGLTF_TYPE_VEC2 || !(is_float || is_unorm))
+            fail(path_, what + " (accessor " + std::to_string(index) +
+                            ") must be VEC2 of float or of normalized unsigned byte or short");
+        if (d.count != vertex_count)
+            fail(path_, what + " has " + std::to_string(d.count) + " elements for " + std::to_string(vertex_count) +
+                            " positions");
+        std::vector<glm::vec2> out(source.size());
+        for (std::size_t v = 0; v < source.size(); ++v) {
+            const unsigned char* p = d.bytes + std::size_t(source[v]) * d.stride;
+            glm::vec2 uv;
+            if (is_float) {
+                std::memcpy(&uv[0], p, 8);
+                if (!std::isfinite(uv.x) || !std::isfinite(uv.y) || std::abs(uv.x) > 1e6f || std::abs(uv.y) > 1e6f)
+                    fail(path_, what + " " + std::to_string(source[v]) + " is not finite or beyond 1e6");
+            } else if (d.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+                uv = glm::vec2(p[0], p[1]) / 255.0f;
+            } else {
+                std::uint16_t c[2];
+                std::memcpy(c, p, 4);
+                uv = glm::vec2(c[0], c[1]) / 65535.0f;
+            }
+            out[v] = glm::vec2(transform * glm::vec3(uv, 1.0f));
+        }
+        return out;
     }
 
     std::vector<std::uint32_t> read_indices(int index, const std::string& what, std::size_t vertex_count) const {
@@ -396,6 +447,16 @@ private:
             }
             if (!normals_usable) compute_vertex_normals(part);
 
+            if (const GltfTextureRef* ref = texture_ref(prim.material)) {
+                const std::string set = "TEXCOORD_" + std::to_string(ref->texcoord);
+                const auto it = prim.attributes.find(set);
+                if (it == prim.attributes.end())
+                    fail(path_, what + ": its material's base colour texture reads " + set +
+                                    ", which the primitive does not have");
+                part.texcoords = read_texcoords(it->second, what + " " + set, positions.count, source,
+                                                ref->uv_transform);
+            }
+
             if (part.indices.empty()) continue;  // a strip or fan of degenerate triangles only
             triangles_ += part.triangle_count();
             vertices_ += part.positions.size();
@@ -408,12 +469,11 @@ private:
     std::size_t part_for(int material) {
         int& part = part_of_material_[std::size_t(material + 1)];
         if (part >= 0) return std::size_t(part);
-        const GltfMaterial mapped =
-            material >= 0 ? materials_[std::size_t(material)] : GltfMaterial{Material{}, "no material"};
-        const auto same = std::find_if(part_materials_.begin(), part_materials_.end(), [&](const GltfMaterial& m) {
-            return m.material.rho_d == mapped.material.rho_d && m.material.rho_s == mapped.material.rho_s &&
-                   m.material.shininess == mapped.material.shininess;
-        });
+        GltfMaterial mapped =
+            material >= 0 ? materials_[std::size_t(material)] : GltfMaterial{Material{}, "no material", std::nullopt};
+        if (texture_ref(material)) mapped.material.base_color_texture = textures_[std::size_t(mapped.base_color->texture)];
+        const auto same = std::find_if(part_materials_.begin(), part_materials_.end(),
+                                       [&](const GltfMaterial& m) { return m.material.same_as(mapped.material); });
         part = int(same - part_materials_.begin());
         if (same == part_materials_.end()) {
             part_materials_.push_back(mapped);
@@ -426,6 +486,7 @@ private:
         const auto base = std::uint32_t(to.positions.size());
         to.positions.insert(to.positions.end(), primitive.positions.begin(), primitive.positions.end());
         to.normals.insert(to.normals.end(), primitive.normals.begin(), primitive.normals.end());
+        to.texcoords.insert(to.texcoords.end(), primitive.texcoords.begin(), primitive.texcoords.end());
         to.indices.reserve(to.indices.size() + primitive.indices.size());
         for (const std::uint32_t i : primitive.indices) to.indices.push_back(base + i);
     }
@@ -433,6 +494,7 @@ private:
     const std::filesystem::path& path_;
     const tinygltf::Model& model_;
     const std::vector<GltfMaterial> materials_;
+    const std::vector<std::optional<MaterialTexture>> textures_;
     std::vector<int> part_of_material_;  // by glTF material index + 1 (0: no material); -1 until met
     std::vector<GltfMaterial> part_materials_;
     std::vector<Mesh> parts_;
@@ -441,8 +503,92 @@ private:
     std::size_t skipped_ = 0;
 };
 
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
-    return true;  // textures are not used: do not decode them
+// tinygltf's image callback: decodes, with stb_image, the images the base-colour textures use (the
+// others are left undecoded) after checking their headers against the size limits.
+struct ImageDecoder {
+    std::vector<bool> wanted;                                 // by image index
+    std::vector<std::shared_ptr<const TextureImage>> images;  // decoded, by image index
+    std::size_t texels = 0;
+    std::string error;  // the first failure, in our words (tinygltf's message around it is dropped)
+
+    static bool decode(tinygltf::Image*, const int index, std::string* err, std::string*, int, int,
+                       const unsigned char* bytes, int size, void* user) {
+        auto& self = *static_cast<ImageDecoder*>(user);
+        if (index < 0 || std::size_t(index) >= self.wanted.size() || !self.wanted[std::size_t(index)]) return true;
+        const std::string what = "image " + std::to_string(index);
+        const auto failed = [&](const std::string& reason) {
+            if (self.error.empty()) self.error = what + ": " + reason;
+            if (err) *err += self.error;
+            return false;
+        };
+        const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0;
+        const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
+        if (!png && !jpeg) return failed("not a PNG or JPEG image");
+        int w = 0, h = 0, channels = 0;
+        // A PNG's size straight from its IHDR chunk: stb_image's header scan refuses large ones with
+        // a reason that another format's probe then overwrites.
+        if (png && size >= 24 && std::memcmp(bytes + 12, "IHDR", 4) == 0) {
+            const auto be32 = [](const unsigned char* p) {
+                return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
+            };
+            w = int(std::min<std::uint32_t>(be32(bytes + 16), 1u << 30));
+            h = int(std::min<std::uint32_t>(be32(bytes + 20), 1u << 30));
+        } else if (!stbi_info_from_memory(bytes, size, &w, &h, &channels)) {
+            return failed(std::string("cannot read its header (") + stbi_failure_reason() + ")");
+        }
+        if (w <= 0 || h <= 0 || w > kMaxImageWidth || h > kMaxImageHeight)
+            return failed(std::to_string(w) + "x" + std::to_string(h) + " is beyond the " +
+                          std::to_string(kMaxImageWidth) + "x" + std::to_string(kMaxImageHeight) + " limit");
+        if (std::size_t(w) * std::size_t(h) > kMaxTextureTexels - self.texels)
+            return failed("the textures together exceed " + std::to_string(kMaxTextureTexels) + " texels (limit)");
+        stbi_uc* data = stbi_load_from_memory(bytes, size, &w, &h, &channels, 4);
+        if (!data) return failed(std::string("cannot decode it (") + stbi_failure_reason() + ")");
+        auto image = std::make_shared<TextureImage>();
+        image->width = w;
+        image->height = h;
+        image->rgba.assign(data, data + std::size_t(w) * std::size_t(h) * 4);
+        stbi_image_free(data);
+        self.texels += std::size_t(w) * std::size_t(h);
+        self.images[std::size_t(index)] = std::move(image);
+        return true;
+    }
+};
+
+TextureWrap wrap_mode(int gl_wrap) {
+    switch (gl_wrap) {
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return TextureWrap::clamp_to_edge;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return TextureWrap::mirrored_repeat;
+        default: return TextureWrap::repeat;
+    }
+}
+
+// The glTF textures the materials' base colours use, by texture index: their image (decoded by the
+// ImageDecoder) and sampler. A texture without a PNG/JPEG source (only an extension's) is left unset,
+// with a warning: its material shows its factors.
+std::vector<std::optional<MaterialTexture>> resolve_textures(const std::filesystem::path& path,
+                                                             const tinygltf::Model& model,
+                                                             const std::vector<GltfMaterial>& materials,
+                                                             const ImageDecoder& decoder) {
+    std::vector<std::optional<MaterialTexture>> out(model.textures.size());
+    for (const GltfMaterial& m : materials) {
+        if (!m.base_color) continue;
+        const auto t = std::size_t(m.base_color->texture);
+        const tinygltf::Texture& texture = model.textures[t];
+        if (texture.source < 0 || !decoder.images[std::size_t(texture.source)]) continue;
+        MaterialTexture mt;
+        mt.image = decoder.images[std::size_t(texture.source)];
+        if (texture.sampler >= 0) {
+            if (std::size_t(texture.sampler) >= model.samplers.size())
+                fail(path, "texture " + std::to_string(t) + " refers to sampler " + std::to_string(texture.sampler) +
+                               ", which does not exist");
+            const tinygltf::Sampler& sampler = model.samplers[std::size_t(texture.sampler)];
+            mt.wrap_s = wrap_mode(sampler.wrapS);
+            mt.wrap_t = wrap_mode(sampler.wrapT);
+            mt.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+        }
+        out[t] = std::move(mt);
+    }
+    return out;
 }
 
 // tinygltf's file access, limited to regular files: it reads every image and buffer a URI names,
@@ -496,6 +642,32 @@ GltfModel load_gltf(const std::filesystem::path& path) {
              {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "EXT_meshopt_compression"})
             if (name == unsupported) fail(path, "requires " + std::string(unsupported) + ", which is not supported");
 
+    GltfMaterials materials = read_gltf_materials(path, document);
+
+    // The images the base-colour textures use, checked to exist before tinygltf reads them.
+    const json textures = document.value("textures", json::array());
+    const json images = document.value("images", json::array());
+    ImageDecoder decoder;
+    decoder.wanted.assign(images.size(), false);
+    decoder.images.resize(images.size());
+    for (std::size_t i = 0; i < materials.materials.size(); ++i) {
+        const std::optional<GltfTextureRef>& ref = materials.materials[i].base_color;
+        if (!ref) continue;
+        if (std::size_t(ref->texture) >= textures.size())
+            fail(path, "materials[" + std::to_string(i) + "] uses texture " + std::to_string(ref->texture) +
+                           ", which does not exist");
+        const json& texture = textures[std::size_t(ref->texture)];
+        const auto source = texture.find("source");
+        if (source == texture.end()) {
+            log::warn(path.string() + ": texture " + std::to_string(ref->texture) +
+                      " has no PNG or JPEG source: materials[" + std::to_string(i) + "] shows its factors");
+            continue;
+        }
+        if (!source->is_number_unsigned() || source->get<std::size_t>() >= images.size())
+            fail(path, "texture " + std::to_string(ref->texture) + " refers to image " + source->dump() +
+                           ", which does not exist");
+        decoder.wanted[source->get<std::size_t>()] = true;
+    }
     const std::filesystem::path base_dir = path.parent_path();
     for (std::size_t i = 0; i < document.value("buffers", json::array()).size(); ++i) {
         const json& buffer = document["buffers"][i];
@@ -508,8 +680,19 @@ GltfModel load_gltf(const std::filesystem::path& path) {
             fail(path, "buffer " + std::to_string(i) + " file " + file.string() + " not found");
     }
 
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        if (!decoder.wanted[i] || !images[i].contains("uri")) continue;
+        const std::string uri = images[i]["uri"].get<std::string>();
+        if (uri.rfind("data:", 0) == 0) continue;
+        const std::filesystem::path file = base_dir / percent_decode(uri);
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(file, ec))
+            fail(path, "image " + std::to_string(i) + " file " + file.string() + " not found");
+    }
+
+
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(skip_image, nullptr);
+    loader.SetImageLoader(ImageDecoder::decode, &decoder);
     loader.SetFsCallbacks({regular_file_exists, path_unchanged, read_regular_file, nullptr, nullptr});
     tinygltf::Model model;
     std::string err, warn;
@@ -517,12 +700,13 @@ GltfModel load_gltf(const std::filesystem::path& path) {
                                                          base_dir.string())
                            : loader.LoadASCIIFromString(&model, &err, &warn, json_text.data(),
                                                         unsigned(json_text.size()), base_dir.string());
+    if (!decoder.error.empty()) fail(path, decoder.error);
     if (!ok) fail(path, one_line(err.empty() ? "tinygltf could not load it" : err));
     if (!err.empty()) fail(path, one_line(err));  // tinygltf reports some errors and still returns true
     if (!warn.empty()) log::warn(path.string() + ": " + one_line(warn));
 
-    GltfMaterials materials = read_gltf_materials(path, document);
-    GltfModel result = Flattener(path, model, std::move(materials.materials)).run();
+    std::vector<std::optional<MaterialTexture>> resolved = resolve_textures(path, model, materials.materials, decoder);
+    GltfModel result = Flattener(path, model, std::move(materials.materials), std::move(resolved)).run();
     result.ignored_extensions = std::move(materials.ignored_extensions);
     for (const std::string& name : result.ignored_extensions)
         log::warn(path.string() + ": material extension " + name + " is not supported: ignored");

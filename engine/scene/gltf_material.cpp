@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include <glm/common.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -52,6 +54,7 @@ public:
                 const glm::vec3 specular = unit_rgb(sg, "specularFactor", 3, at);
                 const float glossiness = unit(sg, "glossinessFactor", at);
                 g.material = material_from_specular_glossiness(diffuse, specular, glossiness);
+                g.base_color = texture_ref(sg, "diffuseTexture", at);
             } else {
                 static const json kEmpty = json::object();
                 const auto pbr_it = m.find("pbrMetallicRoughness");
@@ -60,6 +63,7 @@ public:
                 const glm::vec3 base = unit_rgb(pbr, "baseColorFactor", 4, at);
                 g.material = material_from_metallic_roughness(base, unit(pbr, "metallicFactor", at),
                                                               unit(pbr, "roughnessFactor", at));
+                g.base_color = texture_ref(pbr, "baseColorTexture", at);
             }
             out.materials.push_back(std::move(g));
         }
@@ -95,6 +99,66 @@ private:
             if (k < 3) rgb[int(k)] = x;
         }
         return rgb;
+    }
+
+    // A textureInfo: its index and texCoord (type-checked here: the extension's objects are not in the
+    // core schema check) and KHR_texture_transform, whose texCoord overrides the core one.
+    std::optional<GltfTextureRef> texture_ref(const json& object, const char* key, const std::string& where) const {
+        const auto it = object.find(key);
+        if (it == object.end()) return std::nullopt;
+        const std::string at = where + "." + key;
+        if (!it->is_object()) fail(at, "expected an object");
+        GltfTextureRef ref;
+        ref.texture = index(*it, "index", at, true);
+        ref.texcoord = index(*it, "texCoord", at, false);
+        if (const auto ext = it->find("extensions"); ext != it->end() && ext->is_object())
+            if (const auto t = ext->find("KHR_texture_transform"); t != ext->end()) {
+                const std::string tat = at + ".extensions.KHR_texture_transform";
+                if (!t->is_object()) fail(tat, "expected an object");
+                const glm::vec2 offset = pair(*t, "offset", tat, glm::vec2(0.0f));
+                const glm::vec2 scale = pair(*t, "scale", tat, glm::vec2(1.0f));
+                const float rotation = number(*t, "rotation", tat, 0.0f);
+                if (t->contains("texCoord")) ref.texcoord = index(*t, "texCoord", tat, false);
+                // The extension's T * R * S (column-major): a counter-clockwise turn of the uvs, whose v
+                // axis points down the image.
+                const float c = std::cos(rotation), s = std::sin(rotation);
+                const glm::mat3 translation(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);
+                const glm::mat3 turn(c, -s, 0, s, c, 0, 0, 0, 1);
+                const glm::mat3 scaling(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
+                ref.uv_transform = translation * turn * scaling;
+            }
+        return ref;
+    }
+    int index(const json& object, const char* key, const std::string& where, bool required) const {
+        const auto it = object.find(key);
+        if (it == object.end()) {
+            if (required) fail(where, std::string("has no \"") + key + "\"");
+            return 0;
+        }
+        if (!it->is_number_integer() || it->get<long long>() < 0 || it->get<long long>() > 1'000'000)
+            fail(where + "." + key, "expected a non-negative integer");
+        return int(it->get<long long>());
+    }
+    float number(const json& object, const char* key, const std::string& where, float fallback) const {
+        const auto it = object.find(key);
+        if (it == object.end()) return fallback;
+        if (!it->is_number() || !std::isfinite(it->get<double>()) || std::abs(it->get<double>()) > 1e6)
+            fail(where + "." + key, "expected a number of magnitude at most 1e6");
+        return float(it->get<double>());
+    }
+    glm::vec2 pair(const json& object, const char* key, const std::string& where, glm::vec2 fallback) const {
+        const auto it = object.find(key);
+        if (it == object.end()) return fallback;
+        const std::string at = where + "." + key;
+        if (!it->is_array() || it->size() != 2) fail(at, "expected 2 numbers");
+        glm::vec2 v;
+        for (int k = 0; k < 2; ++k) {
+            const json& x = (*it)[std::size_t(k)];
+            if (!x.is_number() || std::abs(x.get<double>()) > 1e6)
+                fail(at + "[" + std::to_string(k) + "]", "expected a number of magnitude at most 1e6");
+            v[k] = float(x.get<double>());
+        }
+        return v;
     }
 
     const std::filesystem::path& file_;

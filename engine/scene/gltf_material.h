@@ -1,10 +1,12 @@
 #pragma once
 // glTF 2.0 materials mapped onto the paper's modified Phong BRDF (docs/DESIGN.md §2; the mapping and its
-// limits: docs/SCENES.md "Materials from glTF"). Factors only: textures are not read.
+// limits: docs/SCENES.md "Materials from glTF"). Factors, and which texture gives the base colour.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 #include <nlohmann/json_fwd.hpp>
 
@@ -42,9 +44,18 @@ Material material_from_metallic_roughness(const glm::vec3& base_color, float met
 // roughness = 1 - glossiness, rho_s = luminance(specular) (n + 1) / (n + 2).
 Material material_from_specular_glossiness(const glm::vec3& diffuse, const glm::vec3& specular, float glossiness);
 
+// A material's textureInfo (baseColorTexture, or the extension's diffuseTexture): the texture, its
+// TEXCOORD set and KHR_texture_transform as the affine map uv' = (uv_transform * vec3(uv, 1)).xy.
+struct GltfTextureRef {
+    int texture = -1;  // index into the file's "textures" (checked by load_gltf)
+    int texcoord = 0;  // TEXCOORD_<texcoord>
+    glm::mat3 uv_transform{1.0f};
+};
+
 struct GltfMaterial {
-    Material material;
-    std::string name;  // the glTF material's name, or "material <index>" without one
+    Material material;  // base_color_texture unset: load_gltf resolves base_color below
+    std::string name;   // the glTF material's name, or "material <index>" without one
+    std::optional<GltfTextureRef> base_color;
 };
 
 struct GltfMaterials {

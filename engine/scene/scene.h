@@ -5,25 +5,42 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+
+#include "scene/texture.h"
 
 namespace envshadow {
 
 // Albedos (docs/DESIGN.md §2): k_d = rho_d / pi, k_s = rho_s (n + 2) / (2 pi).
+// A base-colour texture, where present, multiplies rho_d per pixel (linear RGB; docs/SCENES.md
+// "Textures"): k_d = rho_d texture(uv) / pi.
 struct Material {
     glm::vec3 rho_d{0.8f};
     float rho_s = 0.0f;
     float shininess = 1.0f;
+    std::optional<MaterialTexture> base_color_texture = std::nullopt;  // needs Mesh::texcoords
+
+    bool same_as(const Material& o) const {
+        const auto image = [](const Material& m) { return m.base_color_texture ? m.base_color_texture->image : nullptr; };
+        return rho_d == o.rho_d && rho_s == o.rho_s && shininess == o.shininess && image(*this) == image(o) &&
+               (!base_color_texture || (base_color_texture->wrap_s == o.base_color_texture->wrap_s &&
+                                        base_color_texture->wrap_t == o.base_color_texture->wrap_t &&
+                                        base_color_texture->nearest == o.base_color_texture->nearest));
+    }
 };
 
-// Triangles in object space. normals.size() == positions.size(); indices.size() % 3 == 0.
+// Triangles in object space. normals.size() == positions.size(); indices.size() % 3 == 0; texcoords
+// empty or one per position (the texture coordinates a material's texture reads, any transform applied).
 struct Mesh {
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;
+    std::vector<glm::vec2> texcoords;
     std::vector<std::uint32_t> indices;
     glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
 

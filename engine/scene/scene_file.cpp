@@ -386,7 +386,8 @@ private:
         return m;
     }
 
-    // The keys given replace those of `base` (a model part's mapped material, or Material{}).
+    // The keys given replace those of `base` (a model part's mapped material, or Material{}); "diffuse"
+    // replaces its base-colour texture too.
     Material material(const json& value, const std::string& where, const Material& base) const {
         expect_keys(value, where, {"diffuse", "specular", "shininess"});
         Material m = base;
@@ -395,6 +396,7 @@ private:
             if (std::min({m.rho_d.r, m.rho_d.g, m.rho_d.b}) < 0.0f ||
                 std::max({m.rho_d.r, m.rho_d.g, m.rho_d.b}) > 1.0f)
                 fail(where + ".diffuse", "albedo components must be between 0 and 1");
+            m.base_color_texture.reset();  // a colour given is the colour seen, not a tint of the texture
         }
         if (const auto it = value.find("specular"); it != value.end())
             m.rho_s = number_in(*it, where + ".specular", 0.0f, 1.0f);

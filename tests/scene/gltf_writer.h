@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
@@ -53,6 +54,10 @@ public:
 
     int vec3s(const std::vector<glm::vec3>& values) {
         return accessor(view(values.data(), values.size() * 12), 5126, values.size(), "VEC3");
+    }
+
+    int vec2s(const std::vector<glm::vec2>& values) {
+        return accessor(view(values.data(), values.size() * 8), 5126, values.size(), "VEC2");
     }
 
     int indices(const std::vector<std::uint16_t>& values) {

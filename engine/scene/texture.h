@@ -1,0 +1,37 @@
+#pragma once
+// A material's base-colour texture on the CPU (docs/DESIGN.md §5.12): 8-bit RGBA texels, sRGB-encoded
+// colour as glTF stores it, with the glTF sampler's wrap and filter modes. The renderer uploads it
+// (mipmapped, decoded to linear by the hardware); the reference samples it here. No GL.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace envshadow {
+
+enum class TextureWrap { repeat, clamp_to_edge, mirrored_repeat };
+
+struct TextureImage {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> rgba;  // row 0 first: the row at v = 0 (glTF's uv origin is the top-left)
+};
+
+struct MaterialTexture {
+    std::shared_ptr<const TextureImage> image;  // never null in a Material
+    TextureWrap wrap_s = TextureWrap::repeat;
+    TextureWrap wrap_t = TextureWrap::repeat;
+    bool nearest = false;  // magFilter NEAREST (pixel art); otherwise bilinear, trilinear when minified
+};
+
+// The sRGB transfer function's inverse (IEC 61966-2-1) of an 8-bit value.
+float srgb8_to_linear(std::uint8_t value);
+
+// Linear RGB of `texture` at uv (texel centres at (i + 0.5) / width), bilinear (or nearest) at full
+// resolution with the texture's wrap modes: what the reference renderer reads. The GPU's trilinear
+// mipmapped lookup agrees where a texel covers at least a pixel.
+glm::vec3 sample_linear_rgb(const MaterialTexture& texture, glm::vec2 uv);
+
+}  // namespace envshadow

@@ -1,0 +1,142 @@
+// Base-colour textures in the rasteriser and the reference (docs/DESIGN.md §5.12): a quad whose 2x2
+// nearest-filtered texture is red, green, blue and white, seen face on under a constant sky, shows each
+// colour in the quadrant glTF's uv convention puts it (v = 0 at the image's top) in both renderers, and
+// the two agree; the real BoxTextured model shows its texture's blue sky and green hill on the box where
+// the untextured box is one colour.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "env/cells.h"
+#include "env/environment.h"
+#include "gl_fixture.h"
+#include "reference/reference.h"
+#include "render/frame_plan.h"
+#include "render/renderer.h"
+#include "scene/gltf.h"
+
+namespace envshadow::testing {
+namespace {
+
+using TextureRenderTest = GlTest;
+
+constexpr int kSize = 64;
+
+std::shared_ptr<const TextureImage> four_colours() {
+    auto image = std::make_shared<TextureImage>();
+    image->width = image->height = 2;
+    image->rgba = {255, 0, 0, 255, 0, 255, 0, 255,  // top row: red, green
+                   0, 0, 255, 255, 255, 255, 255, 255};  // bottom row: blue, white
+    return image;
+}
+
+// A 2 m quad facing +Z, uv (0, 0) at its top-left corner, filling most of the picture.
+Scene textured_quad() {
+    Scene scene;
+    scene.environment.source = "builtin:constant";
+    scene.camera.position = {0.0f, 0.0f, 3.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.camera.fov_y_degrees = 45.0f;
+    auto mesh = std::make_shared<Mesh>();
+    mesh->positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+    mesh->normals.assign(4, glm::vec3(0, 0, 1));
+    mesh->texcoords = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    mesh->indices = {0, 1, 2, 0, 2, 3};
+    mesh->compute_bounds();
+    Object object;
+    object.mesh = mesh;
+    object.material.rho_d = glm::vec3(0.8f);
+    object.material.base_color_texture = MaterialTexture{four_colours(), TextureWrap::clamp_to_edge,
+                                                         TextureWrap::clamp_to_edge, /*nearest=*/true};
+    scene.objects.push_back(std::move(object));
+    return scene;
+}
+
+// The colour of the quadrant (qx, qy in {0, 1}, from the top-left) at its centre, normalised by its sum.
+glm::vec3 chromaticity(const Image& image, int qx, int qy) {
+    const glm::vec4 p = image.at(image.width * (1 + 2 * qx) / 4, image.height * (1 + 2 * qy) / 4);
+    const float sum = p.r + p.g + p.b;
+    return sum > 0.0f ? glm::vec3(p) / sum : glm::vec3(0.0f);
+}
+
+void expect_four_colours(const Image& image) {
+    const glm::vec3 red = chromaticity(image, 0, 0), green = chromaticity(image, 1, 0);
+    const glm::vec3 blue = chromaticity(image, 0, 1), white = chromaticity(image, 1, 1);
+    EXPECT_GT(red.r, 0.95f);
+    EXPECT_GT(green.g, 0.95f);
+    EXPECT_GT(blue.b, 0.95f);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(white[c], 1.0f / 3.0f, 0.01f);
+}
+
+Image render_scene(const Scene& scene, int width, int height) {
+    const EnvironmentMap map = load_environment(scene.environment.source);
+    render::Renderer renderer(render::RenderSettings{});
+    renderer.set_scene(scene);
+    renderer.set_environment(map);
+    renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = 16}).cells);
+    renderer.render(0.0, render::camera_view(scene, width, height));
+    return renderer.read_back();
+}
+
+TEST_P(TextureRenderTest, EachTexelLandsInItsQuadrantAsInTheReference) {
+    const Scene scene = textured_quad();
+    const Image raster = render_scene(scene, kSize, kSize);
+    expect_four_colours(raster);
+
+    reference::ReferenceOptions options;
+    options.width = options.height = kSize;
+    options.target_error = 0.02;
+    const Image truth = reference::render_reference(scene, load_environment(scene.environment.source), options).image;
+    expect_four_colours(truth);
+    // Quadrant centres (away from the texel edges, where the GPU's mip chain and MSAA blend): equal within
+    // the reference's noise. White under a unit sky: rho_d = 0.8 exactly.
+    for (int qy = 0; qy < 2; ++qy)
+        for (int qx = 0; qx < 2; ++qx) {
+            const int x = kSize * (1 + 2 * qx) / 4, y = kSize * (1 + 2 * qy) / 4;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(raster.at(x, y)[c], truth.at(x, y)[c], 0.03f)
+                    << "quadrant " << qx << "," << qy << " channel " << c;
+        }
+    EXPECT_NEAR(raster.at(3 * kSize / 4, 3 * kSize / 4).g, 0.8f, 0.02f);
+}
+
+// Box pixels whose colour is clearly blue (the logo's sky) and clearly green (its hill).
+struct Hues {
+    int pixels = 0, blue = 0, green = 0;
+};
+
+Hues hues(const Image& image) {
+    Hues h;
+    for (const glm::vec4& p : image.pixels) {
+        if (p.a < 1.0f) continue;
+        ++h.pixels;
+        h.blue += p.b > 1.5f * p.r && p.b > 1.1f * p.g ? 1 : 0;
+        h.green += p.g > 1.5f * p.b && p.g > 1.2f * p.r ? 1 : 0;
+    }
+    return h;
+}
+
+TEST_P(TextureRenderTest, BoxTexturedShowsItsTextureAndWithoutItOneColour) {
+    const GltfModel model = load_gltf("/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
+    Scene scene;
+    scene.environment.source = "builtin:constant";
+    scene.camera = camera_framing(model.bounds_min, model.bounds_max);
+    Object object;
+    object.mesh = model.parts.at(0).mesh;
+    object.material = model.parts.at(0).material;
+    scene.objects.push_back(object);
+
+    const Hues textured = hues(render_scene(scene, kSize, kSize));
+    EXPECT_GT(textured.pixels, kSize * kSize / 8);
+    EXPECT_GT(textured.blue, textured.pixels / 10) << textured.blue << " of " << textured.pixels;
+    EXPECT_GT(textured.green, textured.pixels / 10) << textured.green << " of " << textured.pixels;
+
+    scene.objects[0].material.base_color_texture.reset();
+    const Hues plain = hues(render_scene(scene, kSize, kSize));
+    EXPECT_EQ(plain.blue + plain.green, 0);
+}
+
+ENVSHADOW_INSTANTIATE_GL_TEST(TextureRenderTest);
+
+}  // namespace
+}  // namespace envshadow::testing

@@ -1,0 +1,215 @@
+// Base-colour textures from glTF (docs/SCENES.md "Textures"): the real BoxTextured models in each of
+// their storage forms, texture coordinates through KHR_texture_transform worked out by hand, and the
+// bad inputs of issue 16 (absurd image sizes, truncated and missing images, texture coordinate sets the
+// primitive lacks), each a one-line InputError naming the file and the reason.
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <glm/gtc/constants.hpp>
+
+#include "core/error.h"
+#include "core/image.h"
+#include "gltf_writer.h"
+#include "scene/gltf.h"
+#include "scene/texture.h"
+
+namespace envshadow {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::GltfWriter;
+using test::test_folder;
+
+const fs::path& kModels = test::kAssimpModels;
+
+void expect_input_error(const fs::path& file, const std::string& expected) {
+    try {
+        load_gltf(file);
+        ADD_FAILURE() << file << " loaded without an error";
+    } catch (const InputError& e) {
+        const std::string message = e.what();
+        EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << message;
+        EXPECT_NE(message.find(expected), std::string::npos) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+}
+
+// CesiumLogoFlat.png: a disc of blue sky over a green hill on a white rim.
+void expect_cesium_logo(const GltfModel& model, TextureWrap wrap_s, TextureWrap wrap_t) {
+    ASSERT_EQ(model.parts.size(), 1u);
+    const Mesh& mesh = *model.parts[0].mesh;
+    const Material& material = model.parts[0].material;
+    ASSERT_TRUE(material.base_color_texture.has_value());
+    const MaterialTexture& t = *material.base_color_texture;
+    EXPECT_EQ(t.image->width, 211);
+    EXPECT_EQ(t.image->height, 211);
+    EXPECT_EQ(t.wrap_s, wrap_s);
+    EXPECT_EQ(t.wrap_t, wrap_t);
+    ASSERT_EQ(mesh.texcoords.size(), mesh.positions.size());
+    for (const glm::vec2& uv : mesh.texcoords) {  // the accessor's min and max: u mirrors six times round the box
+        EXPECT_GE(uv.x, 0.0f);
+        EXPECT_LE(uv.x, 6.0f);
+        EXPECT_GE(uv.y, 0.0f);
+        EXPECT_LE(uv.y, 1.0f);
+    }
+    // v = 0 is the top of the image (glTF's uv origin): the sky there, the hill at the bottom.
+    const glm::vec3 sky = sample_linear_rgb(t, {0.35f, 0.25f});
+    const glm::vec3 hill = sample_linear_rgb(t, {0.5f, 0.85f});
+    EXPECT_GT(sky.b, 1.5f * sky.r) << sky.r << " " << sky.g << " " << sky.b;
+    EXPECT_GT(hill.g, 1.5f * hill.b) << hill.r << " " << hill.g << " " << hill.b;
+}
+
+TEST(SceneGltfTexture, BoxTexturedInEveryStorageForm) {
+    // The .gltf copy's sampler mirrors in s and clamps in t; the other two repeat.
+    const struct {
+        const char* file;
+        TextureWrap s, t;
+    } cases[] = {{"BoxTextured-glTF/BoxTextured.gltf", TextureWrap::mirrored_repeat, TextureWrap::clamp_to_edge},
+                 {"BoxTextured-glTF-Binary/BoxTextured.glb", TextureWrap::repeat, TextureWrap::repeat},
+                 {"BoxTextured-glTF-Embedded/BoxTextured.gltf", TextureWrap::repeat, TextureWrap::repeat}};
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.file);
+        const GltfModel model = load_gltf(kModels / c.file);
+        expect_cesium_logo(model, c.s, c.t);
+        // metallic 0: rho_d = 1 * (1 - 0.04), the texture multiplying it.
+        EXPECT_NEAR(model.parts[0].material.rho_d.r, 0.96f, 1e-6f);
+    }
+}
+
+TEST(SceneGltfTexture, SpecularGlossinessTakesItsDiffuseTexture) {
+    const GltfModel model = load_gltf(kModels / "BoxTextured-glTF-pbrSpecularGlossiness/BoxTextured.gltf");
+    expect_cesium_logo(model, TextureWrap::repeat, TextureWrap::repeat);
+    EXPECT_NEAR(model.parts[0].material.rho_d.r, 1.0f - 0.2f, 1e-6f);      // diffuse (1 - max specular)
+}
+
+// A quad with texture coordinates, its material reading `texture_info` (baseColorTexture), and a 2x2
+// PNG; returns the .gltf path.
+struct TexturedQuad {
+    GltfWriter writer;
+    fs::path folder = test_folder();
+
+    TexturedQuad() {
+        const std::vector<glm::vec3> positions{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+        const std::vector<glm::vec2> uvs{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        const int p = writer.vec3s(positions);
+        const int uv = writer.vec2s(uvs);
+        const int i = writer.indices({0, 1, 2, 0, 2, 3});
+        writer.mesh(p, i);
+        writer.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uv;
+        writer.doc["meshes"][0]["primitives"][0]["material"] = 0;
+        writer.node({{"mesh", 0}});
+        writer.scene({0});
+        Image8 png(2, 2);
+        for (int k = 0; k < 4; ++k) png.rgba[std::size_t(k) * 4 + std::size_t(k % 3)] = 255, png.rgba[std::size_t(k) * 4 + 3] = 255;
+        write_png(folder / "checker.png", png);
+        writer.doc["images"] = json::array({{{"uri", "checker.png"}}});
+        writer.doc["textures"] = json::array({{{"source", 0}}});
+        material({{"index", 0}});
+    }
+    void material(const json& texture_info) {
+        writer.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", texture_info}}}}});
+    }
+    fs::path write() { return writer.write(folder, "quad"); }
+};
+
+TEST(SceneGltfTexture, TextureTransformIsTranslationRotationScaleOfTheUvs) {
+    TexturedQuad quad;
+    quad.material({{"index", 0},
+                   {"extensions",
+                    {{"KHR_texture_transform",
+                      {{"offset", {0.5, 0.25}}, {"rotation", glm::half_pi<double>()}, {"scale", {2.0, 3.0}}}}}}});
+    const GltfModel model = load_gltf(quad.write());
+    const Mesh& mesh = *model.parts.at(0).mesh;
+    ASSERT_EQ(mesh.texcoords.size(), 4u);
+    // uv' = offset + R(rotation) (scale * uv), R turning (u, v) to (u cos + v sin, -u sin + v cos):
+    // (1, 0) -> (2, 0) -> (0, -2) -> (0.5, -1.75); (0, 1) -> (0, 3) -> (3, 0) -> (3.5, 0.25).
+    const auto find = [&](const glm::vec3& p) {
+        for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+            if (mesh.positions[v] == p) return mesh.texcoords[v];
+        ADD_FAILURE() << "no vertex at the corner";
+        return glm::vec2(NAN);
+    };
+    const glm::vec2 a = find({1, 0, 0}), b = find({0, 1, 0}), c = find({0, 0, 0});
+    EXPECT_NEAR(a.x, 0.5f, 1e-5f);
+    EXPECT_NEAR(a.y, -1.75f, 1e-5f);
+    EXPECT_NEAR(b.x, 3.5f, 1e-5f);
+    EXPECT_NEAR(b.y, 0.25f, 1e-5f);
+    EXPECT_NEAR(c.x, 0.5f, 1e-5f);
+    EXPECT_NEAR(c.y, 0.25f, 1e-5f);
+}
+
+TEST(SceneGltfTexture, ThePngDecodesToItsTexels) {
+    TexturedQuad quad;
+    const GltfModel model = load_gltf(quad.write());
+    const TextureImage& image = *model.parts.at(0).material.base_color_texture->image;
+    ASSERT_EQ(image.width, 2);
+    ASSERT_EQ(image.height, 2);
+    EXPECT_EQ(image.rgba[0], 255);  // texel (0, 0) red
+    EXPECT_EQ(image.rgba[4 + 1], 255);  // texel (1, 0) green
+    EXPECT_EQ(image.rgba[8 + 2], 255);  // texel (0, 1) blue
+    EXPECT_EQ(image.rgba[12 + 0], 255);  // texel (1, 1) red again
+}
+
+TEST(SceneGltfTexture, HeaderClaimingAHugeImageIsRefusedBeforeDecoding) {
+    TexturedQuad quad;
+    // A PNG signature and an IHDR chunk of 100000 x 100000 RGBA, 8 bits, then nothing.
+    const unsigned char header[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                                    0, 1, 0x86, 0xA0, 0, 1, 0x86, 0xA0, 8, 6, 0, 0, 0, 0, 0, 0, 0};
+    std::ofstream(quad.folder / "checker.png", std::ios::binary)
+        .write(reinterpret_cast<const char*>(header), sizeof header);
+    expect_input_error(quad.write(), "100000x100000 is beyond the 16384x16384 limit");
+}
+
+TEST(SceneGltfTexture, TruncatedPngIsAnError) {
+    TexturedQuad quad;
+    const fs::path png = quad.folder / "checker.png";
+    fs::copy_file(kModels / "BoxTextured-glTF/CesiumLogoFlat.png", png, fs::copy_options::overwrite_existing);
+    fs::resize_file(png, fs::file_size(png) / 2);
+    expect_input_error(quad.write(), "image 0: cannot decode it");
+}
+
+TEST(SceneGltfTexture, AnImageThatIsNotPngOrJpegIsAnError) {
+    TexturedQuad quad;
+    std::ofstream(quad.folder / "checker.png") << "GIF89a, or anything else";
+    expect_input_error(quad.write(), "image 0: not a PNG or JPEG image");
+}
+
+TEST(SceneGltfTexture, MissingImageFileIsNamed) {
+    TexturedQuad quad;
+    fs::remove(quad.folder / "checker.png");
+    expect_input_error(quad.write(), "image 0 file " + (quad.folder / "checker.png").string() + " not found");
+}
+
+TEST(SceneGltfTexture, TexCoordSetThePrimitiveLacksIsAnError) {
+    TexturedQuad quad;
+    quad.material({{"index", 0}, {"texCoord", 1}});
+    expect_input_error(quad.write(), "mesh 0 primitive 0: its material's base colour texture reads TEXCOORD_1");
+}
+
+TEST(SceneGltfTexture, TextureIndexOutOfRangeIsAnError) {
+    TexturedQuad quad;
+    quad.material({{"index", 3}});
+    expect_input_error(quad.write(), "materials[0] uses texture 3, which does not exist");
+}
+
+TEST(SceneGltfTexture, TexcoordsOfTheWrongTypeAreAnError) {
+    TexturedQuad quad;
+    quad.writer.doc["accessors"][1]["type"] = "VEC3";
+    quad.writer.doc["accessors"][1]["count"] = 2;  // stays inside the view
+    expect_input_error(quad.write(), "TEXCOORD_0 (accessor 1) must be VEC2");
+}
+
+TEST(SceneGltfTexture, NonFiniteTexcoordsAreAnError) {
+    TexturedQuad quad;
+    const float nan = NAN;
+    std::memcpy(&quad.writer.bin[48 + 4], &nan, 4);  // after 4 positions of 12 bytes: the first uv's v
+    expect_input_error(quad.write(), "TEXCOORD_0 0 is not finite");
+}
+
+}  // namespace
+}  // namespace envshadow
