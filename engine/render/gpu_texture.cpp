@@ -9,10 +9,13 @@ namespace {
 
 GLenum gl_wrap(TextureWrap wrap) {
     switch (wrap) {
-        case TextureWrap::clamp_to_edge: return GL_CLAMP_TO_EDGE;
-        case TextureWrap::mirrored_repeat: return GL_MIRRORED_REPEAT;
+        case TextureWrap::clamp_to_edge:
+            return GL_CLAMP_TO_EDGE;
+        case TextureWrap::mirrored_repeat:
+            return GL_MIRRORED_REPEAT;
         case TextureWrap::repeat:
-        default: return GL_REPEAT;
+        default:
+            return GL_REPEAT;
     }
 }
 

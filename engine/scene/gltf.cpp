@@ -453,8 +453,8 @@ private:
                 if (it == prim.attributes.end())
                     fail(path_, what + ": its material's base colour texture reads " + set +
                                     ", which the primitive does not have");
-                part.texcoords = read_texcoords(it->second, what + " " + set, positions.count, source,
-                                                ref->uv_transform);
+                part.texcoords =
+                    read_texcoords(it->second, what + " " + set, positions.count, source, ref->uv_transform);
             }
 
             if (part.indices.empty()) continue;  // a strip or fan of degenerate triangles only
@@ -471,7 +471,8 @@ private:
         if (part >= 0) return std::size_t(part);
         GltfMaterial mapped =
             material >= 0 ? materials_[std::size_t(material)] : GltfMaterial{Material{}, "no material", std::nullopt};
-        if (texture_ref(material)) mapped.material.base_color_texture = textures_[std::size_t(mapped.base_color->texture)];
+        if (texture_ref(material))
+            mapped.material.base_color_texture = textures_[std::size_t(mapped.base_color->texture)];
         const auto same = std::find_if(part_materials_.begin(), part_materials_.end(),
                                        [&](const GltfMaterial& m) { return m.material.same_as(mapped.material); });
         part = int(same - part_materials_.begin());
@@ -556,9 +557,12 @@ struct ImageDecoder {
 
 TextureWrap wrap_mode(int gl_wrap) {
     switch (gl_wrap) {
-        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return TextureWrap::clamp_to_edge;
-        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return TextureWrap::mirrored_repeat;
-        default: return TextureWrap::repeat;
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+            return TextureWrap::clamp_to_edge;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+            return TextureWrap::mirrored_repeat;
+        default:
+            return TextureWrap::repeat;
     }
 }
 
@@ -689,7 +693,6 @@ GltfModel load_gltf(const std::filesystem::path& path) {
         if (!std::filesystem::is_regular_file(file, ec))
             fail(path, "image " + std::to_string(i) + " file " + file.string() + " not found");
     }
-
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(ImageDecoder::decode, &decoder);

@@ -27,7 +27,9 @@ struct Material {
     std::optional<MaterialTexture> base_color_texture = std::nullopt;  // needs Mesh::texcoords
 
     bool same_as(const Material& o) const {
-        const auto image = [](const Material& m) { return m.base_color_texture ? m.base_color_texture->image : nullptr; };
+        const auto image = [](const Material& m) {
+            return m.base_color_texture ? m.base_color_texture->image : nullptr;
+        };
         return rho_d == o.rho_d && rho_s == o.rho_s && shininess == o.shininess && image(*this) == image(o) &&
                (!base_color_texture || (base_color_texture->wrap_s == o.base_color_texture->wrap_s &&
                                         base_color_texture->wrap_t == o.base_color_texture->wrap_t &&

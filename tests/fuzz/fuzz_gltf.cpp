@@ -1,12 +1,14 @@
 // libFuzzer target: load_gltf on one .glb or .gltf (a .glb when the input starts with "glTF").
 // The folder also holds buffer.bin, so .gltf inputs can refer to an external buffer.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
 #include "fuzz_support.h"
+#include "sample_inputs.h"
 #include "scene/gltf.h"
 #include "scene/gltf_material.h"
 
@@ -18,6 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (std::size_t i = 0; i < values.size(); ++i) values[i] = float(i % 8);
         fuzz::write_input("buffer.bin", reinterpret_cast<const std::uint8_t*>(values.data()),
                           values.size() * sizeof(float));
+        // image.png, for inputs whose image names it (the seed textured_file.gltf).
+        write_sample_gltf_textured(fuzz::work_folder() / "textured_seed.gltf", "image.png");
         return true;
     }();
     (void)folder_ready;
@@ -36,6 +40,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 !(std::max({m.rho_d.r, m.rho_d.g, m.rho_d.b}) <= 1.0f) || !(m.rho_s >= 0.0f && m.rho_s <= 1.0f) ||
                 !(m.shininess >= kGltfMinShininess && m.shininess <= kGltfMaxShininess))
                 fuzz::finding("material out of range");
+            // A texture comes with one finite texture coordinate per vertex and whole RGBA texels.
+            if (m.base_color_texture) {
+                const TextureImage* image = m.base_color_texture->image.get();
+                if (!image || image->width <= 0 || image->height <= 0 ||
+                    image->rgba.size() != std::size_t(image->width) * std::size_t(image->height) * 4)
+                    fuzz::finding("texture image of inconsistent size");
+                if (part.mesh->texcoords.size() != part.mesh->positions.size())
+                    fuzz::finding("textured part without one texture coordinate per vertex");
+                for (const glm::vec2& uv : part.mesh->texcoords)
+                    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fuzz::finding("non-finite texture coordinate");
+            }
         }
     } catch (const InputError& e) {
         fuzz::check_error_message(e, path);

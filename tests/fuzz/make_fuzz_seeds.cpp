@@ -38,6 +38,9 @@ int main(int argc, char** argv) {
     write_sample_glb(out / "gltf" / "box.glb");
     write_sample_gltf_embedded(out / "gltf" / "embedded.gltf");
     write_sample_gltf_interleaved_strip(out / "gltf" / "strip.gltf");
+    // Base-colour textures: a PNG in a data: URI, and one in the harness's image.png beside the input.
+    write_sample_gltf_textured(out / "gltf" / "textured.gltf");
+    write_sample_gltf_textured(out / "gltf" / "textured_file.gltf", "image.png");
     const nlohmann::json external = {
         {"asset", {{"version", "2.0"}}},
         {"scenes", {{{"nodes", {0}}}}},

@@ -25,8 +25,8 @@ constexpr int kSize = 64;
 std::shared_ptr<const TextureImage> four_colours() {
     auto image = std::make_shared<TextureImage>();
     image->width = image->height = 2;
-    image->rgba = {255, 0, 0, 255, 0, 255, 0, 255,  // top row: red, green
-                   0, 0, 255, 255, 255, 255, 255, 255};  // bottom row: blue, white
+    image->rgba = {255, 0, 0,   255, 0,   255, 0,   255,   // top row: red, green
+                   0,   0, 255, 255, 255, 255, 255, 255};  // bottom row: blue, white
     return image;
 }
 
@@ -46,8 +46,8 @@ Scene textured_quad() {
     Object object;
     object.mesh = mesh;
     object.material.rho_d = glm::vec3(0.8f);
-    object.material.base_color_texture = MaterialTexture{four_colours(), TextureWrap::clamp_to_edge,
-                                                         TextureWrap::clamp_to_edge, /*nearest=*/true};
+    object.material.base_color_texture =
+        MaterialTexture{four_colours(), TextureWrap::clamp_to_edge, TextureWrap::clamp_to_edge, /*nearest=*/true};
     scene.objects.push_back(std::move(object));
     return scene;
 }

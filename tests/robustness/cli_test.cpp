@@ -114,6 +114,12 @@ TEST(CliInput, BrokenScenesAndModelsAreInputErrors) {
     write_text(dir / "key.json", "{\"objects\": [{\"mesh\": \"box\", \"colour\\n\": 1}]}");
     const auto glb = test::sample_glb_bytes();
     test::write_bytes(dir / "cut.glb", prefix(glb, glb.size() - 10));
+    // A textured model whose PNG is cut in half, and one whose PNG is missing.
+    test::write_sample_gltf_textured(dir / "cut_texture.gltf", "cut_texture.png");
+    const auto png = test::read_bytes(dir / "cut_texture.png");
+    test::write_bytes(dir / "cut_texture.png", prefix(png, png.size() / 2));
+    test::write_sample_gltf_textured(dir / "lost_texture.gltf", "lost_texture.png");
+    fs::remove(dir / "lost_texture.png");
     ASSERT_EQ(::mkfifo((dir / "pipe.json").c_str(), 0600), 0);
     const auto out = std::vector<std::string>{"--out", "out.png"};
     auto render = [&](const std::string& scene_file) {
@@ -128,6 +134,9 @@ TEST(CliInput, BrokenScenesAndModelsAreInputErrors) {
                           {render("lost_model.json"), {"lost_model.json", "lost.glb"}},
                           {render("key.json"), {"key.json", "colour\\n"}},
                           {render("cut.glb"), {"cut.glb"}},
+                          {render("cut_texture.gltf"), {"cut_texture.gltf", "image 0: cannot decode it"}},
+                          {render("lost_texture.gltf"), {"lost_texture.gltf", "lost_texture.png not found"}},
+                          {{"reference", "--scene", "cut_texture.gltf", "--exr", "ref.exr"}, {"cut_texture.gltf"}},
                           {render("pipe.json"), {"pipe.json"}},
                           {{"reference", "--scene", "cut.glb", "--exr", "ref.exr"}, {"cut.glb"}},
                           {{"bench", "--scene", "cut.json"}, {"cut.json"}},

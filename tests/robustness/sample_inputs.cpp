@@ -13,6 +13,7 @@
 #include <ImfTileDescriptionAttribute.h>
 #include <ImfTiledOutputFile.h>
 #include <half.h>
+#include <stb_image_write.h>
 #include <nlohmann/json.hpp>
 
 namespace envshadow::test {
@@ -292,6 +293,43 @@ void write_sample_gltf_interleaved_strip(const std::filesystem::path& path) {
     doc["accessors"] =
         json::array({{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
                      {{"bufferView", 0}, {"byteOffset", 12}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}}});
+    write_text(path, doc.dump(1));
+}
+
+void write_sample_gltf_textured(const std::filesystem::path& path, const std::string& image_file) {
+    std::vector<std::uint8_t> bin;
+    json doc = box_document(bin);
+    // Each face's four corners at the texture's corners: 24 vertices, in faces of four.
+    const std::size_t uv_offset = bin.size();
+    for (int v = 0; v < 24; ++v) {
+        const float uv[2] = {float(v % 4 == 1 || v % 4 == 2), float(v % 4 >= 2)};
+        append(bin, uv, sizeof uv);
+    }
+    doc["buffers"][0]["byteLength"] = bin.size();
+    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", uv_offset}, {"byteLength", 24 * 8}});
+    doc["accessors"].push_back({{"bufferView", 3}, {"componentType", 5126}, {"count", 24}, {"type", "VEC2"}});
+    doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 3;
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+        {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}, {"scale", {2, 1}}}}}}};
+    doc["samplers"] = json::array({{{"magFilter", 9728}, {"wrapS", 33648}, {"wrapT", 33071}}});
+    doc["textures"] = json::array({{{"sampler", 0}, {"source", 0}}});
+    std::vector<std::uint8_t> png;
+    std::uint8_t texels[4 * 4 * 4];
+    for (int i = 0; i < 16; ++i)
+        for (int c = 0; c < 4; ++c) texels[i * 4 + c] = c == 3 ? 255 : std::uint8_t((i * 37 + c * 91) % 256);
+    stbi_write_png_to_func(
+        [](void* context, void* data, int size) {
+            auto* out = static_cast<std::vector<std::uint8_t>*>(context);
+            out->insert(out->end(), static_cast<std::uint8_t*>(data), static_cast<std::uint8_t*>(data) + size);
+        },
+        &png, 4, 4, 4, texels, 16);
+    if (image_file.empty()) {
+        doc["images"] = json::array({{{"uri", "data:image/png;base64," + base64(png)}}});
+    } else {
+        write_bytes(path.parent_path() / image_file, png);
+        doc["images"] = json::array({{{"uri", image_file}}});
+    }
+    doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(bin);
     write_text(path, doc.dump(1));
 }
 

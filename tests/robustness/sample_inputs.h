@@ -37,6 +37,10 @@ void write_sample_glb(const std::filesystem::path& path);
 void write_sample_gltf_embedded(const std::filesystem::path& path);
 void write_sample_gltf_external(const std::filesystem::path& path);
 void write_sample_gltf_interleaved_strip(const std::filesystem::path& path);
+// The box with texture coordinates and a base-colour texture (a 4x4 PNG; KHR_texture_transform on
+// its textureInfo): the image in a data: URI when `image_file` is empty, else written to that file
+// (beside `path`) and named by it.
+void write_sample_gltf_textured(const std::filesystem::path& path, const std::string& image_file = "");
 
 // A scene JSON using every kind of key, with a model and an environment at the given (relative) paths.
 std::string sample_scene_json(const std::string& model, const std::string& environment);

@@ -84,7 +84,7 @@ TEST(SceneGltfTexture, BoxTexturedInEveryStorageForm) {
 TEST(SceneGltfTexture, SpecularGlossinessTakesItsDiffuseTexture) {
     const GltfModel model = load_gltf(kModels / "BoxTextured-glTF-pbrSpecularGlossiness/BoxTextured.gltf");
     expect_cesium_logo(model, TextureWrap::repeat, TextureWrap::repeat);
-    EXPECT_NEAR(model.parts[0].material.rho_d.r, 1.0f - 0.2f, 1e-6f);      // diffuse (1 - max specular)
+    EXPECT_NEAR(model.parts[0].material.rho_d.r, 1.0f - 0.2f, 1e-6f);  // diffuse (1 - max specular)
 }
 
 // A quad with texture coordinates, its material reading `texture_info` (baseColorTexture), and a 2x2
@@ -105,7 +105,8 @@ struct TexturedQuad {
         writer.node({{"mesh", 0}});
         writer.scene({0});
         Image8 png(2, 2);
-        for (int k = 0; k < 4; ++k) png.rgba[std::size_t(k) * 4 + std::size_t(k % 3)] = 255, png.rgba[std::size_t(k) * 4 + 3] = 255;
+        for (int k = 0; k < 4; ++k)
+            png.rgba[std::size_t(k) * 4 + std::size_t(k % 3)] = 255, png.rgba[std::size_t(k) * 4 + 3] = 255;
         write_png(folder / "checker.png", png);
         writer.doc["images"] = json::array({{{"uri", "checker.png"}}});
         writer.doc["textures"] = json::array({{{"source", 0}}});
@@ -149,17 +150,17 @@ TEST(SceneGltfTexture, ThePngDecodesToItsTexels) {
     const TextureImage& image = *model.parts.at(0).material.base_color_texture->image;
     ASSERT_EQ(image.width, 2);
     ASSERT_EQ(image.height, 2);
-    EXPECT_EQ(image.rgba[0], 255);  // texel (0, 0) red
-    EXPECT_EQ(image.rgba[4 + 1], 255);  // texel (1, 0) green
-    EXPECT_EQ(image.rgba[8 + 2], 255);  // texel (0, 1) blue
+    EXPECT_EQ(image.rgba[0], 255);       // texel (0, 0) red
+    EXPECT_EQ(image.rgba[4 + 1], 255);   // texel (1, 0) green
+    EXPECT_EQ(image.rgba[8 + 2], 255);   // texel (0, 1) blue
     EXPECT_EQ(image.rgba[12 + 0], 255);  // texel (1, 1) red again
 }
 
 TEST(SceneGltfTexture, HeaderClaimingAHugeImageIsRefusedBeforeDecoding) {
     TexturedQuad quad;
     // A PNG signature and an IHDR chunk of 100000 x 100000 RGBA, 8 bits, then nothing.
-    const unsigned char header[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
-                                    0, 1, 0x86, 0xA0, 0, 1, 0x86, 0xA0, 8, 6, 0, 0, 0, 0, 0, 0, 0};
+    const unsigned char header[] = {0x89, 'P',  'N',  'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R', 0,
+                                    1,    0x86, 0xA0, 0,   1,    0x86, 0xA0, 8,    6, 0, 0, 0,  0,   0,   0,   0};
     std::ofstream(quad.folder / "checker.png", std::ios::binary)
         .write(reinterpret_cast<const char*>(header), sizeof header);
     expect_input_error(quad.write(), "100000x100000 is beyond the 16384x16384 limit");

@@ -26,7 +26,7 @@ TEST(Texture, SrgbDecodeFollowsIec61966) {
     EXPECT_EQ(srgb8_to_linear(0), 0.0f);
     EXPECT_FLOAT_EQ(srgb8_to_linear(255), 1.0f);
     EXPECT_NEAR(srgb8_to_linear(10), 10.0 / 255.0 / 12.92, 1e-7);  // the linear segment
-    EXPECT_NEAR(srgb8_to_linear(188), 0.5029, 1e-4);              // sRGB 188 is about half the light
+    EXPECT_NEAR(srgb8_to_linear(188), 0.5029, 1e-4);               // sRGB 188 is about half the light
 }
 
 TEST(Texture, TexelCentresGiveTheTexelAndMidpointsTheMeanOfTheDecodedPair) {
