@@ -132,6 +132,7 @@ std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dve
     const glm::dvec3 p0(positions[triangle[0]]), p1(positions[triangle[1]]), p2(positions[triangle[2]]);
     Hit hit;
     hit.object = object;
+    hit.triangle = query.hit.primID;
     hit.distance = query.ray.tfar;
     hit.position = w * p0 + u * p1 + v * p2;
     // A mirroring transform turns the winding round: the front stays the side of the object's winding.
@@ -146,6 +147,27 @@ std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dve
         hit.texcoord = glm::vec2(w * glm::dvec2(uv[triangle[0]]) + u * glm::dvec2(uv[triangle[1]]) +
                                  v * glm::dvec2(uv[triangle[2]]));
     return hit;
+}
+
+std::optional<glm::dvec2> RayTracer::texcoord_on_plane(const Hit& hit, const glm::dvec3& origin,
+                                                       const glm::dvec3& direction) const {
+    const std::vector<glm::vec2>& uv = *state_->texcoords[hit.object];
+    if (uv.empty()) return std::nullopt;
+    const std::vector<glm::vec3>& positions = state_->positions[hit.object];
+    const std::uint32_t* triangle = state_->indices[hit.object]->data() + 3 * hit.triangle;
+    const glm::dvec3 p0(positions[triangle[0]]), p1(positions[triangle[1]]), p2(positions[triangle[2]]);
+    const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0, normal = glm::cross(e1, e2);
+    const double denominator = glm::dot(normal, direction);
+    if (!(std::abs(denominator) > 1e-12 * glm::length(normal))) return std::nullopt;
+    const glm::dvec3 q = origin + (glm::dot(normal, p0 - origin) / denominator) * direction;
+    // Barycentrics of q in the plane (Cramer's rule on the edge vectors).
+    const double d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+    const double r1 = glm::dot(q - p0, e1), r2 = glm::dot(q - p0, e2);
+    const double det = d11 * d22 - d12 * d12;
+    if (!(det > 0.0)) return std::nullopt;
+    const double u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
+    return (1.0 - u - v) * glm::dvec2(uv[triangle[0]]) + u * glm::dvec2(uv[triangle[1]]) +
+           v * glm::dvec2(uv[triangle[2]]);
 }
 
 bool RayTracer::occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_max) const {

@@ -19,6 +19,7 @@ struct Hit {
     glm::dvec3 geometric_normal;  // the triangle's, on the side its vertices turn counter-clockwise in object
                                   // space (the front, whatever the transform), world space, unit
     glm::vec2 texcoord{0.0f};     // interpolated Mesh::texcoords; (0, 0) without them
+    std::size_t triangle = 0;     // index of the triangle hit in its object's mesh
 };
 
 class RayTracer {
@@ -33,6 +34,13 @@ public:
     std::optional<Hit> intersect(const glm::dvec3& origin, const glm::dvec3& direction) const;
     // Whether a shadow caster lies along origin + t direction, t in (0, t_max).
     bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_max) const;
+
+    // The texture coordinates where the ray origin + t direction meets the plane of `hit`'s triangle
+    // (extended beyond its edges): a neighbouring pixel's ray there gives the pixel's footprint in uv
+    // (a ray differential). Nothing where the ray runs parallel to the plane or the mesh has no
+    // texture coordinates.
+    std::optional<glm::dvec2> texcoord_on_plane(const Hit& hit, const glm::dvec3& origin,
+                                                const glm::dvec3& direction) const;
 
     // Radius of a sphere about the origin holding all geometry: the scale for ray offsets.
     double extent() const { return extent_; }

@@ -13,6 +13,7 @@
 #include <glm/trigonometric.hpp>
 #include <glm/vec4.hpp>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "core/error.h"
@@ -195,6 +196,29 @@ private:
     glm::dvec3 mean_{0.0}, m2_{0.0};
 };
 
+// The texture's mean over a pixel's footprint in uv: the parallelogram about the hit's texture
+// coordinates spanned by the steps to the neighbouring pixels' rays (through the hit triangle's plane),
+// sampled on a grid of up to kMaxFootprintTaps^2 bilinear taps, about one per texel. Without a
+// neighbour (a ray parallel to the plane), the one tap at the hit.
+constexpr int kMaxFootprintTaps = 16;
+glm::vec3 footprint_mean(const MaterialTexture& texture, const Hit& hit, const std::optional<glm::dvec2>& right,
+                         const std::optional<glm::dvec2>& below) {
+    const glm::dvec2 centre(hit.texcoord);
+    if (!right || !below) return sample_linear_rgb(texture, hit.texcoord);
+    const glm::dvec2 du = *right - centre, dv = *below - centre;
+    const glm::dvec2 size(texture.image->width, texture.image->height);
+    const double texels = std::max(glm::length(du * size), glm::length(dv * size));
+    if (!std::isfinite(texels)) return sample_linear_rgb(texture, hit.texcoord);
+    const int taps = std::clamp(int(std::ceil(texels)), 1, kMaxFootprintTaps);
+    glm::dvec3 sum(0.0);
+    for (int j = 0; j < taps; ++j)
+        for (int i = 0; i < taps; ++i) {
+            const double a = (i + 0.5) / taps - 0.5, b = (j + 0.5) / taps - 0.5;
+            sum += glm::dvec3(sample_linear_rgb(texture, glm::vec2(centre + a * du + b * dv)));
+        }
+    return glm::vec3(sum / double(taps * taps));
+}
+
 struct PixelResult {
     glm::dvec3 value{0.0}, standard_error{0.0};
     long long samples = 0;
@@ -248,11 +272,19 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                 s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
                 basis(s.normal, s.normal_b1, s.normal_b2);
                 basis(s.mirror, s.mirror_b1, s.mirror_b2);
-                // The base-colour texture scales rho_d at the hit, as shade.frag's k_d (bilinear at full
-                // resolution here; the GPU's mip chain agrees where a texel covers a pixel or more).
+                // The base-colour texture scales rho_d at the hit, as shade.frag's k_d, averaged over the
+                // pixel's footprint (as the GPU's mip level does; docs/DESIGN.md §5.12).
                 glm::vec3 rho_d = material.rho_d;
-                if (material.base_color_texture && !scene.objects[hit->object].mesh->texcoords.empty())
-                    rho_d *= sample_linear_rgb(*material.base_color_texture, hit->texcoord);
+                if (material.base_color_texture && !scene.objects[hit->object].mesh->texcoords.empty()) {
+                    const auto ray = [&](double px, double py) {
+                        const glm::dvec3 v((2.0 * px / width - 1.0) * tan_half_fov * aspect,
+                                           (1.0 - 2.0 * py / height) * tan_half_fov, -1.0);
+                        return glm::normalize(world_from_view_rotation * v);
+                    };
+                    rho_d *= footprint_mean(*material.base_color_texture, *hit,
+                                            tracer.texcoord_on_plane(*hit, eye, ray(x + 1.5, y + 0.5)),
+                                            tracer.texcoord_on_plane(*hit, eye, ray(x + 0.5, y + 1.5)));
+                }
                 s.k_d = glm::dvec3(brdf::diffuse_coefficient(rho_d.r), brdf::diffuse_coefficient(rho_d.g),
                                    brdf::diffuse_coefficient(rho_d.b));
                 s.shininess = std::max(0.0, double(material.shininess));

@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         fuzz::write_input("buffer.bin", reinterpret_cast<const std::uint8_t*>(values.data()),
                           values.size() * sizeof(float));
         // image.png, for inputs whose image names it (the seed textured_file.gltf).
-        write_sample_gltf_textured(fuzz::work_folder() / "textured_seed.gltf", "image.png");
+        test::write_sample_gltf_textured(fuzz::work_folder() / "textured_seed.gltf", "image.png");
         return true;
     }();
     (void)folder_ready;

@@ -1,11 +1,13 @@
 // Base-colour textures in the rasteriser and the reference (docs/DESIGN.md §5.12): a quad whose 2x2
 // nearest-filtered texture is red, green, blue and white, seen face on under a constant sky, shows each
 // colour in the quadrant glTF's uv convention puts it (v = 0 at the image's top) in both renderers, and
-// the two agree; the real BoxTextured model shows its texture's blue sky and green hill on the box where
+// the two agree; a checkerboard finer than the pixels comes out as its mean in both (filtered, not
+// point-sampled); the real BoxTextured model shows its texture's blue sky and green hill on the box where
 // the untextured box is one colour.
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <utility>
 
 #include "env/cells.h"
 #include "env/environment.h"
@@ -134,6 +136,60 @@ TEST_P(TextureRenderTest, BoxTexturedShowsItsTextureAndWithoutItOneColour) {
     scene.objects[0].material.base_color_texture.reset();
     const Hues plain = hues(render_scene(scene, kSize, kSize));
     EXPECT_EQ(plain.blue + plain.green, 0);
+}
+
+// A 256 x 256 checkerboard of black and white texels on the quad, 32 x 32 pixels: each pixel covers
+// about 8 x 8 texels, so a pixel's value is the board's mean, half the white's linear value, not a
+// black or white point sample. Both renderers filter: the GPU through the mip chain, the reference over
+// the pixel's footprint (docs/DESIGN.md §5.12).
+Scene minified_checkerboard() {
+    Scene scene = textured_quad();
+    auto image = std::make_shared<TextureImage>();
+    image->width = image->height = 256;
+    image->rgba.resize(256 * 256 * 4);
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x)
+            for (int c = 0; c < 4; ++c)
+                image->rgba[std::size_t(y * 256 + x) * 4 + std::size_t(c)] = (x + y) % 2 || c == 3 ? 255 : 0;
+    scene.objects[0].material.base_color_texture = MaterialTexture{image};
+    return scene;
+}
+
+// Mean and largest deviation from it of the green channel over the central half of the picture.
+std::pair<double, double> centre_mean_and_spread(const Image& image) {
+    double sum = 0.0, low = 1e30, high = -1e30;
+    int n = 0;
+    for (int y = image.height / 4; y < 3 * image.height / 4; ++y)
+        for (int x = image.width / 4; x < 3 * image.width / 4; ++x) {
+            const double g = image.at(x, y).g;
+            sum += g;
+            low = std::min(low, g);
+            high = std::max(high, g);
+            ++n;
+        }
+    const double mean = sum / n;
+    return {mean, std::max(high - mean, mean - low)};
+}
+
+constexpr int kMinifiedSize = 32;
+constexpr double kBoardMean = 0.8 * 0.5;  // rho_d times the mean of linear 0 and 1, under a unit sky
+
+TEST_P(TextureRenderTest, AMinifiedCheckerboardRastersToItsMean) {
+    const auto [mean, spread] =
+        centre_mean_and_spread(render_scene(minified_checkerboard(), kMinifiedSize, kMinifiedSize));
+    EXPECT_NEAR(mean, kBoardMean, 0.03 * kBoardMean);
+    EXPECT_LT(spread, 0.1 * kBoardMean);
+}
+
+TEST(TextureReferenceTest, AMinifiedCheckerboardTracesToItsMean) {
+    const Scene scene = minified_checkerboard();
+    reference::ReferenceOptions options;
+    options.width = options.height = kMinifiedSize;
+    options.target_error = 0.01;
+    const auto [mean, spread] = centre_mean_and_spread(
+        reference::render_reference(scene, load_environment(scene.environment.source), options).image);
+    EXPECT_NEAR(mean, kBoardMean, 0.03 * kBoardMean);
+    EXPECT_LT(spread, 0.1 * kBoardMean);
 }
 
 ENVSHADOW_INSTANTIATE_GL_TEST(TextureRenderTest);
