@@ -75,7 +75,9 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
     for (std::size_t k = 0; k < scene.objects.size(); ++k) {
         const Object& object = scene.objects[k];
         if (!object.mesh || object.mesh->indices.empty()) continue;
-        const Mesh& mesh = *object.mesh;
+        // The pose at `time` (glTF skins and morphs; the same indices as object.mesh, which stays alive).
+        const std::shared_ptr<const Mesh> posed = object.mesh_at(time);
+        const Mesh& mesh = *posed;
         const glm::mat4 world_from_object = object.world_from_object(time);
         const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world_from_object)));
         s.mirrored[k] = glm::determinant(glm::mat3(world_from_object)) < 0.0f;
@@ -91,11 +93,11 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
             extent = std::max(extent, double(glm::length(positions.back())));
         }
         positions.push_back(glm::vec3(0.0f));  // padding for Embree's 16-byte vertex reads
-        s.indices[k] = &mesh.indices;
-        s.texcoords[k] = &mesh.texcoords;
-        attach(s.device, s.everything, positions, mesh.indices);
+        s.indices[k] = &object.mesh->indices;
+        s.texcoords[k] = &object.mesh->texcoords;  // a pose keeps the bind mesh's texture coordinates
+        attach(s.device, s.everything, positions, object.mesh->indices);
         s.object_of_geometry.push_back(k);
-        if (object.casts_shadows) attach(s.device, s.casters, positions, mesh.indices);
+        if (object.casts_shadows) attach(s.device, s.casters, positions, object.mesh->indices);
         triangles_ += mesh.triangle_count();
     }
     rtcCommitScene(s.everything);

@@ -78,11 +78,17 @@ std::vector<glm::vec3> animation_caster_points(std::span<const PlannedObject> ob
         // samples is farther than that from where it was at one of them.
         constexpr int kSubsteps = 4;
         const int steps = kAnimationFitSamples * kSubsteps;
-        const double period = object.animation.period;
+        const double period = object.motion_period();
         std::vector<std::array<glm::vec3, 8>> at(std::size_t(steps) + 1);
         for (int s = 0; s <= steps; ++s) {
-            const glm::mat4 world = object.world_from_object(period * double(s) / double(steps));
-            for (std::size_t c = 0; c < 8; ++c) at[std::size_t(s)][c] = glm::vec3(world * glm::vec4(corners[c], 1.0f));
+            const double t = period * double(s) / double(steps);
+            const glm::mat4 world = object.world_from_object(t);
+            std::array<glm::vec3, 8> box = corners;
+            if (object.deforms()) {  // the pose's box at t (glTF skins and morphs)
+                const std::shared_ptr<const Mesh> posed = object.mesh_at(t);
+                box = box_corners(posed->bounds_min, posed->bounds_max);
+            }
+            for (std::size_t c = 0; c < 8; ++c) at[std::size_t(s)][c] = glm::vec3(world * glm::vec4(box[c], 1.0f));
         }
         float reach = 0.0f;  // the farthest any corner travels between two samples
         for (int sample = 0; sample < kAnimationFitSamples; ++sample)

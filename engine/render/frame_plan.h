@@ -92,7 +92,8 @@ inline constexpr int kAnimationFitSamples = 32;
 
 // World points whose boxes, in any light's frame, hold every shadow caster of `objects` at every time
 // (ShadowFit::animation): the 8 corners of each caster that does not move, and for each that moves its
-// box's corners at kAnimationFitSamples times over its period, each pushed out to a cube as wide as the
+// box's corners (a deforming object's box of its pose at that time) at kAnimationFitSamples times over
+// its period (Object::motion_period), each pushed out to a cube as wide as the
 // farthest a corner travels between two samples (so the times between samples stay inside).
 std::vector<glm::vec3> animation_caster_points(std::span<const PlannedObject> objects);
 
@@ -107,6 +108,11 @@ public:
     void set_objects(std::vector<PlannedObject> objects);
     std::span<const PlannedObject> objects() const { return objects_; }
     void set_material(std::size_t object, const Material& material) { objects_.at(object).object.material = material; }
+    // A deforming object's box at this frame's pose (object space; glTF skins and morphs).
+    void set_bounds(std::size_t object, const glm::vec3& lo, const glm::vec3& hi) {
+        objects_.at(object).bounds_min = lo;
+        objects_.at(object).bounds_max = hi;
+    }
     // World-space lights (select_lights); their frames are made here, once.
     void set_lights(std::span<const WorldLight> lights);
     std::size_t light_count() const { return lights_.size(); }

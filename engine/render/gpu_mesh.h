@@ -18,6 +18,14 @@ class GpuMesh {
 public:
     // `progress`: the fraction of the work done, while the shadow-caster LOD is built (render/caster_lod.h).
     explicit GpuMesh(const Mesh& mesh, const std::function<void(double fraction)>& progress = {});
+    // A deforming mesh (glTF skins and morphs, scene/gltf_animation.h): positions and normals in
+    // dynamic-storage buffers that update_vertices() rewrites every frame, and no caster LOD (level 0
+    // only: simplified levels would be of the bind pose, not of the frame's).
+    struct Deforming {};
+    GpuMesh(const Mesh& mesh, Deforming);
+    // The posed positions and normals (same vertex count and indices as the mesh given to the constructor).
+    void update_vertices(const Mesh& posed);
+    bool deforming() const { return deforming_; }
     void draw() const;  // glDrawElements
     void bind() const { vertex_array_.bind(); }
     const glm::vec3& bounds_min() const { return bounds_min_; }
@@ -38,6 +46,8 @@ private:
     CasterLod caster_lod_;
     glm::vec3 bounds_min_{0.0f}, bounds_max_{0.0f};  // from the positions (Mesh::bounds may be unset)
     std::optional<glm::vec3> flat_normal_;
+    bool deforming_ = false;
+    void set_bounds(const Mesh& mesh);
 };
 
 }  // namespace envshadow::render

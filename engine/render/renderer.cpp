@@ -126,6 +126,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
             if (object.mesh && seen.insert(object.mesh.get()).second) total += object.mesh->triangle_count();
     }
     meshes_.clear();
+    deforming_.clear();
     instance_meshes_.clear();
     instance_of_object_.clear();
     textures_.clear();
@@ -139,7 +140,14 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         instance_of_object_.push_back(-1);
         if (!object.mesh || object.mesh->indices.empty()) continue;
         instance_of_object_.back() = int(instance_meshes_.size());
-        auto [it, added] = uploaded.emplace(object.mesh.get(), nullptr);
+        if (object.deforms()) {  // glTF skins and morphs: a mesh of its own, posed every frame (render())
+            meshes_.push_back(std::make_unique<GpuMesh>(*object.mesh, GpuMesh::Deforming{}));
+            deforming_.push_back({instance_meshes_.size(), meshes_.back().get(), object});
+            done += object.mesh->triangle_count();
+            if (progress) progress(done, total);
+        }
+        auto [it, added] =
+            object.deforms() ? std::pair{uploaded.end(), false} : uploaded.emplace(object.mesh.get(), nullptr);
         if (added) {
             const std::size_t triangles = object.mesh->triangle_count();
             std::function<void(double)> mesh_progress;
@@ -151,7 +159,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
             it->second = meshes_.back().get();
             done += triangles;
         }
-        const GpuMesh& mesh = *it->second;
+        const GpuMesh& mesh = object.deforms() ? *deforming_.back().mesh : *it->second;
         instance_meshes_.push_back(&mesh);
         const gl::Texture* texture = &white_texture_;
         if (const auto& t = object.material.base_color_texture; t && !object.mesh->texcoords.empty()) {
@@ -566,6 +574,13 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     if (view.width < 1 || view.height < 1) throw UsageError("render: image size must be positive");
     ensure_atlas();
     ensure_target(view.width, view.height);
+    // Deforming objects (glTF skins and morphs): the pose at `time` into their vertex buffers and their
+    // boxes into the plan, before the atlas and the shading draw them (both see this pose).
+    for (const DeformingInstance& d : deforming_) {
+        const std::shared_ptr<const Mesh> posed = d.object.mesh_at(time);
+        d.mesh->update_vertices(*posed);
+        planner_.set_bounds(d.instance, d.mesh->bounds_min(), d.mesh->bounds_max());
+    }
     const FramePlan& plan = planner_.plan(time, view, layout_, settings_);
     upload(plan);
     glBindBufferBase(use_uniform_block_ ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER, binding::lights,

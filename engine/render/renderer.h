@@ -145,6 +145,13 @@ private:
     std::vector<std::unique_ptr<gl::Texture>> textures_;
     std::vector<const gl::Texture*> instance_textures_;
     gl::Texture white_texture_;
+    // Objects whose vertices move (glTF skins and morphs): posed into their own GpuMesh every frame.
+    struct DeformingInstance {
+        std::size_t instance = 0;  // into instance_meshes_ and the planner's objects
+        GpuMesh* mesh = nullptr;
+        Object object;
+    };
+    std::vector<DeformingInstance> deforming_;
     bool has_ground_ = false;
     float rotation_degrees_ = 0.0f;
 

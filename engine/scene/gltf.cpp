@@ -25,6 +25,8 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "core/log.h"
+#include "scene/gltf_accessor.h"
+#include "scene/gltf_animation.h"
 #include "scene/gltf_material.h"
 #include "scene/gltf_schema.h"
 #include "scene/meshes.h"
@@ -121,14 +123,18 @@ struct AccessorData {
 
 class Flattener {
 public:
-    // textures: by glTF texture index, the base-colour textures the materials use (others unset).
+    // textures: by glTF texture index, the base-colour textures the materials use (others unset); rig and
+    // accessors: the animation data (null when nothing is skinned, morphed or animated).
     Flattener(const std::filesystem::path& path, const tinygltf::Model& model, std::vector<GltfMaterial> materials,
-              std::vector<std::optional<MaterialTexture>> textures)
+              std::vector<std::optional<MaterialTexture>> textures, const GltfRig* rig = nullptr,
+              const GltfAccessors* accessors = nullptr)
         : path_(path),
           model_(model),
           materials_(std::move(materials)),
           textures_(std::move(textures)),
-          part_of_material_(materials_.size() + 1, -1) {}
+          part_of_material_(materials_.size() + 1, -1),
+          rig_(rig),
+          accessors_(accessors) {}
 
     GltfModel run() {
         std::vector<int> roots;
@@ -154,11 +160,16 @@ public:
         GltfModel result;
         result.skipped_primitives = skipped_;
         for (std::size_t k = 0; k < parts_.size(); ++k) {
+            // Animation (scene/gltf_animation.h): skinned and morphed parts start at the rest pose.
+            if (rig_ && (part_sources_[k].skinned || part_sources_[k].morphed))
+                pose_rest(*rig_, part_sources_[k], parts_[k]);
             parts_[k].compute_bounds();
             result.bounds_min = k == 0 ? parts_[k].bounds_min : glm::min(result.bounds_min, parts_[k].bounds_min);
             result.bounds_max = k == 0 ? parts_[k].bounds_max : glm::max(result.bounds_max, parts_[k].bounds_max);
             result.parts.push_back({std::make_shared<const Mesh>(std::move(parts_[k])), part_materials_[k].material,
-                                    part_materials_[k].name});
+                                    part_materials_[k].name, nullptr});
+            if (rig_)
+                result.parts.back().sources = std::make_shared<const GltfPartSources>(std::move(part_sources_[k]));
         }
         return result;
     }
@@ -186,7 +197,7 @@ private:
             if (std::size_t(node.mesh) >= model_.meshes.size())
                 fail(path_, "node " + std::to_string(node_index) + " refers to mesh " + std::to_string(node.mesh) +
                                 ", which does not exist");
-            add_mesh(std::size_t(node.mesh), world);
+            add_mesh(std::size_t(node.mesh), world, node_index);
         }
         for (const int child : node.children) visit(child, world, "node " + std::to_string(node_index), depth + 1);
         state_[n] = Visit::done;
@@ -359,7 +370,7 @@ private:
         return out;
     }
 
-    void add_mesh(std::size_t mesh_index, const glm::dmat4& world) {
+    void add_mesh(std::size_t mesh_index, const glm::dmat4& world, int node_index) {
         const tinygltf::Mesh& gltf_mesh = model_.meshes[mesh_index];
         const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));
         const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
@@ -460,7 +471,21 @@ private:
             if (part.indices.empty()) continue;  // a strip or fan of degenerate triangles only
             triangles_ += part.triangle_count();
             vertices_ += part.positions.size();
-            append(part, parts_[part_for(prim.material)]);
+            const std::size_t part_index = part_for(prim.material);
+            append(part, parts_[part_index]);
+            if (rig_) {  // where the vertices came from, in mesh space, for posing (scene/gltf_animation.h)
+                std::vector<glm::vec3> local_positions(source.size()), local_normals(source.size());
+                const glm::dmat3 normal_to_local = glm::transpose(glm::dmat3(world));
+                for (std::size_t v = 0; v < source.size(); ++v) {
+                    local_positions[v] = read_vec3(positions, source[v]);
+                    const glm::dvec3 n = normal_to_local * glm::dvec3(part.normals[v]);
+                    const double length = glm::length(n);
+                    local_normals[v] = length > 1e-30 ? glm::vec3(n / length) : part.normals[v];
+                }
+                append_sources(read_primitive_sources(*accessors_, model_, *rig_, node_index, int(mesh_index), int(p),
+                                                      source, std::move(local_positions), std::move(local_normals)),
+                               part_sources_[part_index]);
+            }
         }
     }
 
@@ -479,6 +504,7 @@ private:
         if (same == part_materials_.end()) {
             part_materials_.push_back(mapped);
             parts_.emplace_back();
+            part_sources_.emplace_back();
         }
         return std::size_t(part);
     }
@@ -499,6 +525,9 @@ private:
     std::vector<int> part_of_material_;  // by glTF material index + 1 (0: no material); -1 until met
     std::vector<GltfMaterial> part_materials_;
     std::vector<Mesh> parts_;
+    const GltfRig* rig_;  // animation data: null when nothing is skinned, morphed or animated
+    const GltfAccessors* accessors_;
+    std::vector<GltfPartSources> part_sources_;  // per part, with a rig
     std::vector<Visit> state_;
     std::size_t triangles_ = 0, vertices_ = 0;  // over all parts
     std::size_t skipped_ = 0;
@@ -708,8 +737,17 @@ GltfModel load_gltf(const std::filesystem::path& path) {
     if (!err.empty()) fail(path, one_line(err));  // tinygltf reports some errors and still returns true
     if (!warn.empty()) log::warn(path.string() + ": " + one_line(warn));
 
+    // Animation, skins and morph targets (scene/gltf_animation.h), read only when the file has any.
+    bool animated = !model.animations.empty() || !model.skins.empty();
+    for (const auto& mesh : model.meshes)
+        for (const auto& prim : mesh.primitives) animated = animated || !prim.targets.empty();
+    const GltfAccessors accessors(path, model);
+    std::shared_ptr<const GltfRig> rig;
+    if (animated) rig = std::make_shared<const GltfRig>(read_gltf_rig(accessors, model));
     std::vector<std::optional<MaterialTexture>> resolved = resolve_textures(path, model, materials.materials, decoder);
-    GltfModel result = Flattener(path, model, std::move(materials.materials), std::move(resolved)).run();
+    GltfModel result =
+        Flattener(path, model, std::move(materials.materials), std::move(resolved), rig.get(), &accessors).run();
+    result.rig = rig;
     result.ignored_extensions = std::move(materials.ignored_extensions);
     for (const std::string& name : result.ignored_extensions)
         log::warn(path.string() + ": material extension " + name + " is not supported: ignored");

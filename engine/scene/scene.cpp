@@ -7,6 +7,8 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "scene/gltf_animation.h"
+
 namespace envshadow {
 namespace {
 
@@ -73,6 +75,25 @@ glm::mat4 Animation::motion_at(double t) const {
     return glm::mat4(1.0f);
 }
 
+glm::mat4 Object::world_from_object(double t) const {
+    const glm::mat4 m = animation.motion_at(t) * transform;
+    return deformation && deformation->rigid() ? m * deformation->rigid_motion(t) : m;
+}
+
+bool Object::deforms() const {
+    return deformation && !deformation->rigid();
+}
+
+std::shared_ptr<const Mesh> Object::mesh_at(double t) const {
+    return deforms() ? deformation->mesh_at(t) : mesh;
+}
+
+double Object::motion_period() const {
+    double period = animation.kind != Animation::Kind::none ? animation.period : 0.0;
+    if (deformation) period = std::max(period, deformation->duration());
+    return period;
+}
+
 glm::mat4 Camera::view_from_world() const {
     return glm::lookAtRH(position, target, up);
 }
@@ -107,10 +128,11 @@ void Scene::bounds_at(double t, glm::vec3& lo, glm::vec3& hi) const {
     for (const Object& object : objects) {
         if (!object.mesh) continue;
         const glm::mat4 world_from_object = object.world_from_object(t);
+        const std::shared_ptr<const Mesh> mesh = object.mesh_at(t);  // the pose's bounds when it deforms
         for (int corner = 0; corner < 8; ++corner) {
-            const glm::vec3 p((corner & 1) ? object.mesh->bounds_max.x : object.mesh->bounds_min.x,
-                              (corner & 2) ? object.mesh->bounds_max.y : object.mesh->bounds_min.y,
-                              (corner & 4) ? object.mesh->bounds_max.z : object.mesh->bounds_min.z);
+            const glm::vec3 p((corner & 1) ? mesh->bounds_max.x : mesh->bounds_min.x,
+                              (corner & 2) ? mesh->bounds_max.y : mesh->bounds_min.y,
+                              (corner & 4) ? mesh->bounds_max.z : mesh->bounds_min.z);
             const glm::vec3 w(world_from_object * glm::vec4(p, 1.0f));
             lo = glm::min(lo, w);
             hi = glm::max(hi, w);

@@ -69,6 +69,8 @@ struct Animation {
     glm::mat4 motion_at(double t) const;
 };
 
+class MeshDeformation;  // scene/gltf_animation.h
+
 struct Object {
     std::string name;
     std::shared_ptr<const Mesh> mesh;
@@ -77,10 +79,21 @@ struct Object {
     Animation animation;
     bool casts_shadows = true;
 
-    glm::mat4 world_from_object(double t) const { return animation.motion_at(t) * transform; }
+    // glTF animation (scene/gltf_animation.h): null when the model is still. A node-only animation of
+    // one node moves the whole object (world_from_object); skins, morphs and several nodes deform it.
+    std::shared_ptr<const MeshDeformation> deformation;
+
+    glm::mat4 world_from_object(double t) const;  // motion_at(t) * transform (* the glTF node's motion)
     // Whether anything about the object's world-space geometry depends on t: the one test the shadow
     // cache (docs/DESIGN.md §5.11) keeps apart what it may draw once from what it draws every frame.
-    bool moves() const { return animation.kind != Animation::Kind::none; }
+    bool moves() const { return animation.kind != Animation::Kind::none || deformation != nullptr; }
+    // Whether its vertices change with t (then mesh_at(t) differs from mesh).
+    bool deforms() const;
+    // The object-space mesh at time t: `mesh` unless it deforms.
+    std::shared_ptr<const Mesh> mesh_at(double t) const;
+    // How long before the motion repeats (or stops): the longer of the scene-file animation's period
+    // and the glTF clip's duration; 0 for a still object.
+    double motion_period() const;
 };
 
 struct EnvironmentSettings {

@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "scene/gltf.h"
+#include "scene/gltf_animation.h"
 #include "scene/meshes.h"
 #include "scene/scene.h"
 
@@ -52,6 +53,17 @@ void bounds_without_ground(const Scene& scene, const std::vector<bool>& is_groun
     for (std::size_t i = 0; i < scene.objects.size(); ++i)
         if (!is_ground[i]) others.objects.push_back(scene.objects[i]);
     others.bounds_at(t, lo, hi);
+}
+
+// The part's deformation by clip `clip` of its model (none for clip -1 or a model without a rig).
+void attach_clip(Object& object, const GltfModel& model, const GltfPart& part, int clip, bool loop) {
+    if (!model.rig || !part.sources || clip < 0) return;
+    object.deformation = std::make_shared<const MeshDeformation>(model.rig, part.sources, part.mesh, clip, loop);
+}
+
+// The clip a bare model plays: its first.
+int first_clip(const GltfModel& model) {
+    return model.rig && !model.rig->clips.empty() ? 0 : -1;
 }
 
 class SceneReader {
@@ -405,6 +417,30 @@ private:
         return m;
     }
 
+    // A clip by index, by name, or false (none).
+    int pick_clip(const GltfModel& gltf, const json& value, const std::string& where) const {
+        const std::size_t count = gltf.rig ? gltf.rig->clips.size() : 0;
+        if (value.is_boolean()) {
+            if (value.get<bool>()) fail(where, "expected a clip name or index, or false for none");
+            return -1;
+        }
+        if (value.is_number()) {
+            const double index = value.get<double>();
+            if (!(index >= 0.0) || index != std::floor(index) || index >= double(count))
+                fail(where, "clip " + value.dump() + " does not exist (the model has " + std::to_string(count) +
+                                " animations)");
+            return int(index);
+        }
+        const std::string name = text(value, where);
+        std::string names;
+        for (std::size_t i = 0; i < count; ++i) {
+            if (gltf.rig->clips[i].name == name) return int(i);
+            names += (names.empty() ? "" : ", ") + ("\"" + gltf.rig->clips[i].name + "\"");
+        }
+        fail(where,
+             "no animation named \"" + name + "\" (the model has " + (count ? names : std::string("none")) + ")");
+    }
+
     Animation animation(const json& value, const std::string& where) const {
         if (!value.is_object()) fail(where, "expected an object with \"type\": \"orbit\" or \"path\"");
         const auto type_it = value.find("type");
@@ -479,8 +515,38 @@ private:
         const auto material_it = value.find("material");
         if (material_it != value.end() && !gltf)
             object.material = material(*material_it, where + ".material", Material{});
-        if (const auto it = value.find("animation"); it != value.end())
-            object.animation = animation(*it, where + ".animation");
+        // glTF animation: "animation" names the clip (name or index, false for none) or, as an object,
+        // holds "clip" and "loop" beside (or instead of) an orbit or path.
+        int clip = gltf ? first_clip(*gltf) : -1;
+        bool loop = true;
+        if (const auto it = value.find("animation"); it != value.end()) {
+            const std::string at = where + ".animation";
+            json motion = *it;
+            const json* choice = nullptr;
+            json clip_value;
+            if (it->is_string() || it->is_number() || it->is_boolean()) {
+                clip_value = *it;
+                choice = &clip_value;
+                motion = nullptr;
+            } else if (it->is_object()) {
+                if (const auto c = it->find("clip"); c != it->end()) {
+                    clip_value = *c;
+                    choice = &clip_value;
+                    motion.erase("clip");
+                }
+                if (const auto l = it->find("loop"); l != it->end()) {
+                    if (!gltf) fail(at + ".loop", "only a glTF model's animation can loop");
+                    loop = boolean(*l, at + ".loop");
+                    motion.erase("loop");
+                }
+                if (motion.empty()) motion = nullptr;
+            }
+            if (choice) {
+                if (!gltf) fail(at, "only a glTF model has animation clips to pick");
+                clip = pick_clip(*gltf, *choice, at);
+            }
+            if (!motion.is_null()) object.animation = animation(motion, at);
+        }
 
         ground = false;
         if (const auto it = value.find("ground"); it != value.end()) ground = boolean(*it, where + ".ground");
@@ -509,6 +575,7 @@ private:
             o.material =
                 material_it != value.end() ? material(*material_it, where + ".material", part.material) : part.material;
             if (gltf->parts.size() > 1) o.name += "/" + part.name;
+            attach_clip(o, *gltf, part, clip, loop);
             parts.push_back(std::move(o));
         }
         return parts;
@@ -565,6 +632,7 @@ Scene load_bare_model(const fs::path& path) {
         object.mesh = part.mesh;
         object.transform = fit_standing(model.bounds_min, model.bounds_max, kBareModelSize);
         object.material = part.material;
+        attach_clip(object, model, part, first_clip(model), true);  // a dropped-in model plays its first clip
         scene.objects.push_back(object);
     }
 
