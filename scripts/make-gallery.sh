@@ -26,6 +26,16 @@ if [ -f "$box" ]; then
       --out "screenshots/gallery/box_shadows_$shadows.png" | sed "s/^/box_shadows_$shadows: /"
   done
 fi
+# glTF animation: animated.json at four times side by side (the skin bending, the cube morphing, their
+# shadows following).
+frames=()
+for t in 0 1 2 3; do
+  "$envshadow" render --scene assets/scenes/animated.json --width 320 --height 240 --lights 128 --tile 256 \
+    --time "$t" --out "screenshots/gallery/.animated_$t.png" >/dev/null
+  frames+=("screenshots/gallery/.animated_$t.png")
+done
+scripts/png-strip.py screenshots/gallery/animated_strip.png "${frames[@]}"
+rm -f "${frames[@]}"
 if command -v xvfb-run >/dev/null; then
   xvfb-run -a -s '-screen 0 1600x900x24' "$envshadow" view --scene assets/scenes/default.json --lights 64 \
     --width 1600 --height 900 --frames 20 --screenshot screenshots/gallery/viewer.png
