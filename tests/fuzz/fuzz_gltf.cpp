@@ -10,6 +10,7 @@
 #include "fuzz_support.h"
 #include "sample_inputs.h"
 #include "scene/gltf.h"
+#include "scene/gltf_animation.h"
 #include "scene/gltf_material.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -40,6 +41,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 !(std::max({m.rho_d.r, m.rho_d.g, m.rho_d.b}) <= 1.0f) || !(m.rho_s >= 0.0f && m.rho_s <= 1.0f) ||
                 !(m.shininess >= kGltfMinShininess && m.shininess <= kGltfMaxShininess))
                 fuzz::finding("material out of range");
+            // An animated part poses, at any time, into a mesh as sound as the rest pose.
+            if (model.rig && part.sources) {
+                const MeshDeformation deformation(model.rig, part.sources, part.mesh, 0, true);
+                for (const double t : {0.0, 0.37, 1e9}) {
+                    if (deformation.rigid()) {
+                        const glm::mat4 motion = deformation.rigid_motion(t);
+                        for (int c = 0; c < 4; ++c)
+                            if (!fuzz::finite(glm::vec3(motion[c])) || !std::isfinite(motion[c][3]))
+                                fuzz::finding("non-finite rigid motion");
+                    } else {
+                        const std::shared_ptr<const Mesh> posed = deformation.mesh_at(t);
+                        fuzz::check_mesh(*posed);
+                        if (posed->indices != part.mesh->indices) fuzz::finding("a pose changed the triangles");
+                    }
+                }
+            }
             // A texture comes with one finite texture coordinate per vertex and whole RGBA texels.
             if (m.base_color_texture) {
                 const TextureImage* image = m.base_color_texture->image.get();

@@ -40,6 +40,8 @@ int main(int argc, char** argv) {
     write_sample_gltf_interleaved_strip(out / "gltf" / "strip.gltf");
     // Base-colour textures: a PNG in a data: URI, and one in the harness's image.png beside the input.
     write_sample_gltf_textured(out / "gltf" / "textured.gltf");
+    // Animation: a skin, a morph target, and channels of each interpolation.
+    write_sample_gltf_animated(out / "gltf" / "animated.gltf");
     write_sample_gltf_textured(out / "gltf" / "textured_file.gltf", "image.png");
     const nlohmann::json external = {
         {"asset", {{"version", "2.0"}}},

@@ -17,6 +17,7 @@
 #include "robustness_support.h"
 #include "sample_inputs.h"
 #include "scene/gltf.h"
+#include "scene/gltf_animation.h"
 
 namespace envshadow {
 namespace {
@@ -88,6 +89,31 @@ TEST(RobustGltf, TheSampleModelsLoadWithTheirKnownShape) {
     EXPECT_EQ(strip.triangle_count(), 2u);
     EXPECT_EQ(strip.bounds_min, glm::vec3(1, 0, 0));
     EXPECT_EQ(strip.bounds_max, glm::vec3(3, 2, 0));
+}
+
+TEST(RobustGltf, TheTexturedAndAnimatedSamplesLoadWithWhatTheyHold) {
+    const fs::path dir = fresh_folder();
+    test::write_sample_gltf_textured(dir / "textured.gltf");
+    const GltfModel textured = load_gltf(dir / "textured.gltf");
+    ASSERT_EQ(textured.parts.size(), 1u);
+    ASSERT_TRUE(textured.parts[0].material.base_color_texture.has_value());
+    EXPECT_EQ(textured.parts[0].material.base_color_texture->image->width, 4);
+    EXPECT_EQ(textured.parts[0].mesh->texcoords.size(), textured.parts[0].mesh->positions.size());
+    // The transform (offset 0.5 in u, scale 2 in u): u spans 0.5 ... 2.5, v 0 ... 1.
+    float u_max = 0.0f;
+    for (const glm::vec2& uv : textured.parts[0].mesh->texcoords) u_max = std::max(u_max, uv.x);
+    EXPECT_NEAR(u_max, 2.5f, 1e-6f);
+
+    test::write_sample_gltf_animated(dir / "animated.gltf");
+    const GltfModel animated = load_gltf(dir / "animated.gltf");
+    ASSERT_TRUE(animated.rig);
+    ASSERT_EQ(animated.rig->clips.size(), 1u);
+    EXPECT_EQ(animated.rig->clips[0].name, "bend");
+    EXPECT_NEAR(animated.rig->clips[0].duration, 2.0, 1e-9);
+    EXPECT_EQ(animated.rig->skins.size(), 1u);
+    ASSERT_EQ(animated.parts.size(), 1u);
+    EXPECT_TRUE(animated.parts[0].sources->skinned);
+    EXPECT_TRUE(animated.parts[0].sources->morphed);
 }
 
 TEST(RobustGltf, EveryTruncatedGlbIsRefused) {

@@ -296,6 +296,66 @@ void write_sample_gltf_interleaved_strip(const std::filesystem::path& path) {
     write_text(path, doc.dump(1));
 }
 
+void write_sample_gltf_animated(const std::filesystem::path& path) {
+    std::vector<std::uint8_t> bin;
+    json views = json::array(), accessors = json::array();
+    const auto add = [&](const void* data, std::size_t bytes, int component, std::size_t count, const char* type) {
+        while (bin.size() % 4 != 0) bin.push_back(0);
+        views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}});
+        append(bin, data, bytes);
+        accessors.push_back(
+            {{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count}, {"type", type}});
+        return int(accessors.size()) - 1;
+    };
+    const float positions[] = {0, 0, 0, 0.2f, 0, 0, 0, 1, 0, 0.2f, 1, 0, 0, 2, 0, 0.2f, 2, 0};
+    const float deltas[] = {0, 0, 0, 0, 0, 0, 0.1f, 0, 0, 0.1f, 0, 0, 0.3f, 0, 0, 0.3f, 0, 0};
+    const std::uint16_t indices[] = {0, 1, 3, 0, 3, 2, 2, 3, 5, 2, 5, 4};
+    const std::uint8_t joints[] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    const float weights[] = {1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0, 0.5f, 0.5f, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    const float ibm[] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0,  0, 1,
+                         1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1};
+    const float times[] = {0, 1, 2};
+    const float turns[] = {0, 0, 0, 1, 0, 0, 0.7071068f, 0.7071068f, 0, 0, 0, 1};
+    const float weight_keys[] = {0, 0, 0, 0, 1, 0, 0, 0, 0};  // in-tangent, value, out-tangent per key
+    const float steps[] = {0, 0, 0, 0.5f, 0, 0, 0, 0, 0};
+    const int p = add(positions, sizeof positions, 5126, 6, "VEC3");
+    const int d = add(deltas, sizeof deltas, 5126, 6, "VEC3");
+    const int i = add(indices, sizeof indices, 5123, 12, "SCALAR");
+    const int j = add(joints, sizeof joints, 5121, 6, "VEC4");
+    const int w = add(weights, sizeof weights, 5126, 6, "VEC4");
+    const int b = add(ibm, sizeof ibm, 5126, 2, "MAT4");
+    const int t = add(times, sizeof times, 5126, 3, "SCALAR");
+    const int r = add(turns, sizeof turns, 5126, 3, "VEC4");
+    const int m = add(weight_keys, sizeof weight_keys, 5126, 9, "SCALAR");
+    const int s = add(steps, sizeof steps, 5126, 3, "VEC3");
+    accessors[std::size_t(p)]["min"] = {0, 0, 0};
+    accessors[std::size_t(p)]["max"] = {0.2, 2, 0};
+    json doc;
+    doc["asset"] = {{"version", "2.0"}};
+    doc["scene"] = 0;
+    doc["scenes"] = json::array({{{"nodes", {0, 1}}}});
+    doc["nodes"] = json::array({{{"mesh", 0}, {"skin", 0}}, {{"children", {2}}}, {{"translation", {0, 1, 0}}}});
+    doc["meshes"] =
+        json::array({{{"primitives", json::array({{{"attributes", {{"POSITION", p}, {"JOINTS_0", j}, {"WEIGHTS_0", w}}},
+                                                   {"indices", i},
+                                                   {"targets", json::array({{{"POSITION", d}}})}}})},
+                      {"weights", {0.0}}}});
+    doc["skins"] = json::array({{{"joints", {1, 2}}, {"inverseBindMatrices", b}}});
+    doc["animations"] = json::array(
+        {{{"name", "bend"},
+          {"samplers", json::array({{{"input", t}, {"output", r}, {"interpolation", "LINEAR"}},
+                                    {{"input", t}, {"output", m}, {"interpolation", "CUBICSPLINE"}},
+                                    {{"input", t}, {"output", s}, {"interpolation", "STEP"}}})},
+          {"channels", json::array({{{"sampler", 0}, {"target", {{"node", 2}, {"path", "rotation"}}}},
+                                    {{"sampler", 1}, {"target", {{"node", 0}, {"path", "weights"}}}},
+                                    {{"sampler", 2}, {"target", {{"node", 1}, {"path", "translation"}}}}})}}});
+    doc["bufferViews"] = views;
+    doc["accessors"] = accessors;
+    doc["buffers"] =
+        json::array({{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
+    write_text(path, doc.dump(1));
+}
+
 void write_sample_gltf_textured(const std::filesystem::path& path, const std::string& image_file) {
     std::vector<std::uint8_t> bin;
     json doc = box_document(bin);

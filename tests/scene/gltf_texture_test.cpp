@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
 #include <glm/gtc/constants.hpp>
 
 #include "core/error.h"
@@ -171,6 +172,37 @@ TEST(SceneGltfTexture, TruncatedPngIsAnError) {
     const fs::path png = quad.folder / "checker.png";
     fs::copy_file(kModels / "BoxTextured-glTF/CesiumLogoFlat.png", png, fs::copy_options::overwrite_existing);
     fs::resize_file(png, fs::file_size(png) / 2);
+    expect_input_error(quad.write(), "image 0: cannot decode it");
+}
+
+// A 16 x 16 JPEG of a horizontal ramp (stb_image_write), as checker.png's replacement.
+std::vector<std::uint8_t> ramp_jpeg() {
+    std::vector<std::uint8_t> rgb(16 * 16 * 3);
+    for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = std::uint8_t((i / 3 % 16) * 16);
+    std::vector<std::uint8_t> out;
+    stbi_write_jpg_to_func(
+        [](void* context, void* data, int size) {
+            auto* o = static_cast<std::vector<std::uint8_t>*>(context);
+            o->insert(o->end(), static_cast<std::uint8_t*>(data), static_cast<std::uint8_t*>(data) + size);
+        },
+        &out, 16, 16, 3, rgb.data(), 95);
+    return out;
+}
+
+TEST(SceneGltfTexture, JpegDecodesAndATruncatedOneIsAnError) {
+    TexturedQuad quad;
+    const std::vector<std::uint8_t> jpeg = ramp_jpeg();
+    const auto write = [&](std::size_t bytes) {
+        std::ofstream(quad.folder / "checker.png", std::ios::binary)
+            .write(reinterpret_cast<const char*>(jpeg.data()), std::streamsize(bytes));
+    };
+    write(jpeg.size());
+    const GltfModel model = load_gltf(quad.write());
+    const TextureImage& image = *model.parts.at(0).material.base_color_texture->image;
+    EXPECT_EQ(image.width, 16);
+    EXPECT_LT(image.rgba[0], 20);        // the ramp's dark left end
+    EXPECT_GT(image.rgba[15 * 4], 200);  // and bright right end
+    write(jpeg.size() / 2);
     expect_input_error(quad.write(), "image 0: cannot decode it");
 }
 
