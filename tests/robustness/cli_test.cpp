@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "cli_support.h"
 #include "robustness_support.h"
@@ -120,6 +121,15 @@ TEST(CliInput, BrokenScenesAndModelsAreInputErrors) {
     test::write_bytes(dir / "cut_texture.png", prefix(png, png.size() / 2));
     test::write_sample_gltf_textured(dir / "lost_texture.gltf", "lost_texture.png");
     fs::remove(dir / "lost_texture.png");
+    // An animated model whose skin lost a joint (the strip's top follows joint 1), and one whose
+    // sampler names an interpolation glTF does not have.
+    test::write_sample_gltf_animated(dir / "animated.gltf");
+    nlohmann::json animated = nlohmann::json::parse(test::read_text(dir / "animated.gltf"));
+    animated["skins"][0]["joints"] = {1};
+    write_text(dir / "lost_joint.gltf", animated.dump());
+    animated = nlohmann::json::parse(test::read_text(dir / "animated.gltf"));
+    animated["animations"][0]["samplers"][0]["interpolation"] = "BEZIER";
+    write_text(dir / "bezier.gltf", animated.dump());
     ASSERT_EQ(::mkfifo((dir / "pipe.json").c_str(), 0600), 0);
     const auto out = std::vector<std::string>{"--out", "out.png"};
     auto render = [&](const std::string& scene_file) {
@@ -137,6 +147,9 @@ TEST(CliInput, BrokenScenesAndModelsAreInputErrors) {
                           {render("cut_texture.gltf"), {"cut_texture.gltf", "image 0: cannot decode it"}},
                           {render("lost_texture.gltf"), {"lost_texture.gltf", "lost_texture.png not found"}},
                           {{"reference", "--scene", "cut_texture.gltf", "--exr", "ref.exr"}, {"cut_texture.gltf"}},
+                          {render("lost_joint.gltf"), {"lost_joint.gltf", "past skin 0's 1 joints"}},
+                          {render("bezier.gltf"), {"bezier.gltf", "interpolation \"BEZIER\""}},
+                          {{"reference", "--scene", "lost_joint.gltf", "--exr", "ref.exr"}, {"lost_joint.gltf"}},
                           {render("pipe.json"), {"pipe.json"}},
                           {{"reference", "--scene", "cut.glb", "--exr", "ref.exr"}, {"cut.glb"}},
                           {{"bench", "--scene", "cut.json"}, {"cut.json"}},
