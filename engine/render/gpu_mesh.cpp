@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -13,46 +14,48 @@
 
 namespace envshadow::render {
 
-GpuMesh::GpuMesh(const Mesh& mesh, const std::function<void(double fraction)>& progress) {
-    // Immutable storage; an empty array gets a 1-byte buffer and no data.
-    auto make = [](const auto& values) {
-        const std::size_t bytes = values.size() * sizeof(values[0]);
-        return gl::Buffer::create(bytes, bytes ? values.data() : nullptr, 0);
-    };
-    positions_ = make(mesh.positions);
-    normals_ = make(mesh.normals);
-    indices_ = make(mesh.indices);
+namespace {
+
+// Immutable storage (flags 0) or rewritable (GL_DYNAMIC_STORAGE_BIT); an empty array gets a 1-byte buffer
+// and no data.
+template <class T>
+gl::Buffer make_buffer(const std::vector<T>& values, GLbitfield flags = 0) {
+    const std::size_t bytes = values.size() * sizeof(T);
+    return gl::Buffer::create(bytes, bytes ? values.data() : nullptr, flags);
+}
+
+// Float attribute `attribute` of `components` from `buffer` (tightly packed), on binding point `attribute`.
+void attach(GLuint vao, GLuint attribute, const gl::Buffer& buffer, int components) {
+    glVertexArrayVertexBuffer(vao, attribute, buffer.id(), 0, GLsizei(std::size_t(components) * sizeof(float)));
+    glEnableVertexArrayAttrib(vao, attribute);
+    glVertexArrayAttribFormat(vao, attribute, components, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, attribute, attribute);
+}
+
+}  // namespace
+
+void GpuMesh::make_vertex_arrays(const Mesh& mesh, GLbitfield vertex_flags) {
+    positions_ = make_buffer(mesh.positions, vertex_flags);
+    normals_ = make_buffer(mesh.normals, vertex_flags);
+    indices_ = make_buffer(mesh.indices);
     index_count_ = GLsizei(mesh.indices.size());
-
     vertex_array_ = gl::VertexArray::create();
-    const GLuint vao = vertex_array_.id();
-    constexpr GLuint position = shader::attrib::position, normal = shader::attrib::normal;
-    glVertexArrayVertexBuffer(vao, position, positions_.id(), 0, sizeof(glm::vec3));
-    glVertexArrayVertexBuffer(vao, normal, normals_.id(), 0, sizeof(glm::vec3));
-    for (GLuint attribute : {position, normal}) {
-        glEnableVertexArrayAttrib(vao, attribute);
-        glVertexArrayAttribFormat(vao, attribute, 3, GL_FLOAT, GL_FALSE, 0);
-        glVertexArrayAttribBinding(vao, attribute, attribute);
+    attach(vertex_array_.id(), shader::attrib::position, positions_, 3);
+    attach(vertex_array_.id(), shader::attrib::normal, normals_, 3);
+    if (!mesh.texcoords.empty()) {  // never rewritten: a pose moves the vertices, not their texture coordinates
+        texcoords_ = make_buffer(mesh.texcoords);
+        attach(vertex_array_.id(), shader::attrib::texcoord, texcoords_, 2);
     }
-    if (!mesh.texcoords.empty()) {
-        texcoords_ = make(mesh.texcoords);
-        constexpr GLuint texcoord = shader::attrib::texcoord;
-        glVertexArrayVertexBuffer(vao, texcoord, texcoords_.id(), 0, sizeof(glm::vec2));
-        glEnableVertexArrayAttrib(vao, texcoord);
-        glVertexArrayAttribFormat(vao, texcoord, 2, GL_FLOAT, GL_FALSE, 0);
-        glVertexArrayAttribBinding(vao, texcoord, texcoord);
-    }
-    glVertexArrayElementBuffer(vao, indices_.id());
+    glVertexArrayElementBuffer(vertex_array_.id(), indices_.id());
+    caster_vertex_array_ = gl::VertexArray::create();  // positions only; its index buffer is the caller's
+    attach(caster_vertex_array_.id(), shader::attrib::position, positions_, 3);
+}
 
+GpuMesh::GpuMesh(const Mesh& mesh, const std::function<void(double fraction)>& progress) {
+    make_vertex_arrays(mesh, 0);
     caster_lod_ = build_caster_lod(mesh.positions, mesh.indices, progress);
-    caster_indices_ = make(caster_lod_.indices);
-    caster_vertex_array_ = gl::VertexArray::create();
-    const GLuint caster_vao = caster_vertex_array_.id();
-    glVertexArrayVertexBuffer(caster_vao, position, positions_.id(), 0, sizeof(glm::vec3));
-    glEnableVertexArrayAttrib(caster_vao, position);
-    glVertexArrayAttribFormat(caster_vao, position, 3, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(caster_vao, position, position);
-    glVertexArrayElementBuffer(caster_vao, caster_indices_.id());
+    caster_indices_ = make_buffer(caster_lod_.indices);
+    glVertexArrayElementBuffer(caster_vertex_array_.id(), caster_indices_.id());
 
     if (mesh.positions.empty()) return;
     // Flat: one unit normal everywhere, and every position on the plane through the first with it.
@@ -82,43 +85,11 @@ void GpuMesh::set_bounds(const Mesh& mesh) {
 // ---- deforming meshes (glTF animation) ----------------------------------------------------------
 
 GpuMesh::GpuMesh(const Mesh& mesh, Deforming) : deforming_(true) {
-    auto make = [](const auto& values, GLbitfield flags) {
-        const std::size_t bytes = values.size() * sizeof(values[0]);
-        return gl::Buffer::create(std::max<std::size_t>(bytes, 1), bytes ? values.data() : nullptr, flags);
-    };
-    positions_ = make(mesh.positions, GL_DYNAMIC_STORAGE_BIT);
-    normals_ = make(mesh.normals, GL_DYNAMIC_STORAGE_BIT);
-    indices_ = make(mesh.indices, 0);
-    index_count_ = GLsizei(mesh.indices.size());
-    constexpr GLuint position = shader::attrib::position, normal = shader::attrib::normal;
-    vertex_array_ = gl::VertexArray::create();
-    const GLuint vao = vertex_array_.id();
-    glVertexArrayVertexBuffer(vao, position, positions_.id(), 0, sizeof(glm::vec3));
-    glVertexArrayVertexBuffer(vao, normal, normals_.id(), 0, sizeof(glm::vec3));
-    for (GLuint attribute : {position, normal}) {
-        glEnableVertexArrayAttrib(vao, attribute);
-        glVertexArrayAttribFormat(vao, attribute, 3, GL_FLOAT, GL_FALSE, 0);
-        glVertexArrayAttribBinding(vao, attribute, attribute);
-    }
-    if (!mesh.texcoords.empty()) {  // fixed: a pose moves the vertices, not their texture coordinates
-        texcoords_ = make(mesh.texcoords, 0);
-        constexpr GLuint texcoord = shader::attrib::texcoord;
-        glVertexArrayVertexBuffer(vao, texcoord, texcoords_.id(), 0, sizeof(glm::vec2));
-        glEnableVertexArrayAttrib(vao, texcoord);
-        glVertexArrayAttribFormat(vao, texcoord, 2, GL_FLOAT, GL_FALSE, 0);
-        glVertexArrayAttribBinding(vao, texcoord, texcoord);
-    }
-    glVertexArrayElementBuffer(vao, indices_.id());
+    make_vertex_arrays(mesh, GL_DYNAMIC_STORAGE_BIT);
     // The casters draw the full mesh (one level): the posed shape changes every frame.
     caster_lod_.indices = mesh.indices;
     caster_lod_.levels.push_back({0, std::uint32_t(mesh.indices.size()), 0.0f, is_closed(mesh.indices)});
-    caster_vertex_array_ = gl::VertexArray::create();
-    const GLuint caster_vao = caster_vertex_array_.id();
-    glVertexArrayVertexBuffer(caster_vao, position, positions_.id(), 0, sizeof(glm::vec3));
-    glEnableVertexArrayAttrib(caster_vao, position);
-    glVertexArrayAttribFormat(caster_vao, position, 3, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(caster_vao, position, position);
-    glVertexArrayElementBuffer(caster_vao, indices_.id());  // level 0 is the index buffer itself
+    glVertexArrayElementBuffer(caster_vertex_array_.id(), indices_.id());  // level 0 is the index buffer itself
     set_bounds(mesh);
 }
 

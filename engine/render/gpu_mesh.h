@@ -48,6 +48,9 @@ private:
     std::optional<glm::vec3> flat_normal_;
     bool deforming_ = false;
     void set_bounds(const Mesh& mesh);
+    // The buffers of positions and normals (with `vertex_flags`), texture coordinates and indices, the
+    // shading vertex array, and the casters' (positions only, no index buffer yet).
+    void make_vertex_arrays(const Mesh& mesh, GLbitfield vertex_flags);
 };
 
 }  // namespace envshadow::render

@@ -30,15 +30,7 @@ using test::test_folder;
 const fs::path& kModels = test::kAssimpModels;
 
 void expect_input_error(const fs::path& file, const std::string& expected) {
-    try {
-        load_scene(file);
-        ADD_FAILURE() << file << " loaded without an error";
-    } catch (const InputError& e) {
-        const std::string message = e.what();
-        EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << message;
-        EXPECT_NE(message.find(expected), std::string::npos) << message;
-        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    }
+    test::expect_one_line_error(file, expected, load_scene);
 }
 
 GltfSampler two_keys(GltfInterpolation interpolation, std::vector<float> output, int components = 1) {

@@ -36,15 +36,7 @@ void expect_material(const Material& m, const glm::vec3& rho_d, float rho_s, flo
 
 // The error is one line "<file>: <reason>" and the reason mentions `expected`.
 void expect_input_error(const fs::path& file, const std::string& expected) {
-    try {
-        load_gltf(file);
-        ADD_FAILURE() << file << " loaded without an error";
-    } catch (const InputError& e) {
-        const std::string message = e.what();
-        EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << message;
-        EXPECT_NE(message.find(expected), std::string::npos) << message;
-        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    }
+    test::expect_one_line_error(file, expected, load_gltf);
 }
 
 // One mesh of two triangle primitives: the first at x in [0, 1] with material 0, the second at x in

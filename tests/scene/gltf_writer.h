@@ -14,11 +14,26 @@
 #include <nlohmann/json.hpp>
 
 #include "common/test_folder.h"
+#include "core/error.h"
 
 namespace envshadow::test {
 
 // The real glTF 2.0 models of Debian's assimp-testmodels (scripts/install-deps.sh installs them).
 inline const std::filesystem::path kAssimpModels = "/usr/share/assimp/models/glTF2";
+
+// `load(file)` throws an InputError of one line, "<file>: <reason>", whose reason mentions `expected`.
+template <class Load>
+void expect_one_line_error(const std::filesystem::path& file, const std::string& expected, Load load) {
+    try {
+        load(file);
+        ADD_FAILURE() << file << " loaded without an error";
+    } catch (const InputError& e) {
+        const std::string message = e.what();
+        EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << message;
+        EXPECT_NE(message.find(expected), std::string::npos) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+}
 
 // A fresh folder per test.
 inline std::filesystem::path test_folder() {
