@@ -97,7 +97,8 @@ void GpuMesh::update_vertices(const Mesh& posed) {
     if (!deforming_) throw std::logic_error("GpuMesh::update_vertices on a mesh made without Deforming");
     if (!posed.positions.empty()) positions_.upload(posed.positions.data(), posed.positions.size() * sizeof(glm::vec3));
     if (!posed.normals.empty()) normals_.upload(posed.normals.data(), posed.normals.size() * sizeof(glm::vec3));
-    set_bounds(posed);
+    bounds_min_ = posed.bounds_min;  // posing computed them: no second pass over the vertices
+    bounds_max_ = posed.bounds_max;
 }
 
 void GpuMesh::draw() const {

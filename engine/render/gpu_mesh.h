@@ -1,8 +1,7 @@
 #pragma once
 // A scene mesh in GPU buffers: attributes shader::attrib::position and normal (object space) and, where
-// the mesh has them, texcoord; 32-bit
-// indices; and the shadow-caster levels of detail (render/caster_lod.h) in a second index buffer
-// over the same positions. Needs a current GL context.
+// the mesh has them, texcoord; 32-bit indices; and the shadow-caster levels of detail
+// (render/caster_lod.h) in a second index buffer over the same positions. Needs a current GL context.
 #include <functional>
 #include <optional>
 
@@ -23,9 +22,9 @@ public:
     // only: simplified levels would be of the bind pose, not of the frame's).
     struct Deforming {};
     GpuMesh(const Mesh& mesh, Deforming);
-    // The posed positions and normals (same vertex count and indices as the mesh given to the constructor).
+    // The posed positions and normals (same vertex count and indices as the mesh given to the
+    // constructor); its bounds must be set (MeshDeformation's poses are).
     void update_vertices(const Mesh& posed);
-    bool deforming() const { return deforming_; }
     void draw() const;  // glDrawElements
     void bind() const { vertex_array_.bind(); }
     const glm::vec3& bounds_min() const { return bounds_min_; }

@@ -177,7 +177,6 @@ MeshDeformation::MeshDeformation(std::shared_ptr<const GltfRig> rig, std::shared
         rig_->pose(-1, 0.0, world, weights);
         rest_inverse_ = glm::inverse(world[sources_->vertices.front().node]);
     }
-    cached_ = bind_;
     cached_time_ = std::numeric_limits<double>::quiet_NaN();
 }
 
@@ -210,9 +209,10 @@ std::shared_ptr<const Mesh> MeshDeformation::mesh_at(double t) const {
     const double ct = clip_time(t);
     std::lock_guard<std::mutex> lock(mutex_);
     if (ct == cached_time_ && cached_) return cached_;
-    auto mesh = std::make_shared<Mesh>(*bind_);  // indices and any other per-vertex arrays stay as they are
-    pose_into(ct, *mesh);
-    cached_ = mesh;
+    // Indices and texture coordinates are the bind mesh's: copied once, then only the vertices are
+    // rewritten (in place while nobody else holds the last pose; a new copy otherwise).
+    if (!cached_ || cached_.use_count() > 1) cached_ = std::make_shared<Mesh>(*bind_);
+    pose_into(ct, *cached_);
     cached_time_ = ct;
     return cached_;
 }

@@ -132,7 +132,8 @@ private:
     glm::mat4 rest_inverse_{1.0f};
     mutable std::mutex mutex_;
     mutable double cached_time_ = 0.0;
-    mutable std::shared_ptr<const Mesh> cached_;
+    mutable std::shared_ptr<Mesh>
+        cached_;  // a pose (null until one is asked for), reused in place once no caller holds it
 };
 
 // Reading (scene/gltf.cpp), every failure an InputError naming the file: the rig of `model` (nodes,
