@@ -68,14 +68,18 @@ std::vector<glm::dvec3> equal_importance_regions(const ImportanceMap& importance
 // (every split at the importance median).
 SiteSet sites_median_cut(const ImportanceMap& importance, int count);
 
-// lloyd: weighted Lloyd relaxation on the sphere (paper 002 §2.1): every site moves to the normalised
-// importance-weighted mean direction of its cell, decreasing E = sum I (1 - w . s), until an iteration
-// gains less than kLloydEnergyTolerance of E. Starts from Floyd-Steinberg samples of sqrt(I dw) (Lloyd's
+// lloyd: weighted Lloyd relaxation on the sphere (paper 002 §2.1): every site moves towards the
+// normalised importance-weighted mean direction of its cell, decreasing E = sum I (1 - w . s), until an
+// iteration gains less than kLloydEnergyTolerance of E. The steps are over-relaxed
+// (`over_relaxation`, 1 for Lloyd's own steps); one that raises E is replaced by the plain step to the
+// centroid. Starts from Floyd-Steinberg samples of sqrt(I dw) (Lloyd's
 // asymptotic site density, stratified; the seed shifts the halftoning), which saves most of the
 // hundreds of iterations independent importance samples need to even out. Coarse to fine: converges
 // first at 1/factor of the resolution for each of kLloydCoarseFactors (an iteration there costs about
 // 1/factor^2), then again at full resolution, where only a few iterations remain.
-SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition);
+inline constexpr double kLloydOverRelaxation = 1.9;
+SiteSet sites_lloyd(const ImportanceMap& importance, int count, std::uint64_t seed, const Partition& partition,
+                    double over_relaxation = kLloydOverRelaxation);
 
 // ccvt: capacity-constrained Voronoi tessellation as a power diagram (Balzer et al. 2009; de Goes et
 // al. 2012). Starts at the centroids of equal_importance_regions (so it takes no seed); the biases solve

@@ -406,6 +406,35 @@ TEST(Lloyd, SeedsGiveMinimaOfTheSameEnergyOnTheUpperHemisphere) {
     }
 }
 
+// Over-relaxed steps (docs/DESIGN.md §3, issue 14 part 4): on the eight maps, N = 128, fewer iterations than
+// Lloyd's own steps (measured: 367 against 576 in all) to an energy sum I (1 - w . s) as low (measured: within
+// 0.6% either way on every map, 0.2% lower on average).
+TEST(Lloyd, OverRelaxedStepsConvergeInFewerIterationsToAnEnergyAsLow) {
+    auto energy = [](const ImportanceMap& importance, const SiteSet& sites) {
+        std::vector<std::uint16_t> texel_cell(importance.texel_count());
+        assign_nearest_brute_force(importance, sites.sites, {}, texel_cell);
+        double e = 0.0;
+        for (int j = 0; j < importance.height; ++j)
+            for (int i = 0; i < importance.width; ++i) {
+                const size_t t = size_t(j) * size_t(importance.width) + size_t(i);
+                e += importance.importance[t] *
+                     (1.0 - glm::dot(importance.directions(i, j), sites.sites[texel_cell[t]]));
+            }
+        return e;
+    };
+    int plain_iterations = 0, over_iterations = 0;
+    for (const std::string& name : test::kWorldNames) {
+        const ImportanceMap importance = build_importance(test::world(name));
+        const Partition partition(importance, SiteSearch::tiles);
+        const SiteSet plain = sites_lloyd(importance, 128, 1, partition, 1.0);
+        const SiteSet over = sites_lloyd(importance, 128, 1, partition, kLloydOverRelaxation);
+        plain_iterations += plain.iterations;
+        over_iterations += over.iterations;
+        EXPECT_LT(energy(importance, over), 1.01 * energy(importance, plain)) << name;
+    }
+    EXPECT_LT(over_iterations, 0.8 * plain_iterations) << over_iterations << " against " << plain_iterations;
+}
+
 TEST(FloydSteinberg, GivesTheAskedNumberOfSamplesToWithinTwo) {
     for (const std::string& name : test::kWorldNames)
         for (int lights : {1, 2, 3, 16, 100, 256}) {
