@@ -2,8 +2,9 @@
 // texel of each other (sites.h, balance_texels).
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
-#include <iterator>
+#include <utility>
 #include <vector>
 
 #include "env/sites.h"
@@ -16,7 +17,7 @@ struct Grid {
     std::span<const std::uint16_t> cell;
 
     std::size_t index(int i, int j) const { return std::size_t(j) * std::size_t(width) + std::size_t(i); }
-    int wrap(int i) const { return (i % width + width) % width; }
+    int wrap(int i) const { return i < 0 ? i + width : i >= width ? i - width : i; }  // i in [-width, 2 width)
     // The cell at (i, j), columns wrapping around the seam; -1 beyond the poles.
     int at(int i, int j) const { return j < 0 || j >= height ? -1 : int(cell[index(wrap(i), j)]); }
     // The 4-neighbours (right, left, below, above); -1 beyond the poles.
@@ -75,15 +76,21 @@ TexelBalance balance_texels(const ImportanceMap& importance, std::span<std::uint
         ++texels[texel_cell[t]];
     }
     // The texels a pass looks at, in scan order: the border texels (elsewhere a texel has no other cell
-    // to go to), kept up to date from the texels each pass moved.
-    std::vector<std::size_t> candidates, changed, merged;
+    // to go to) that carry importance (the others never move), kept up to date from the texels each pass
+    // moved.
+    const auto movable = [&](std::size_t t) { return importance.importance[t] > 0.0f && grid.on_border(t); };
+    std::vector<std::size_t> candidates, changed;
     for (std::size_t t = 0; t < texel_cell.size(); ++t)
-        if (grid.on_border(t)) candidates.push_back(t);
+        if (movable(t)) candidates.push_back(t);
+    // The next pass's texels as a bit per texel: set, then read in scan order (a sort and merge of the
+    // lists cost a quarter of the balancing on studio).
+    std::vector<std::uint64_t> next((texel_cell.size() + 63) / 64, 0);
+    const auto mark = [&](std::size_t t) { next[t / 64] |= std::uint64_t(1) << (t % 64); };
     for (int pass = 0; pass < max_passes && !candidates.empty(); ++pass) {
         changed.clear();
         for (std::size_t t : candidates) {
-            const double w = importance.importance[t];
-            if (!(w > 0.0)) continue;  // sun texels (left out of the sharing) and black ones stay put
+            const double w = importance.importance[t];  // > 0: sun texels (left out of the sharing) and black
+                                                        // ones are not candidates
             const int i = int(t % std::size_t(width)), j = int(t / std::size_t(width));
             const int a = texel_cell[t];
             if (texels[std::size_t(a)] <= 1) continue;  // a cell keeps its last texel
@@ -112,13 +119,14 @@ TexelBalance balance_texels(const ImportanceMap& importance, std::span<std::uint
         result.passes = pass + 1;
         if (changed.empty()) break;
         // Next pass: this pass's candidates and the changed texels, in scan order, those on a border.
-        std::sort(changed.begin(), changed.end());
-        merged.clear();
-        std::merge(candidates.begin(), candidates.end(), changed.begin(), changed.end(), std::back_inserter(merged));
-        merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
+        for (std::size_t t : candidates) mark(t);
+        for (std::size_t t : changed) mark(t);
         candidates.clear();
-        for (std::size_t t : merged)
-            if (grid.on_border(t)) candidates.push_back(t);
+        for (std::size_t w = 0; w < next.size(); ++w)
+            for (std::uint64_t bits = std::exchange(next[w], 0); bits != 0; bits &= bits - 1) {
+                const std::size_t t = 64 * w + std::size_t(std::countr_zero(bits));
+                if (movable(t)) candidates.push_back(t);
+            }
     }
     return result;
 }

@@ -204,7 +204,7 @@ struct CellStatistics {
 
 CellStatistics cell_statistics(const ImportanceMap& importance, std::span<const std::uint16_t> texel_cell,
                                std::span<const glm::dvec3> sites, std::span<const double> bias) {
-    constexpr int kRowsPerChunk = 32;
+    constexpr int kRowsPerChunk = 64;  // 8 chunks at 512 rows: fewer partial sums to allocate and add up
     const int width = importance.width, height = importance.height, count = int(sites.size());
     const int chunks = (height + kRowsPerChunk - 1) / kRowsPerChunk;
     std::vector<CellStatistics> partial(static_cast<size_t>(chunks), CellStatistics(count));

@@ -284,9 +284,16 @@ std::vector<glm::dvec3> equal_importance_regions(const ImportanceMap& importance
             }
         const glm::dvec3 middle = importance.directions((r.i0 + r.i1) / 2, (r.j0 + r.j1) / 2);
         sites.push_back(centroid_direction(m, middle));
-        // A region too small or too bright to split into its cells: the others at its heaviest texels.
-        std::sort(texels.begin(), texels.end(),
-                  [&](std::size_t x, std::size_t y) { return importance.importance[x] > importance.importance[y]; });
+        // A region too small or too bright to split into its cells: the others at its heaviest texels
+        // (only those sorted: the regions are a whole map's texels).
+        if (cells > 1) {
+            const std::size_t heaviest = std::min(texels.size(), std::size_t(cells - 1));
+            std::partial_sort(texels.begin(), texels.begin() + std::ptrdiff_t(heaviest), texels.end(),
+                              [&](std::size_t x, std::size_t y) {
+                                  const float a = importance.importance[x], b = importance.importance[y];
+                                  return a > b || (a == b && x < y);
+                              });
+        }
         for (int extra = 1; extra < cells; ++extra) {
             if (size_t(extra - 1) < texels.size()) {
                 taken[texels[size_t(extra - 1)]] = true;
