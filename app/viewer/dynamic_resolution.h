@@ -13,6 +13,9 @@ struct DynamicResolutionOptions {
     double target_ms = 100.0;     // frame time to hold while the view changes
     double settle_seconds = 0.3;  // still for this long: back to full size
     float min_scale = 0.25f;      // of the window's width and height
+    // One sample per pixel while the view changes, whatever --msaa says: on a CPU rasteriser such as
+    // llvmpipe 4 samples cost about 3x the shading (docs/PERFORMANCE.md).
+    bool one_sample_while_moving = true;
 };
 
 class DynamicResolution {

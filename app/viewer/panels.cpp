@@ -243,6 +243,10 @@ void Panels::timings_panel(ViewerControls& controls, const PanelInputs& in, Pane
         float target = float(resolution.target_ms);
         if (ImGui::SliderFloat("target ms", &target, 10.0f, 1000.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
             resolution.target_ms = target;
+        ImGui::Checkbox("1 sample while moving", &resolution.one_sample_while_moving);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip(
+                "No MSAA while the view changes: on a CPU rasteriser 4 samples cost about 3x the shading.");
     }
     ImGui::Text("shading %dx%d (%.0f%% of the window)%s", in.shaded_width, in.shaded_height,
                 double(in.shaded_scale) * 100.0, in.shaded_scale < 1.0f ? " while the view changes" : "");

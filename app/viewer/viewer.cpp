@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -78,13 +79,21 @@ struct DrawnFrame {
     bool changing = false;  // the view differed from the frame before
     float scale = 1.0f;     // of the window's size
     int width = 0, height = 0;
+    int samples = 1;         // MSAA samples asked of the renderer
+    double render_ms = 0.0;  // Renderer::render's wall time: the rest of the frame is display, panels, swap
+    int atlas_passes = 0;    // 0 when the shadow cache kept the atlas (docs/DESIGN.md §5.11)
+    std::vector<gl::PassTime> passes;
 };
 
 // Frames while the view changed, and how soon a full-size frame followed: the viewer's log line at
 // the end, which automated runs (--orbit-frames) read.
 struct MotionLog {
     std::vector<double> frame_ms;
+    std::vector<double> render_ms;
+    std::map<std::string, std::vector<double>> pass_ms;  // per pass, in the order first seen
+    std::vector<std::string> pass_order;
     std::vector<float> scales;
+    int atlas_passes = 0;
     DrawnFrame last_moving;
     std::optional<double> stopped_at;  // the end of the last frame whose view changed (steady seconds)
     std::optional<double> full_again;  // seconds from stopped_at to the end of the first full-size frame
@@ -92,6 +101,12 @@ struct MotionLog {
     void record(const DrawnFrame& frame, double ms, double now) {
         if (frame.changing) {
             frame_ms.push_back(ms);
+            render_ms.push_back(frame.render_ms);
+            atlas_passes += frame.atlas_passes;
+            for (const gl::PassTime& pass : frame.passes) {
+                if (!pass_ms.contains(pass.pass)) pass_order.push_back(pass.pass);
+                pass_ms[pass.pass].push_back(pass.milliseconds);
+            }
             scales.push_back(frame.scale);
             last_moving = frame;
             stopped_at = now;
@@ -360,10 +375,14 @@ private:
 
     void apply_settings() {
         try {
-            renderer_->set_settings(controls_.settings);
+            render::RenderSettings settings = controls_.settings;
+            settings.msaa = renderer_->settings().msaa;  // draw_frame sets it: fewer while the view moves
+            renderer_->set_settings(settings);
         } catch (const std::exception& e) {
             error_ = e.what();
+            const int msaa = controls_.settings.msaa;
             controls_.settings = renderer_->settings();
+            controls_.settings.msaa = msaa;
         }
     }
 
@@ -400,6 +419,8 @@ private:
         frame.scale = resolution_.scale_for_frame(frame.changing, now_seconds_);
         frame.width = std::max(1, int(std::lround(float(width) * frame.scale)));
         frame.height = std::max(1, int(std::lround(float(height) * frame.scale)));
+        const bool reduced = !resolution_.at_full_quality() && controls_.dynamic_resolution.one_sample_while_moving;
+        frame.samples = reduced ? 1 : controls_.settings.msaa;
         return frame;
     }
 
@@ -407,9 +428,19 @@ private:
         Scene framed = scene_;
         framed.camera = orbit_.camera();
         drawn_ = plan_frame(framed.camera, width, height);
+        if (renderer_->settings().msaa != drawn_.samples) {  // the shaders do not change: no compile
+            render::RenderSettings settings = renderer_->settings();
+            settings.msaa = drawn_.samples;
+            renderer_->set_settings(settings);
+        }
         if (controls_.light_source == render::LightSourceKind::gpu_fs) sample_lights_on_the_gpu();
+        const auto render_start = std::chrono::steady_clock::now();
         const render::FrameStats stats =
             renderer_->render(controls_.time, render::camera_view(framed, drawn_.width, drawn_.height, controls_.time));
+        drawn_.render_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - render_start).count();
+        drawn_.atlas_passes = stats.atlas_passes;
+        drawn_.passes = stats.passes;
         const render::LightSource* lights = light_source();
         panels_->record(stats, dt,
                         lights && lights->per_frame() ? std::optional<double>(lights->sampling_ms()) : std::nullopt);
@@ -455,9 +486,9 @@ private:
         char text[400];
         std::snprintf(text, sizeof text,
                       "dynamic resolution: %zu frames while the view changed, median %.1f ms (%.1f FPS) at scale "
-                      "%.2f, the last at %dx%d; target %s",
+                      "%.2f, the last at %dx%d, %d sample(s) per pixel; target %s",
                       motion_.frame_ms.size(), ms, ms > 0.0 ? 1000.0 / ms : 0.0, median_of(scales),
-                      motion_.last_moving.width, motion_.last_moving.height,
+                      motion_.last_moving.width, motion_.last_moving.height, motion_.last_moving.samples,
                       controls_.dynamic_resolution.enabled
                           ? (std::to_string(int(std::lround(controls_.dynamic_resolution.target_ms))) + " ms").c_str()
                           : "off");
@@ -468,6 +499,14 @@ private:
         } else {
             line += "; not back at full size when the run ended";
         }
+        std::snprintf(text, sizeof text, "; while it changed: the renderer %.1f ms a frame (median), %d atlas passes",
+                      median_of(motion_.render_ms), motion_.atlas_passes);
+        line += text;
+        for (const std::string& pass : motion_.pass_order) {
+            std::snprintf(text, sizeof text, ", %s %.1f", pass.c_str(), median_of(motion_.pass_ms.at(pass)));
+            line += text;
+        }
+        if (!motion_.pass_order.empty()) line += " ms (medians of the frames that had the pass)";
         log::info(line);
     }
 

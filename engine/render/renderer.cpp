@@ -68,9 +68,7 @@ void Renderer::build_programs() {
     // render/shader_interface.h are in every stage already).
     std::vector<std::string> light_defines;
     if (use_uniform_block_) light_defines.push_back("LIGHTS_UNIFORM_BLOCK");
-    std::vector<std::string> tiles_defines = light_defines;
-    if (samples_ > 1) tiles_defines.push_back("DEPTH_SAMPLES " + std::to_string(samples_));  // a sampler2DMS
-    tiles_program_ = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, tiles_defines);
+    tiles_programs_.clear();
     std::vector<std::string> atlas_defines = light_defines;
     if (settings_.atlas == AtlasMode::viewport_array && !GLAD_GL_ARB_shader_viewport_layer_array) {
         log::warn("GL_ARB_shader_viewport_layer_array is missing: drawing the shadow atlas with clip distances");
@@ -103,18 +101,30 @@ void Renderer::build_programs() {
             library_.build({{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
 }
 
+// shadow_tiles.comp for the samples drawn now, built once per sample count: the viewer drops to one
+// sample while the view moves (docs/DESIGN.md §5.10) and changes back without a compile.
+const gl::Program& Renderer::tiles_program() {
+    auto [it, added] = tiles_programs_.try_emplace(samples_);
+    if (added) {
+        std::vector<std::string> defines;
+        if (use_uniform_block_) defines.push_back("LIGHTS_UNIFORM_BLOCK");
+        if (samples_ > 1) defines.push_back("DEPTH_SAMPLES " + std::to_string(samples_));  // a sampler2DMS
+        it->second = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, defines);
+    }
+    return it->second;
+}
+
 void Renderer::set_settings(const RenderSettings& settings) {
     validate(settings);
     const RenderSettings old = settings_;
     settings_ = settings;
     use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
+    samples_ = drawn_samples();  // only the screen-tile program depends on it: tiles_program()
     if (old.atlas != settings.atlas || old.diffuse != settings.diffuse || old.specular != settings.specular ||
         old.pcf != settings.pcf || old.lights_uniform_block != settings.lights_uniform_block ||
         old.shadow_tile_lists != settings.shadow_tile_lists || old.depth_prepass != settings.depth_prepass ||
-        old.shading != settings.shading || old.msaa != settings.msaa || old.shadows != settings.shadows) {
-        samples_ = drawn_samples();
+        old.shading != settings.shading || old.shadows != settings.shadows)
         build_programs();
-    }
     if (old.skip_lights != settings.skip_lights) select_lights();
 }
 
@@ -468,8 +478,9 @@ void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view)
 void Renderer::build_tile_lists(const FramePlan& plan, const CameraView& view) {
     gl::ScopedPass pass(&timer_, "shadow tile lists");
     const glm::mat4 world_from_clip = glm::inverse(view.clip_from_view * view.view_from_world);
-    const GLuint program = tiles_program_.id();
-    tiles_program_.use();
+    const gl::Program& tiles = tiles_program();
+    const GLuint program = tiles.id();
+    tiles.use();
     glProgramUniformMatrix4fv(program, loc::world_from_clip, 1, GL_FALSE, &world_from_clip[0][0]);
     glProgramUniform1i(program, loc::light_count, int(plan.lights.size()));
     glProgramUniform1f(program, loc::pad, plan.receiver_pad);

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -115,7 +116,8 @@ private:
     void select_lights();
     void ensure_atlas();
     void ensure_target(int width, int height);
-    int drawn_samples() const;  // settings_.msaa capped by max_samples_ (a warning, once, where it is)
+    int drawn_samples() const;           // settings_.msaa capped by max_samples_ (a warning, once, where it is)
+    const gl::Program& tiles_program();  // shadow_tiles.comp for samples_, built on first use
     void upload(const FramePlan& plan);
     void draw_atlas(const FramePlan& plan, FrameStats& stats);
     // Draws the casters `which` accepts (by ObjectFrame index) into every tile, over what the atlas holds or
@@ -130,8 +132,8 @@ private:
     gl::ShaderLibrary library_;
     gl::Program atlas_program_, shade_program_, shade_diffuse_program_, shade_flat_program_, prepass_program_,
         background_program_;
-    gl::Program tiles_program_;
-    gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
+    std::map<int, gl::Program> tiles_programs_;  // shadow_tiles.comp per sample count: tiles_program()
+    gl::VertexArray empty_vertex_array_;         // the background's vertices come from gl_VertexID
     gl::Sampler shadow_sampler_;
     gl::Sampler atlas_depth_sampler_;  // the atlas without comparison: SOFT_SHADOWS' blocker search
     gl::GpuTimer timer_;

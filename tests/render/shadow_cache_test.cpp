@@ -3,6 +3,7 @@
 // static layer after the lights, the settings or the scene change.
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include <glm/ext/matrix_clip_space.hpp>
@@ -218,6 +219,40 @@ TEST_P(ShadowCacheTest, ChangedLightsSettingsAndSceneRenewTheCache) {
             renderer->set_environment_rotation(80.0f);
         }
         three_frames("the figure moved");
+    }
+}
+
+// The viewer shades at one sample per pixel while the view moves and at --msaa's count once it is
+// still (docs/DESIGN.md §5.10): changing the samples keeps the atlas (no pass) and gives the images of
+// a renderer made with that count.
+TEST_P(ShadowCacheTest, ChangingTheSamplesKeepsTheAtlasAndMatchesAFreshRenderer) {
+    const Scene scene = small_flyover(false);
+    auto made_with = [&](int samples) {
+        RenderSettings settings;
+        settings.msaa = samples;
+        auto renderer = std::make_unique<Renderer>(settings);
+        renderer->set_scene(scene);
+        renderer->set_lights(sky_cells());
+        return renderer;
+    };
+    const auto switching = made_with(4), one = made_with(1), four = made_with(4);
+    const CameraView view = look_at({0.6f, 2.6f, 5.0f}, {0.0f, 0.8f, 0.0f});
+    one->render(0.0, view);
+    four->render(0.0, view);
+    const Image one_image = one->read_back(), four_image = four->read_back();
+
+    EXPECT_EQ(switching->render(0.0, view).atlas_passes, 1);
+    EXPECT_GT(object_psnr(switching->read_back(), four_image), 80.0);
+    for (int samples : {1, 4}) {
+        RenderSettings settings = switching->settings();
+        settings.msaa = samples;
+        switching->set_settings(settings);
+        EXPECT_EQ(switching->render(0.0, view).atlas_passes, 0) << samples << " sample(s)";
+        EXPECT_GT(object_psnr(switching->read_back(), samples == 1 ? one_image : four_image), 80.0)
+            << samples << " sample(s)";
+    }
+    if (four->samples() > 1) {  // where the context has multisampling, the two counts differ at the edges
+        EXPECT_LT(object_psnr(one_image, four_image), 70.0);
     }
 }
 
