@@ -4,12 +4,15 @@
     scripts/accuracy.py            # the committed report (a subset of scenes x maps, see COVERAGE)
     scripts/accuracy.py --full     # every scene x map, every method x N (hours on a loaded 2-core VM)
     scripts/accuracy.py --self-test  # the cache keys and the issue-14 target rows on made-up results
+    scripts/accuracy.py --from-csv --forget engine   # a fresh clone: the committed results, engine's redone
 
 Needs a build (build/app/envshadow, build/tests/brdf/brdf_figures) and gnuplot. Reference images
 (`envshadow reference`, CPU Monte Carlo) are cached in build/accuracy/ref/ by scene, map, size and error
 target, and every render+compare result in build/accuracy/results.json, so a rerun only computes what is
-missing; --fresh forgets the results (not the references). Nothing here is a test threshold: the
-targets are reported against, not asserted.
+missing; --fresh forgets the results (not the references). --from-csv starts an empty cache from the
+committed docs/accuracy/results.csv, and --forget SCENE,... drops a scene's results and references (after
+a change that moves its images); references are made only for results that are missing. Nothing here is
+a test threshold: the targets are reported against, not asserted.
 """
 import argparse
 import concurrent.futures as cf
@@ -206,6 +209,40 @@ class Study:
             with open(self.results_path) as f:
                 self.results = json.load(f)
         self.ref_ready = {}
+
+    def import_csv(self, path):
+        """Starts the cache from the committed results (docs/accuracy/results.csv): a fresh clone then renders
+        only what is missing, and makes only those results' references."""
+        added = 0
+        with open(path, newline="") as f:
+            for row in csv.DictReader(f):
+                o = dict(tile=int(row["tile"]), specular=row["specular"], cap=row["cap"], diffuse=row["diffuse"],
+                         seed=int(row["seed"]), hemisphere=row["hemisphere"], tile_sizes=row["tile_sizes"],
+                         shading=row["shading"])
+                key = result_key(row["scene"], row["map"], row["method"], int(row["N"]), o, float(row["ref_error"]))
+                if key in self.results or row["size"] != "x".join(map(str, SCENES[row["scene"]][1:3])):
+                    continue
+                r = {"rel_rmse": float(row["rel_rmse"]), "psnr": float(row["psnr"]), "pixels": int(row["pixels"]),
+                     "render_s": float(row["render_s"])}
+                if row["hemisphere_used"]:
+                    r["hemisphere_used"] = row["hemisphere_used"]
+                if row["lights_drawn"]:
+                    r["lights_drawn"] = int(row["lights_drawn"])
+                self.results[key] = r
+                added += 1
+        self.save()
+        log(f"{added} results taken from {path}")
+
+    def forget(self, scenes):
+        """Drops the cached results and references of these scenes (after a change that moves their images)."""
+        with lock:
+            for key in [k for k in self.results if k.split("|")[0] in scenes]:
+                del self.results[key]
+        self.save()
+        for scene in scenes:
+            for map_ in MAPS:
+                with contextlib.suppress(FileNotFoundError):
+                    os.remove(self.ref_path(scene, map_))
 
     def save(self):
         with lock:
@@ -670,6 +707,7 @@ def write_accuracy(ctx, path):
             else f"the run that wrote it: {ctx['seconds'] / 60:.0f} min, reusing build/accuracy/")
     w(f"    {regen_command(ctx)}          # this report ({took})")
     w("    scripts/accuracy.py --full   # every scene x map in every study (several hours on this machine)")
+    w("    scripts/accuracy.py --from-csv --forget SCENE  # a fresh clone: these results, SCENE's recomputed")
     w("")
     w(f"Machine: {machine_line(ctx)}. Every number below comes from runs of this script on this machine (cached in build/accuracy/).")
     # Only what this report is made of: the cache may hold references and results of other runs.
@@ -1265,6 +1303,10 @@ def main():
     p.add_argument("--report-only", action="store_true",
                    help="write the documents from cached results only (nothing rendered; for editing the report)")
     p.add_argument("--no-grid-methods", default="", help="comma list of methods to leave out of the N grid")
+    p.add_argument("--from-csv", action="store_true",
+                   help="start the result cache from docs/accuracy/results.csv (a fresh clone: only missing results "
+                        "are rendered, and only their references made)")
+    p.add_argument("--forget", default="", help="comma list of scenes whose cached results and references to drop")
     args = p.parse_args()
     t0 = time.time()
     os.chdir(ROOT)
@@ -1272,6 +1314,13 @@ def main():
         if not os.path.exists(exe):
             sys.exit(f"accuracy.py: {exe} not found (build first: cmake --build build --target envshadow brdf_figures)")
     study = Study(args)
+    if args.from_csv and os.path.exists("docs/accuracy/results.csv"):
+        study.import_csv("docs/accuracy/results.csv")
+    forget = [sc for sc in args.forget.split(",") if sc]
+    unknown = [sc for sc in forget if sc not in SCENES]
+    if unknown:
+        sys.exit(f"accuracy.py: --forget: no scene {', '.join(unknown)} (scenes: {', '.join(SCENES)})")
+    study.forget(forget)
     outdir = "docs/accuracy"
     os.makedirs(outdir, exist_ok=True)
 
@@ -1296,10 +1345,6 @@ def main():
         if pr not in needed:
             needed.append(pr)
     report_refs = list(needed)
-    if args.report_only:
-        needed = []
-    ref_thread = threading.Thread(target=study.make_references, args=(needed,), daemon=True)
-    ref_thread.start()
 
     # Every render job (deduplicated by the result cache key inside measure()).
     skip = set(filter(None, args.no_grid_methods.split(",")))
@@ -1349,6 +1394,12 @@ def main():
     report_keys = set(unique)  # what this report is made of (the cache may hold more)
     order = {pr: i for i, pr in enumerate(needed)}
     jobs.sort(key=lambda j: order[(j[0], j[1])])  # stable: renders follow the references as they arrive
+    # References only where a result is missing (cached results need none), one at a time in their own thread.
+    missing = {(j[0], j[1]) for j in jobs
+               if result_key(j[0], j[1], j[2], j[3], dict(DEFAULTS, **j[4]), args.error) not in study.results}
+    ref_thread = threading.Thread(target=study.make_references, args=([pr for pr in needed if pr in missing],),
+                                  daemon=True)
+    ref_thread.start()
     failed = []
     global progress
     progress = Progress(sum(1 for j in jobs if result_key(j[0], j[1], j[2], j[3], dict(DEFAULTS, **j[4]), args.error)
