@@ -141,66 +141,70 @@ struct FftTables {
     }
 };
 
-// (a, b) -> (a + b w, a - b w) in every lane.
+// (a, b) -> (a + b, (a - b) w) in every lane: the decimation-in-frequency butterfly.
 [[gnu::always_inline]] inline void butterfly(Vector& ar, Vector& ai, Vector& br, Vector& bi, double wr, double wi) {
-    const Vector vr = br * wr - bi * wi, vi = br * wi + bi * wr;
-    br = ar - vr, bi = ai - vi;
-    ar += vr, ai += vi;
+    const Vector dr = ar - br, di = ai - bi;
+    ar += br, ai += bi;
+    br = dr * wr - di * wi, bi = dr * wi + di * wr;
 }
 
 // a_j -> sum_k a_k e^{sign 2 pi i j k / N} for kBlock rows at once, in place on split real and imaginary parts
-// laid out [index][lane], the input already in bit-reversed order (FftTables::reversed; the callers store it so),
-// the output in natural order. The first two stages (twiddles 1 and +-i) in one pass, then the others two at a
-// time (radix 2^2: four points loaded once for two stages' butterflies), so that a block's 128 KB of rows
-// (1024 points) is swept five times instead of ten.
+// laid out [index][lane]: the input in natural order, the output in bit-reversed order (index j at
+// FftTables::reversed[j]; the callers read it so). Decimation in frequency, two stages at a time (radix 2^2:
+// four points loaded once for two stages' butterflies, so a block's 128 KB of rows at N = 1024 is swept five
+// times instead of ten), the last two (twiddles 1 and +-i) without multiplications.
 ENVSHADOW_VECTOR_CLONES
 void block_fft(const FftTables& fft, double* re, double* im, double sign) {
     const int n = fft.n;
-    int half = 1;
-    if (n >= 4) {
+    int half = n / 2;
+    for (; half >= 4; half /= 4) {  // stages h and h / 2
+        const int quarter = half / 2;
+        const std::size_t stride = std::size_t(quarter) * kBlock;
+        for (int start = 0; start < n; start += 2 * half)
+            for (int k = 0; k < quarter; ++k) {
+                // Stage h: (0, 2) with the twiddle e^{sign i pi k / h}, (1, 3) with e^{sign i pi (k + h/2) / h};
+                // stage h / 2: (0, 1) and (2, 3) with e^{sign i pi k / (h/2)}.
+                const std::size_t w0 = std::size_t(half - 1 + k), w1 = w0 + std::size_t(quarter);
+                const std::size_t w2 = std::size_t(quarter - 1 + k);
+                for (int lane = 0; lane < kBlock; lane += kVector) {
+                    double* r = re + std::size_t(start + k) * kBlock + std::size_t(lane);
+                    double* i = im + std::size_t(start + k) * kBlock + std::size_t(lane);
+                    Vector x0r = load(r), x1r = load(r + stride), x2r = load(r + 2 * stride),
+                           x3r = load(r + 3 * stride);
+                    Vector x0i = load(i), x1i = load(i + stride), x2i = load(i + 2 * stride),
+                           x3i = load(i + 3 * stride);
+                    butterfly(x0r, x0i, x2r, x2i, fft.cos[w0], sign * fft.sin[w0]);
+                    butterfly(x1r, x1i, x3r, x3i, fft.cos[w1], sign * fft.sin[w1]);
+                    butterfly(x0r, x0i, x1r, x1i, fft.cos[w2], sign * fft.sin[w2]);
+                    butterfly(x2r, x2i, x3r, x3i, fft.cos[w2], sign * fft.sin[w2]);
+                    store(r, x0r), store(r + stride, x1r), store(r + 2 * stride, x2r), store(r + 3 * stride, x3r);
+                    store(i, x0i), store(i + stride, x1i), store(i + 2 * stride, x2i), store(i + 3 * stride, x3i);
+                }
+            }
+    }
+    if (half == 2) {  // stages 2 and 1: (0, 2) and (1, 3) with twiddles 1 and e^{sign i pi / 2}, then (0, 1), (2, 3)
         for (int start = 0; start < n; start += 4)
             for (int lane = 0; lane < kBlock; lane += kVector) {
                 double* r = re + std::size_t(start) * kBlock + std::size_t(lane);
                 double* i = im + std::size_t(start) * kBlock + std::size_t(lane);
                 Vector x0r = load(r), x1r = load(r + kBlock), x2r = load(r + 2 * kBlock), x3r = load(r + 3 * kBlock);
                 Vector x0i = load(i), x1i = load(i + kBlock), x2i = load(i + 2 * kBlock), x3i = load(i + 3 * kBlock);
-                butterfly(x0r, x0i, x1r, x1i, 1.0, 0.0);
-                butterfly(x2r, x2i, x3r, x3i, 1.0, 0.0);
-                const Vector vr = -sign * x3i, vi = sign * x3r;  // x3 e^{sign i pi / 2}
-                store(r, x0r + x2r), store(i, x0i + x2i);
-                store(r + 2 * kBlock, x0r - x2r), store(i + 2 * kBlock, x0i - x2i);
-                store(r + kBlock, x1r + vr), store(i + kBlock, x1i + vi);
-                store(r + 3 * kBlock, x1r - vr), store(i + 3 * kBlock, x1i - vi);
+                const Vector a0r = x0r + x2r, a0i = x0i + x2i, a2r = x0r - x2r, a2i = x0i - x2i;
+                const Vector a1r = x1r + x3r, a1i = x1i + x3i;
+                const Vector a3r = sign * (x3i - x1i), a3i = sign * (x1r - x3r);  // (x1 - x3) e^{sign i pi / 2}
+                store(r, a0r + a1r), store(r + kBlock, a0r - a1r), store(r + 2 * kBlock, a2r + a3r);
+                store(r + 3 * kBlock, a2r - a3r);
+                store(i, a0i + a1i), store(i + kBlock, a0i - a1i), store(i + 2 * kBlock, a2i + a3i);
+                store(i + 3 * kBlock, a2i - a3i);
             }
-        half = 4;
-    }
-    while (half < n) {
-        const bool two_stages = 4 * half <= n;
-        const std::size_t stride = std::size_t(half) * kBlock;
-        for (int start = 0; start < n; start += two_stages ? 4 * half : 2 * half)
-            for (int k = 0; k < half; ++k) {
-                // Stage h: (0, 1) and (2, 3) with the twiddle e^{sign i pi k / h}; stage 2h: (0, 2) with
-                // e^{sign i pi k / 2h} and (1, 3) with e^{sign i pi (k + h) / 2h}.
-                const double w1r = fft.cos[std::size_t(half - 1 + k)], w1i = sign * fft.sin[std::size_t(half - 1 + k)];
-                for (int lane = 0; lane < kBlock; lane += kVector) {
-                    double* r = re + std::size_t(start + k) * kBlock + std::size_t(lane);
-                    double* i = im + std::size_t(start + k) * kBlock + std::size_t(lane);
-                    Vector x0r = load(r), x1r = load(r + stride), x0i = load(i), x1i = load(i + stride);
-                    butterfly(x0r, x0i, x1r, x1i, w1r, w1i);
-                    if (two_stages) {
-                        const std::size_t w2 = std::size_t(2 * half - 1 + k), w3 = w2 + std::size_t(half);
-                        Vector x2r = load(r + 2 * stride), x3r = load(r + 3 * stride);
-                        Vector x2i = load(i + 2 * stride), x3i = load(i + 3 * stride);
-                        butterfly(x2r, x2i, x3r, x3i, w1r, w1i);
-                        butterfly(x0r, x0i, x2r, x2i, fft.cos[w2], sign * fft.sin[w2]);
-                        butterfly(x1r, x1i, x3r, x3i, fft.cos[w3], sign * fft.sin[w3]);
-                        store(r + 2 * stride, x2r), store(r + 3 * stride, x3r);
-                        store(i + 2 * stride, x2i), store(i + 3 * stride, x3i);
-                    }
-                    store(r, x0r), store(r + stride, x1r), store(i, x0i), store(i + stride, x1i);
-                }
+    } else if (half == 1) {  // the last stage alone: (0, 1) with twiddle 1
+        for (int start = 0; start < n; start += 2)
+            for (int lane = 0; lane < kBlock; lane += kVector) {
+                double* r = re + std::size_t(start) * kBlock + std::size_t(lane);
+                double* i = im + std::size_t(start) * kBlock + std::size_t(lane);
+                Vector x0r = load(r), x1r = load(r + kBlock), x0i = load(i), x1i = load(i + kBlock);
+                store(r, x0r + x1r), store(r + kBlock, x0r - x1r), store(i, x0i + x1i), store(i + kBlock, x0i - x1i);
             }
-        half *= two_stages ? 4 : 2;
     }
 }
 
@@ -318,45 +322,29 @@ void order_legendre(const LegendreRecurrence& recurrence, const double* x, const
     }
 }
 
-// scaled[k * 6 + q] = c[k * 6 + q] factors[k], k < count.
-ENVSHADOW_VECTOR_CLONES
-void scale_coefficients(const double* c, const double* factors, int count, double* scaled) {
-    int k = 0;
-    for (; k + 1 < count; k += 2) {  // 12 doubles: three vectors
-        const Vector f01 = {factors[k], factors[k], factors[k], factors[k]};
-        const Vector f23 = {factors[k], factors[k], factors[k + 1], factors[k + 1]};
-        const Vector f45 = {factors[k + 1], factors[k + 1], factors[k + 1], factors[k + 1]};
-        const std::size_t at = std::size_t(k) * 6;
-        store(scaled + at, load(c + at) * f01);
-        store(scaled + at + 4, load(c + at + 4) * f23);
-        store(scaled + at + 8, load(c + at + 8) * f45);
-    }
-    for (; k < count; ++k)
-        for (int q = 0; q < 6; ++q)
-            scaled[std::size_t(k) * 6 + std::size_t(q)] = c[std::size_t(k) * 6 + std::size_t(q)] * factors[k];
-}
-
 // For one order m and one block of rows: sums[parity of l - m][re/im x rgb][lane] = sum over l = m..band of that
-// parity of scaled[l - m] P_lm(x_lane), scaled[(l - m) * 6 + q] the level's factor times c_lm. Four lanes at a
-// time, so that the twelve accumulators (six sums, two parities) and the two Legendre vectors fit the registers.
+// parity of factors[l - m] c[(l - m) * 6 + q] P_lm(x_lane) (the level's Funk-Hecke factors times the order's
+// coefficients). Four lanes at a time, so that the twelve accumulators (six sums, two parities), the two
+// Legendre vectors and a broadcast fit the 16 vector registers.
 ENVSHADOW_VECTOR_CLONES
-void degree_sums(const double* legendre, const double* scaled, int m, int band, double (&sums)[2][6][kBlock]) {
+void degree_sums(const double* legendre, const double* c, const double* factors, int m, int band,
+                 double (&sums)[2][6][kBlock]) {
     const int count = band - m + 1;
     for (int lane = 0; lane < kBlock; lane += kVector) {
         Vector e0 = {}, e1 = {}, e2 = {}, e3 = {}, e4 = {}, e5 = {};
         Vector o0 = {}, o1 = {}, o2 = {}, o3 = {}, o4 = {}, o5 = {};
         int k = 0;
         for (; k + 1 < count; k += 2) {
-            const Vector pe = load(&legendre[std::size_t(k) * kBlock + std::size_t(lane)]);
-            const Vector po = load(&legendre[std::size_t(k + 1) * kBlock + std::size_t(lane)]);
-            const double* ce = &scaled[std::size_t(k) * 6];
+            const Vector pe = load(&legendre[std::size_t(k) * kBlock + std::size_t(lane)]) * factors[k];
+            const Vector po = load(&legendre[std::size_t(k + 1) * kBlock + std::size_t(lane)]) * factors[k + 1];
+            const double* ce = &c[std::size_t(k) * 6];
             e0 += pe * ce[0], e1 += pe * ce[1], e2 += pe * ce[2], e3 += pe * ce[3], e4 += pe * ce[4], e5 += pe * ce[5];
             o0 += po * ce[6], o1 += po * ce[7], o2 += po * ce[8], o3 += po * ce[9], o4 += po * ce[10],
                 o5 += po * ce[11];
         }
         if (k < count) {
-            const Vector pe = load(&legendre[std::size_t(k) * kBlock + std::size_t(lane)]);
-            const double* ce = &scaled[std::size_t(k) * 6];
+            const Vector pe = load(&legendre[std::size_t(k) * kBlock + std::size_t(lane)]) * factors[k];
+            const double* ce = &c[std::size_t(k) * 6];
             e0 += pe * ce[0], e1 += pe * ce[1], e2 += pe * ce[2], e3 += pe * ce[3], e4 += pe * ce[4], e5 += pe * ce[5];
         }
         store(&sums[0][0][lane], e0), store(&sums[0][1][lane], e1), store(&sums[0][2][lane], e2);
@@ -522,7 +510,7 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
 
     // Per-thread scratch, reused by every stage: complex rows laid out [..][index][lane] and the recurrences.
     struct ThreadScratch {
-        Scratch<double> rows, pmm, legendre, scaled, p1, p2;
+        Scratch<double> rows, pmm, legendre, p1, p2;
     };
     tbb::enumerable_thread_specific<ThreadScratch> thread_scratch;
     auto local_scratch = [&]() -> ThreadScratch& {
@@ -531,7 +519,6 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
             local.rows = scratch<double>(row_doubles);
             local.pmm = scratch<double>(std::size_t(bands) * kBlock);
             local.legendre = scratch<double>(std::size_t(bands) * kBlock);
-            local.scaled = scratch<double>(std::size_t(bands) * 6);
             local.p1 = scratch<double>(std::size_t(blocks) * kBlock);
             local.p2 = scratch<double>(std::size_t(blocks) * kBlock);
         }
@@ -583,7 +570,7 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
             for (int i = 0; i < w; ++i)
                 for (int b = 0; b < kBlock; ++b) {
                     const glm::vec3 north = map.at(i, north_row[b]), south = map.at(i, south_row[b]);
-                    const std::size_t at = std::size_t(source_fft.reversed[std::size_t(i)]) * kBlock + std::size_t(b);
+                    const std::size_t at = std::size_t(i) * kBlock + std::size_t(b);
                     re_of(0)[at] = north.r, im_of(0)[at] = north.g;
                     re_of(1)[at] = south.r, im_of(1)[at] = south.g;
                     re_of(2)[at] = north.b, im_of(2)[at] = south.b;
@@ -616,8 +603,11 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
                     }
                 }
         }
+        auto slot = [&](int m) {  // of Z_m: the FFT's output is bit-reversed, the direct transform's natural
+            return std::size_t(power_of_two ? source_fft.reversed[std::size_t(m)] : m) * kBlock;
+        };
         for (int m = 0; m < bands; ++m) {
-            const std::size_t p = std::size_t(m) * kBlock, q = std::size_t((w - m) % w) * kBlock;
+            const std::size_t p = slot(m), q = slot((w - m) % w);
             const double shift_re = source_shift_re[std::size_t(m)], shift_im = source_shift_im[std::size_t(m)];
             double* even = &spectra[((std::size_t(block) * std::size_t(bands) + std::size_t(m)) * 2) * 6 * kBlock];
             double* odd = even + 6 * kBlock;
@@ -686,7 +676,7 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
 
         // Per level and channel one complex row per lane: the northern row in the real part, the southern one in
         // the imaginary part (two real rows through one transform, as in the analysis).
-        // [level][channel][re/im][i][lane], in the transform's bit-reversed input order: index m at reversed[m].
+        // [level][channel][re/im][i][lane].
         const std::size_t row_size = std::size_t(width) * kBlock;
         double* rows = local.rows.get();
         auto row_re = [&](int g, int c) { return rows + std::size_t((g * 3 + c) * 2) * row_size; };
@@ -694,31 +684,25 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
             const int zero_from = std::min(plans[group.first + std::size_t(g)].band, last_order) + 1;
             for (int c = 0; c < 3; ++c) {
                 double* re = row_re(g, c);
-                for (int i = zero_from; i <= width - zero_from; ++i) {
-                    const std::size_t at = std::size_t(group.fft.reversed[std::size_t(i)]) * kBlock;
-                    std::fill(re + at, re + at + kBlock, 0.0);
-                    std::fill(re + row_size + at, re + row_size + at + kBlock, 0.0);
-                }
+                std::fill(re + std::size_t(zero_from) * kBlock, re + std::size_t(width - zero_from + 1) * kBlock, 0.0);
+                std::fill(re + row_size + std::size_t(zero_from) * kBlock,
+                          re + row_size + std::size_t(width - zero_from + 1) * kBlock, 0.0);
             }
         }
         double* legendre = local.legendre.get();
-        double* scaled = local.scaled.get();
         for (int m = 0; m <= last_order; ++m) {
             order_legendre(recurrence, x, &pmm[std::size_t(m) * kBlock], m, group.band, legendre);
             const double* c_m = &coefficients[recurrence.offset(m) * 6];
             for (int g = 0; g < levels; ++g) {
                 const LevelPlan& plan = plans[group.first + std::size_t(g)];
                 if (m > plan.band) continue;
-                scale_coefficients(c_m, plan.factors.data() + m, plan.band - m + 1, scaled);
                 alignas(64) double sums[2][6][kBlock];
-                degree_sums(legendre, scaled, m, plan.band, sums);
+                degree_sums(legendre, c_m, plan.factors.data() + m, m, plan.band, sums);
                 // North X = (even + odd) e^{i pi m / W}, south Y = (even - odd) e^{i pi m / W}; the row
                 // X_0 + 2 Re sum_{m > 0} X_m e^{i m phi} (X_0 real) is the transform of X_m at m and conj X_m
                 // at W - m. Packed with Y: Z_m = X_m + i Y_m, Z_{W-m} = conj X_m + i conj Y_m.
                 const double shift_re = group.shift_re[std::size_t(m)], shift_im = group.shift_im[std::size_t(m)];
-                const std::size_t at_m = std::size_t(group.fft.reversed[std::size_t(m)]) * kBlock;
-                const std::size_t at_mirror =
-                    std::size_t(group.fft.reversed[std::size_t((width - m) % width)]) * kBlock;
+                const std::size_t at_m = std::size_t(m) * kBlock, at_mirror = std::size_t(width - m) * kBlock;
                 for (int c = 0; c < 3; ++c) {
                     double* re = row_re(g, c);
                     double* im = re + row_size;
@@ -745,18 +729,24 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
             for (int c = 0; c < 3; ++c) block_fft(group.fft, row_re(g, c), row_re(g, c) + row_size, 1.0);
             PrefilteredLevel& level = result.levels[group.first + std::size_t(g)];
             const double* re[3] = {row_re(g, 0), row_re(g, 1), row_re(g, 2)};
-            for (int b = 0; b < kBlock; ++b) {
-                const int north_row = block * kBlock + b;
-                if (north_row >= group.north) break;
-                const int south_row = height - 1 - north_row;
-                glm::vec3* north_texels = &level.texels[std::size_t(north_row) * std::size_t(width)];
-                glm::vec3* south_texels = &level.texels[std::size_t(south_row) * std::size_t(width)];
-                for (int i = 0; i < width; ++i) {  // the truncated expansion may ring a little below zero
-                    const std::size_t at = std::size_t(i) * kBlock + std::size_t(b);
-                    for (int c = 0; c < 3; ++c) {
-                        north_texels[i][c] = float(std::max(re[c][at], 0.0));
-                        if (south_row != north_row) south_texels[i][c] = float(std::max(re[c][at + row_size], 0.0));
-                    }
+            const int rows_here = std::min(kBlock, group.north - block * kBlock);
+            glm::vec3* north_texels[kBlock];
+            glm::vec3* south_texels[kBlock];  // null for a middle row, its own mirror
+            for (int b = 0; b < rows_here; ++b) {
+                const int north_row = block * kBlock + b, south_row = height - 1 - north_row;
+                north_texels[b] = &level.texels[std::size_t(north_row) * std::size_t(width)];
+                south_texels[b] =
+                    south_row != north_row ? &level.texels[std::size_t(south_row) * std::size_t(width)] : nullptr;
+            }
+            for (int i = 0; i < width; ++i) {  // the transforms' output is bit-reversed
+                const std::size_t at = std::size_t(group.fft.reversed[std::size_t(i)]) * kBlock;
+                auto texel = [&](std::size_t from) {  // the truncated expansion may ring a little below zero
+                    return glm::vec3(float(std::max(re[0][from], 0.0)), float(std::max(re[1][from], 0.0)),
+                                     float(std::max(re[2][from], 0.0)));
+                };
+                for (int b = 0; b < rows_here; ++b) {
+                    north_texels[b][i] = texel(at + std::size_t(b));
+                    if (south_texels[b]) south_texels[b][i] = texel(at + std::size_t(b) + row_size);
                 }
             }
         }
