@@ -262,8 +262,9 @@ int last_nonzero_order(const double* pmm, int last) {
 // lanes once per degree; four lanes at a time. The blocks nearest the pole whose sectoral values underflowed to
 // zero add nothing and are skipped.
 ENVSHADOW_VECTOR_CLONES
-void order_coefficients(const LegendreRecurrence& recurrence, int m, int blocks, int bands, const double* spectra,
-                        const double* block_x, const double* block_pmm, double* p1, double* p2, double* c) {
+void order_coefficients(const LegendreRecurrence& recurrence, int m, int blocks, int bands, int parities,
+                        const double* spectra, const double* block_x, const double* block_pmm, double* p1, double* p2,
+                        double* c) {
     auto pmm_of = [&](int block) {
         return &block_pmm[(std::size_t(block) * std::size_t(bands) + std::size_t(m)) * kBlock];
     };
@@ -279,7 +280,7 @@ void order_coefficients(const LegendreRecurrence& recurrence, int m, int blocks,
         for (int l = m; l <= recurrence.lmax; ++l) {
             const double a = l >= m + 2 ? recurrence.a[table + std::size_t(l - m)] : 0.0;
             const double ab = l >= m + 2 ? recurrence.ab[table + std::size_t(l - m)] : 0.0;
-            const std::size_t parity = std::size_t(l - m) & 1;
+            const std::size_t parity = std::size_t((l - m) & (parities - 1));  // 0 when one parity
             Vector sum0 = {}, sum1 = {}, sum2 = {}, sum3 = {}, sum4 = {}, sum5 = {};
             for (int block = first_block; block < blocks; ++block) {
                 const std::size_t at = std::size_t(block) * kBlock + std::size_t(lane);
@@ -289,7 +290,10 @@ void order_coefficients(const LegendreRecurrence& recurrence, int m, int blocks,
                                               : (a * x) * q1 - ab * q2;
                 store(&p2[at], q1), store(&p1[at], p);
                 const double* f =
-                    &spectra[(((std::size_t(block) * std::size_t(bands) + std::size_t(m)) * 2 + parity) * 6) * kBlock +
+                    &spectra[(((std::size_t(block) * std::size_t(bands) + std::size_t(m)) * std::size_t(parities) +
+                               parity) *
+                              6) *
+                                 kBlock +
                              std::size_t(lane)];
                 sum0 += p * load(f), sum1 += p * load(f + kBlock), sum2 += p * load(f + 2 * kBlock);
                 sum3 += p * load(f + 3 * kBlock), sum4 += p * load(f + 4 * kBlock), sum5 += p * load(f + 5 * kBlock);
@@ -527,9 +531,16 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
 
     // Row spectra of L dw: F_j(m) = dw_j sum_i L_ij e^{-i m phi_i}, phi_i = 2 pi (i + 0.5) / W, of each pair's
     // rows, as the even and odd spectra F_north +- F_south; 6 doubles (re, im of r, g, b) per pair, order and
-    // parity: spectra[block][m][parity][q][lane]. Padding lanes are zero. With the P_mm of the northern rows:
+    // parity: spectra[block][m][parity][q][lane]; one parity when no southern row is visible (the upper
+    // hemisphere: both are F_north). Padding lanes are zero. With the P_mm of the northern rows:
     // block_pmm[block][m][lane].
-    Scratch<double> spectra = scratch<double>(std::size_t(blocks) * std::size_t(bands) * 2 * 6 * kBlock);
+    bool southern_rows = false;
+    for (int r = 0; r < pairs; ++r)
+        southern_rows =
+            southern_rows || (h - 1 - r != r && hemisphere_texel_solid_angle(h - 1 - r, w, h, hemisphere) > 0.0);
+    const int parities = southern_rows ? 2 : 1;
+    Scratch<double> spectra =
+        scratch<double>(std::size_t(blocks) * std::size_t(bands) * std::size_t(parities) * 6 * kBlock);
     Scratch<double> block_x = scratch<double>(std::size_t(blocks) * kBlock);
     Scratch<double> block_pmm = scratch<double>(std::size_t(blocks) * std::size_t(bands) * kBlock);
     std::vector<double> source_shift_re(static_cast<std::size_t>(bands)), source_shift_im(source_shift_re.size());
@@ -569,13 +580,16 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
         if (power_of_two) {
             for (int i = 0; i < w; ++i)
                 for (int b = 0; b < kBlock; ++b) {
-                    const glm::vec3 north = map.at(i, north_row[b]), south = map.at(i, south_row[b]);
+                    // Rows outside the hemisphere (weight 0) read as zero, whatever they hold.
+                    const glm::vec3 north = north_weight[b] > 0.0 ? map.at(i, north_row[b]) : glm::vec3(0.0f);
+                    const glm::vec3 south = south_weight[b] > 0.0 ? map.at(i, south_row[b]) : glm::vec3(0.0f);
                     const std::size_t at = std::size_t(i) * kBlock + std::size_t(b);
                     re_of(0)[at] = north.r, im_of(0)[at] = north.g;
                     re_of(1)[at] = south.r, im_of(1)[at] = south.g;
                     re_of(2)[at] = north.b, im_of(2)[at] = south.b;
                 }
-            for (int t = 0; t < 3; ++t) block_fft(source_fft, re_of(t), im_of(t), -1.0);
+            for (int t = 0; t < 3; ++t)
+                if (t != 1 || southern_rows) block_fft(source_fft, re_of(t), im_of(t), -1.0);  // zeros stay zeros
         } else {  // a direct transform of the orders needed, m < bands (and their mirrors -m)
             std::vector<double> cos_table(static_cast<std::size_t>(w)), sin_table(cos_table.size());
             for (int i = 0; i < w; ++i)
@@ -587,7 +601,8 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
                     for (int i = 0; i < w; ++i) {
                         const std::size_t turn = std::size_t(std::int64_t(m) * i % w);
                         const double c = cos_table[turn], si = -sin_table[turn];
-                        const glm::vec3 north = map.at(i, north_row[b]), south = map.at(i, south_row[b]);
+                        const glm::vec3 north = north_weight[b] > 0.0 ? map.at(i, north_row[b]) : glm::vec3(0.0f);
+                        const glm::vec3 south = south_weight[b] > 0.0 ? map.at(i, south_row[b]) : glm::vec3(0.0f);
                         const double xs[3] = {north.r, south.r, north.b}, ys[3] = {north.g, south.g, south.b};
                         for (int t = 0; t < 3; ++t) {
                             sums[t][0][0] += xs[t] * c, sums[t][1][0] += xs[t] * si;
@@ -609,8 +624,10 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
         for (int m = 0; m < bands; ++m) {
             const std::size_t p = slot(m), q = slot((w - m) % w);
             const double shift_re = source_shift_re[std::size_t(m)], shift_im = source_shift_im[std::size_t(m)];
-            double* even = &spectra[((std::size_t(block) * std::size_t(bands) + std::size_t(m)) * 2) * 6 * kBlock];
-            double* odd = even + 6 * kBlock;
+            double* even =
+                &spectra[((std::size_t(block) * std::size_t(bands) + std::size_t(m)) * std::size_t(parities)) * 6 *
+                         kBlock];
+            double* odd = even + std::size_t(parities - 1) * 6 * kBlock;  // the same when one parity
             for (int c = 0; c < 3; ++c) {
                 // The transform and the half of it that holds channel c of the north (X) and south (Y) rows.
                 const int north_t = c < 2 ? 0 : 2, south_t = c < 2 ? 1 : 2;
@@ -641,8 +658,8 @@ PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hem
     Scratch<double> coefficients = scratch<double>(recurrence.offset(bands) * 6);
     tbb::parallel_for(0, bands, [&](int m) {
         ThreadScratch& local = local_scratch();
-        order_coefficients(recurrence, m, blocks, bands, spectra.get(), block_x.get(), block_pmm.get(), local.p1.get(),
-                           local.p2.get(), &coefficients[recurrence.offset(m) * 6]);
+        order_coefficients(recurrence, m, blocks, bands, parities, spectra.get(), block_x.get(), block_pmm.get(),
+                           local.p1.get(), local.p2.get(), &coefficients[recurrence.offset(m) * 6]);
     });
 
     // Each level: G_m(theta) = sum_l Lambda_l c_lm P_lm(cos theta), then each row by an inverse FFT of
