@@ -268,6 +268,10 @@ void order_coefficients(const LegendreRecurrence& recurrence, int m, int blocks,
     auto pmm_of = [&](int block) {
         return &block_pmm[(std::size_t(block) * std::size_t(bands) + std::size_t(m)) * kBlock];
     };
+    auto spectrum = [&](int block, std::size_t parity) {  // spectra[block][m][parity][q][lane]
+        return &spectra[((std::size_t(block) * std::size_t(bands) + std::size_t(m)) * std::size_t(parities) + parity) *
+                        6 * kBlock];
+    };
     int first_block = 0;
     while (first_block < blocks &&
            std::all_of(pmm_of(first_block), pmm_of(first_block) + kBlock, [](double p) { return p == 0.0; }))
@@ -289,12 +293,7 @@ void order_coefficients(const LegendreRecurrence& recurrence, int m, int blocks,
                                  : l == m + 1 ? start * x * q1
                                               : (a * x) * q1 - ab * q2;
                 store(&p2[at], q1), store(&p1[at], p);
-                const double* f =
-                    &spectra[(((std::size_t(block) * std::size_t(bands) + std::size_t(m)) * std::size_t(parities) +
-                               parity) *
-                              6) *
-                                 kBlock +
-                             std::size_t(lane)];
+                const double* f = spectrum(block, parity) + lane;
                 sum0 += p * load(f), sum1 += p * load(f + kBlock), sum2 += p * load(f + 2 * kBlock);
                 sum3 += p * load(f + 3 * kBlock), sum4 += p * load(f + 4 * kBlock), sum5 += p * load(f + 5 * kBlock);
             }
