@@ -120,6 +120,29 @@ TEST(PrefilterTest, SharpLevelsMatchIntegrationCourtyard) {
         }
 }
 
+// A map whose halved size is 550 x 275 (1100 x 550 halved, as every map wider than 1024): a width that is not a
+// power of two (the analysis' direct transform instead of the FFT) and an odd height (a middle row that is its
+// own mirror in the north/south pairing), against the direct integral of the map as given.
+TEST(PrefilterTest, OddSizedMapMatchesIntegration) {
+    const EnvironmentMap& city = test::world("city");
+    EnvironmentMap map;
+    map.width = 1100;
+    map.height = 550;
+    map.source = "city at 1100 x 550";
+    map.texels.resize(std::size_t(map.width) * std::size_t(map.height));
+    for (int j = 0; j < map.height; ++j)
+        for (int i = 0; i < map.width; ++i)
+            map.at(i, j) = city.at(i * city.width / map.width, j * city.height / map.height);
+    const PrefilteredEnvironment env = prefilter_environment(map, Hemisphere::full);
+    for (const glm::dvec3& d : test_directions()) {
+        EXPECT_LT(relative_error(env.irradiance(d), lobe_integral(map, d, 1.0, Hemisphere::full)), 0.01)
+            << "E at " << d.x << "," << d.y << "," << d.z;
+        for (double n : {10.0, 100.0})
+            EXPECT_LT(relative_error(env.specular(d, float(n)), lobe_integral(map, d, n, Hemisphere::full)), 0.01)
+                << "S_" << n << " at " << d.x << "," << d.y << "," << d.z;
+    }
+}
+
 TEST(PrefilterTest, MatchesIntegrationCity) {
     expect_matches_integration(test::world("city"), Hemisphere::full);
 }
