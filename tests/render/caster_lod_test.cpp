@@ -2,6 +2,9 @@
 // honest (checked against a sphere's analytic surface), the level choice and the error budget.
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -63,6 +66,71 @@ TEST(CasterLod, ErrorBoundsTheDistanceFromTheSurface) {
     for (std::size_t k = 1; k < lod.levels.size(); ++k)
         EXPECT_LE(worst_centroid(lod.levels[k]), lod.levels[k].error + full)
             << "level " << k << " error " << lod.levels[k].error;
+}
+
+// Watertight: every edge a -> b as often as b -> a, so no edge borders a hole (is_closed asks more:
+// each once, which a simplifier that pinches a thin part into a fold need not keep).
+bool watertight(std::span<const std::uint32_t> indices) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> balance;
+    for (std::size_t t = 0; t < indices.size(); t += 3)
+        for (std::size_t e = 0; e < 3; ++e) {
+            const std::uint32_t a = indices[t + e], b = indices[t + (e + 1) % 3];
+            balance[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : -1;
+        }
+    return std::all_of(balance.begin(), balance.end(), [](const auto& edge) { return edge.second == 0; });
+}
+
+// A large mesh's levels are simplified in spatial chunks with locked borders (CasterLodChunks; the
+// thresholds lowered here so that a small sphere is cut into 17 chunks): the chunks still meet edge to
+// edge (every level of the closed sphere is watertight: no crack between chunks), the errors still
+// bound the distance from the surface, and the progress still rises from 0 to 1.
+TEST(CasterLod, ChunkedLevelsMeetEdgeToEdgeWithinTheirError) {
+    const Mesh sphere = make_mesh(SphereShape{1.0f, 128});  // 16,128 triangles
+    std::vector<double> fractions;
+    const CasterLod lod = build_caster_lod(
+        sphere.positions, sphere.indices, [&](double fraction) { fractions.push_back(fraction); },
+        CasterLodChunks{2000, 1000});
+    ASSERT_GE(lod.levels.size(), 4u);
+    EXPECT_TRUE(lod.levels[0].closed);
+    auto worst_centroid = [&](const CasterLevel& level) {  // a flat triangle sags deepest at its centroid
+        float worst = 0.0f;
+        for (std::uint32_t i = level.first_index; i < level.first_index + level.index_count; i += 3)
+            worst = std::max(
+                worst, 1.0f - glm::length(sphere.positions[lod.indices[i]] + sphere.positions[lod.indices[i + 1]] +
+                                          sphere.positions[lod.indices[i + 2]]) /
+                                  3.0f);
+        return worst;
+    };
+    const float full = worst_centroid(lod.levels[0]);
+    for (std::size_t k = 1; k < lod.levels.size(); ++k) {
+        const CasterLevel& level = lod.levels[k];
+        EXPECT_TRUE(watertight({lod.indices.data() + level.first_index, level.index_count})) << "level " << k;
+        EXPECT_LE(double(level.index_count), 0.9 * double(lod.levels[k - 1].index_count)) << k;
+        EXPECT_LE(worst_centroid(level), level.error + full) << "level " << k << " error " << level.error;
+    }
+    EXPECT_LT(lod.levels.back().index_count, sphere.indices.size() / 10);
+    ASSERT_GE(fractions.size(), 3u);
+    EXPECT_EQ(fractions.front(), 0.0);
+    EXPECT_EQ(fractions.back(), 1.0);
+    EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+}
+
+// Closed: every directed edge once and its reverse once, whatever the vertex numbers (a level of a
+// large mesh uses a few of its vertices, numbered sparsely).
+TEST(CasterLod, ClosedMeansEveryEdgeMeetsItsReverse) {
+    const Mesh sphere = make_mesh(SphereShape{1.0f, 16});
+    EXPECT_TRUE(is_closed(sphere.indices));
+    std::vector<std::uint32_t> sparse = sphere.indices;
+    for (std::uint32_t& index : sparse) index = 7 * index + 1'000'000;
+    EXPECT_TRUE(is_closed(sparse));
+    std::vector<std::uint32_t> open(sphere.indices.begin(), sphere.indices.end() - 3);  // one triangle missing
+    EXPECT_FALSE(is_closed(open));
+    std::vector<std::uint32_t> flipped = sphere.indices;  // one triangle wound the other way
+    std::swap(flipped[4], flipped[5]);
+    EXPECT_FALSE(is_closed(flipped));
+    std::vector<std::uint32_t> doubled = sphere.indices;  // a triangle twice
+    doubled.insert(doubled.end(), sphere.indices.begin(), sphere.indices.begin() + 3);
+    EXPECT_FALSE(is_closed(doubled));
 }
 
 TEST(CasterLod, ChoosesTheCoarsestLevelWithinTheBudget) {
