@@ -411,7 +411,6 @@ Simplified simplify_level(std::span<const glm::vec3> positions, std::span<const 
 CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
                            const std::function<void(double fraction)>& progress, CasterLodChunks chunks) {
     CasterLod lod;
-    lod.indices.assign(indices.begin(), indices.end());
     lod.levels.push_back({0u, std::uint32_t(indices.size()), 0.0f, false});
     if (indices.empty() || positions.empty()) return lod;
 

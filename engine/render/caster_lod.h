@@ -19,15 +19,17 @@
 namespace envshadow::render {
 
 struct CasterLevel {
-    std::uint32_t first_index = 0;  // into CasterLod::indices
+    std::uint32_t first_index = 0;  // into CasterLod::indices (level 0: into the mesh's own indices)
     std::uint32_t index_count = 0;
     float error = 0.0f;   // bound on the distance (object space) of the simplified surface from the original
     bool closed = false;  // welded by position, every edge is shared by exactly two oppositely wound triangles
 };
 
 struct CasterLod {
-    // Level 0 is the original index buffer (error 0); every further level has fewer triangles and a
-    // larger error than the one before. All levels index the mesh's own vertex array.
+    // Level 0 is the original index buffer (error 0), which is not copied here: a large mesh's index
+    // buffer is a third of its memory. Levels 1, 2, ... are in `indices` (their first_index counts
+    // from the start of it); each has fewer triangles and a larger error than the one before. All
+    // levels index the mesh's own vertex array.
     std::vector<std::uint32_t> indices;
     std::vector<CasterLevel> levels;
 };

@@ -17,6 +17,22 @@
 namespace envshadow::render {
 namespace {
 
+// Level k's indices: level 0 is the mesh's own index buffer, the others are in lod.indices.
+std::span<const std::uint32_t> level_indices(const CasterLod& lod, const Mesh& mesh, std::size_t k) {
+    if (k == 0) return mesh.indices;
+    return {lod.indices.data() + lod.levels[k].first_index, lod.levels[k].index_count};
+}
+
+// How far inside the unit sphere the level's triangles sag at worst (deepest at a centroid).
+float worst_centroid(const Mesh& sphere, std::span<const std::uint32_t> indices) {
+    float worst = 0.0f;
+    for (std::size_t i = 0; i < indices.size(); i += 3)
+        worst = std::max(worst, 1.0f - glm::length(sphere.positions[indices[i]] + sphere.positions[indices[i + 1]] +
+                                                   sphere.positions[indices[i + 2]]) /
+                                           3.0f);
+    return worst;
+}
+
 TEST(CasterLod, ChainOfASphereSimplifiesWithGrowingError) {
     const Mesh sphere = make_mesh(SphereShape{1.0f, 128});  // 16,128 triangles, seams at the poles/meridian
     const CasterLod lod = build_caster_lod(sphere.positions, sphere.indices);
@@ -27,7 +43,7 @@ TEST(CasterLod, ChainOfASphereSimplifiesWithGrowingError) {
         EXPECT_LE(double(lod.levels[k].index_count), 0.9 * double(lod.levels[k - 1].index_count)) << k;
         EXPECT_GE(lod.levels[k].error, lod.levels[k - 1].error) << k;
         EXPECT_EQ(lod.levels[k].index_count % 3, 0u);
-        EXPECT_LE(lod.levels[k].first_index + lod.levels[k].index_count, lod.indices.size());
+        EXPECT_LE(lod.levels[k].first_index + lod.levels[k].index_count, lod.indices.size());  // level 0 not copied
     }
     EXPECT_LT(lod.levels.back().index_count, sphere.indices.size() / 10);  // the coarsest is far coarser
 }
@@ -52,19 +68,9 @@ TEST(CasterLod, ReportsItsProgressFromZeroToOne) {
 TEST(CasterLod, ErrorBoundsTheDistanceFromTheSurface) {
     const Mesh sphere = make_mesh(SphereShape{1.0f, 128});
     const CasterLod lod = build_caster_lod(sphere.positions, sphere.indices);
-    auto worst_centroid = [&](const CasterLevel& level) {
-        float worst = 0.0f;
-        for (std::uint32_t i = level.first_index; i < level.first_index + level.index_count; i += 3) {
-            const glm::vec3 centroid = (sphere.positions[lod.indices[i]] + sphere.positions[lod.indices[i + 1]] +
-                                        sphere.positions[lod.indices[i + 2]]) /
-                                       3.0f;
-            worst = std::max(worst, 1.0f - glm::length(centroid));
-        }
-        return worst;
-    };
-    const float full = worst_centroid(lod.levels[0]);
+    const float full = worst_centroid(sphere, level_indices(lod, sphere, 0));
     for (std::size_t k = 1; k < lod.levels.size(); ++k)
-        EXPECT_LE(worst_centroid(lod.levels[k]), lod.levels[k].error + full)
+        EXPECT_LE(worst_centroid(sphere, level_indices(lod, sphere, k)), lod.levels[k].error + full)
             << "level " << k << " error " << lod.levels[k].error;
 }
 
@@ -92,21 +98,13 @@ TEST(CasterLod, ChunkedLevelsMeetEdgeToEdgeWithinTheirError) {
         CasterLodChunks{2000, 1000});
     ASSERT_GE(lod.levels.size(), 4u);
     EXPECT_TRUE(lod.levels[0].closed);
-    auto worst_centroid = [&](const CasterLevel& level) {  // a flat triangle sags deepest at its centroid
-        float worst = 0.0f;
-        for (std::uint32_t i = level.first_index; i < level.first_index + level.index_count; i += 3)
-            worst = std::max(
-                worst, 1.0f - glm::length(sphere.positions[lod.indices[i]] + sphere.positions[lod.indices[i + 1]] +
-                                          sphere.positions[lod.indices[i + 2]]) /
-                                  3.0f);
-        return worst;
-    };
-    const float full = worst_centroid(lod.levels[0]);
+    const float full = worst_centroid(sphere, level_indices(lod, sphere, 0));
     for (std::size_t k = 1; k < lod.levels.size(); ++k) {
         const CasterLevel& level = lod.levels[k];
-        EXPECT_TRUE(watertight({lod.indices.data() + level.first_index, level.index_count})) << "level " << k;
+        EXPECT_TRUE(watertight(level_indices(lod, sphere, k))) << "level " << k;
         EXPECT_LE(double(level.index_count), 0.9 * double(lod.levels[k - 1].index_count)) << k;
-        EXPECT_LE(worst_centroid(level), level.error + full) << "level " << k << " error " << level.error;
+        EXPECT_LE(worst_centroid(sphere, level_indices(lod, sphere, k)), level.error + full)
+            << "level " << k << " error " << level.error;
     }
     EXPECT_LT(lod.levels.back().index_count, sphere.indices.size() / 10);
     ASSERT_GE(fractions.size(), 3u);
