@@ -423,6 +423,7 @@ CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const
     lod.levels[0].closed = is_closed(welded);
     if (indices.size() < 3 * 64) return lod;  // too small to be worth simplifying
     const float scale = meshopt_simplifyScale(xyz, positions.size(), sizeof(glm::vec3));
+    if (!(scale > 0.0f) || !std::isfinite(scale)) return lod;  // every vertex at one point: nothing to simplify
     Original original{positions, welded, {}, scale / 64.0f, 0.0f, {}};  // errors up to 1/64 of the extent measured
     {
         std::vector<bool> used(positions.size(), false);
