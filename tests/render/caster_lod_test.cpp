@@ -148,6 +148,17 @@ TEST(CasterLod, SmallMeshesKeepOnlyTheFullLevel) {
     EXPECT_EQ(lod.levels[0].index_count, 36u);
 }
 
+// Degenerate input: a large mesh whose vertices all lie at one point has nothing to simplify (and
+// no extent to size the error grids by).
+TEST(CasterLod, MeshAtOnePointKeepsOnlyTheFullLevel) {
+    Mesh point = make_mesh(SphereShape{1.0f, 32});
+    for (glm::vec3& p : point.positions) p = glm::vec3(2.0f, 3.0f, 4.0f);
+    const CasterLod lod = build_caster_lod(point.positions, point.indices);
+    ASSERT_EQ(lod.levels.size(), 1u);
+    EXPECT_EQ(lod.levels[0].index_count, point.indices.size());
+    EXPECT_FALSE(lod.levels[0].closed);  // welded, every triangle is degenerate
+}
+
 TEST(CasterLod, ErrorBudgetIsAFractionOfATexelInObjectSpace) {
     // 256 texels over 4 m: texel 1/64 m; half a texel is 1/128 m in the world.
     const float texel = 4.0f / 256.0f;
