@@ -7,6 +7,7 @@
 // that moves by at most `fraction` of a texel (in any direction: silhouette or depth) moves the
 // sampled depth by less than the depth bias (1 texel) and the silhouette by less than the PCF
 // footprint. The receivers are never simplified (shading draws the full mesh).
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -18,24 +19,38 @@
 namespace envshadow::render {
 
 struct CasterLevel {
-    std::uint32_t first_index = 0;  // into CasterLod::indices
+    std::uint32_t first_index = 0;  // into CasterLod::indices (level 0: into the mesh's own indices)
     std::uint32_t index_count = 0;
     float error = 0.0f;   // bound on the distance (object space) of the simplified surface from the original
     bool closed = false;  // welded by position, every edge is shared by exactly two oppositely wound triangles
 };
 
 struct CasterLod {
-    // Level 0 is the original index buffer (error 0); every further level has fewer triangles and a
-    // larger error than the one before. All levels index the mesh's own vertex array.
+    // Level 0 is the original index buffer (error 0), which is not copied here: a large mesh's index
+    // buffer is a third of its memory. Levels 1, 2, ... are in `indices` (their first_index counts
+    // from the start of it); each has fewer triangles and a larger error than the one before. All
+    // levels index the mesh's own vertex array.
     std::vector<std::uint32_t> indices;
     std::vector<CasterLevel> levels;
 };
 
+// How a level is simplified from a large one. meshoptimizer's time per triangle grows with the size
+// of one call (a large model's first level took most of its load time), so a level of more than
+// `chunked_from` triangles is simplified in spatial chunks of about `chunk_triangles` (runs of the
+// triangles' Morton order), on every core, each chunk's border locked so that the chunks still meet
+// edge to edge; the seams, left at the finer level's resolution, go in the next level.
+struct CasterLodChunks {
+    std::size_t chunked_from = std::size_t(1) << 18;
+    std::size_t chunk_triangles = std::size_t(1) << 17;
+};
+
 // Relative error targets (fractions of the mesh's extent) the chain is built for: 1/8192 growing by sqrt(2)
 // up to 1/32. Levels that remove under 10% of the previous level's triangles are not kept.
-// `progress`, if given, is called with the fraction of the targets tried so far (large models take seconds).
+// `progress`, if given, is called on the calling thread with the fraction of the work done so far
+// (large models take seconds). Time and memory grow linearly with the triangles (docs/PERFORMANCE.md,
+// "Large models").
 CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
-                           const std::function<void(double fraction)>& progress = {});
+                           const std::function<void(double fraction)>& progress = {}, CasterLodChunks chunks = {});
 
 // Whether the triangles form closed surfaces, consistently wound: every directed edge (a, b) occurs
 // once and its reverse (b, a) once. Degenerate triangles make it false.

@@ -47,15 +47,18 @@ void GpuMesh::make_vertex_arrays(const Mesh& mesh, GLbitfield vertex_flags) {
         attach(vertex_array_.id(), shader::attrib::texcoord, texcoords_, 2);
     }
     glVertexArrayElementBuffer(vertex_array_.id(), indices_.id());
-    caster_vertex_array_ = gl::VertexArray::create();  // positions only; its index buffer is the caller's
+    caster_vertex_array_ = gl::VertexArray::create();
     attach(caster_vertex_array_.id(), shader::attrib::position, positions_, 3);
+    glVertexArrayElementBuffer(caster_vertex_array_.id(), indices_.id());
 }
 
 GpuMesh::GpuMesh(const Mesh& mesh, const std::function<void(double fraction)>& progress) {
     make_vertex_arrays(mesh, 0);
     caster_lod_ = build_caster_lod(mesh.positions, mesh.indices, progress);
     caster_indices_ = make_buffer(caster_lod_.indices);
-    glVertexArrayElementBuffer(caster_vertex_array_.id(), caster_indices_.id());
+    simplified_vertex_array_ = gl::VertexArray::create();
+    attach(simplified_vertex_array_.id(), shader::attrib::position, positions_, 3);
+    glVertexArrayElementBuffer(simplified_vertex_array_.id(), caster_indices_.id());
 
     if (mesh.positions.empty()) return;
     // Flat: one unit normal everywhere, and every position on the plane through the first with it.
@@ -87,9 +90,7 @@ void GpuMesh::set_bounds(const Mesh& mesh) {
 GpuMesh::GpuMesh(const Mesh& mesh, Deforming) : deforming_(true) {
     make_vertex_arrays(mesh, GL_DYNAMIC_STORAGE_BIT);
     // The casters draw the full mesh (one level): the posed shape changes every frame.
-    caster_lod_.indices = mesh.indices;
     caster_lod_.levels.push_back({0, std::uint32_t(mesh.indices.size()), 0.0f, is_closed(mesh.indices)});
-    glVertexArrayElementBuffer(caster_vertex_array_.id(), indices_.id());  // level 0 is the index buffer itself
     set_bounds(mesh);
 }
 

@@ -33,14 +33,16 @@ public:
     // The normal, when every vertex has it and lies on one plane (a ground).
     const std::optional<glm::vec3>& flat_normal() const { return flat_normal_; }
 
-    // Caster levels (level 0: the full mesh). Bind the caster vertex array (positions only) first.
+    // Caster levels (level 0: the full mesh, drawn from the mesh's own index buffer). Bind the caster
+    // vertex array (positions only) of the level first.
     const CasterLod& caster_lod() const { return caster_lod_; }
-    void bind_caster() const { caster_vertex_array_.bind(); }
+    void bind_caster(int level) const { (level == 0 ? caster_vertex_array_ : simplified_vertex_array_).bind(); }
     void draw_caster(int level, int instances = 1) const;  // glDrawElementsInstanced of that level
 
 private:
     gl::Buffer positions_, normals_, texcoords_, indices_, caster_indices_;
-    gl::VertexArray vertex_array_, caster_vertex_array_;
+    // Positions only: with the mesh's index buffer (level 0), and with the simplified levels' (1, 2, ...).
+    gl::VertexArray vertex_array_, caster_vertex_array_, simplified_vertex_array_;
     GLsizei index_count_ = 0;
     CasterLod caster_lod_;
     glm::vec3 bounds_min_{0.0f}, bounds_max_{0.0f};  // from the positions (Mesh::bounds may be unset)
@@ -48,7 +50,7 @@ private:
     bool deforming_ = false;
     void set_bounds(const Mesh& mesh);
     // The buffers of positions and normals (with `vertex_flags`), texture coordinates and indices, the
-    // shading vertex array, and the casters' (positions only, no index buffer yet).
+    // shading vertex array, and the casters' (positions only; level 0's with the mesh's indices).
     void make_vertex_arrays(const Mesh& mesh, GLbitfield vertex_flags);
 };
 

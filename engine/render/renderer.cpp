@@ -413,7 +413,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
             } else {
                 glDisable(GL_CULL_FACE);
             }
-            mesh.bind_caster();
+            mesh.bind_caster(level);
             draw(mesh, level);
         }
     };

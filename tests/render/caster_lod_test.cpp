@@ -2,6 +2,9 @@
 // honest (checked against a sphere's analytic surface), the level choice and the error budget.
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -14,6 +17,22 @@
 namespace envshadow::render {
 namespace {
 
+// Level k's indices: level 0 is the mesh's own index buffer, the others are in lod.indices.
+std::span<const std::uint32_t> level_indices(const CasterLod& lod, const Mesh& mesh, std::size_t k) {
+    if (k == 0) return mesh.indices;
+    return {lod.indices.data() + lod.levels[k].first_index, lod.levels[k].index_count};
+}
+
+// How far inside the unit sphere the level's triangles sag at worst (deepest at a centroid).
+float worst_centroid(const Mesh& sphere, std::span<const std::uint32_t> indices) {
+    float worst = 0.0f;
+    for (std::size_t i = 0; i < indices.size(); i += 3)
+        worst = std::max(worst, 1.0f - glm::length(sphere.positions[indices[i]] + sphere.positions[indices[i + 1]] +
+                                                   sphere.positions[indices[i + 2]]) /
+                                           3.0f);
+    return worst;
+}
+
 TEST(CasterLod, ChainOfASphereSimplifiesWithGrowingError) {
     const Mesh sphere = make_mesh(SphereShape{1.0f, 128});  // 16,128 triangles, seams at the poles/meridian
     const CasterLod lod = build_caster_lod(sphere.positions, sphere.indices);
@@ -24,7 +43,7 @@ TEST(CasterLod, ChainOfASphereSimplifiesWithGrowingError) {
         EXPECT_LE(double(lod.levels[k].index_count), 0.9 * double(lod.levels[k - 1].index_count)) << k;
         EXPECT_GE(lod.levels[k].error, lod.levels[k - 1].error) << k;
         EXPECT_EQ(lod.levels[k].index_count % 3, 0u);
-        EXPECT_LE(lod.levels[k].first_index + lod.levels[k].index_count, lod.indices.size());
+        EXPECT_LE(lod.levels[k].first_index + lod.levels[k].index_count, lod.indices.size());  // level 0 not copied
     }
     EXPECT_LT(lod.levels.back().index_count, sphere.indices.size() / 10);  // the coarsest is far coarser
 }
@@ -49,20 +68,67 @@ TEST(CasterLod, ReportsItsProgressFromZeroToOne) {
 TEST(CasterLod, ErrorBoundsTheDistanceFromTheSurface) {
     const Mesh sphere = make_mesh(SphereShape{1.0f, 128});
     const CasterLod lod = build_caster_lod(sphere.positions, sphere.indices);
-    auto worst_centroid = [&](const CasterLevel& level) {
-        float worst = 0.0f;
-        for (std::uint32_t i = level.first_index; i < level.first_index + level.index_count; i += 3) {
-            const glm::vec3 centroid = (sphere.positions[lod.indices[i]] + sphere.positions[lod.indices[i + 1]] +
-                                        sphere.positions[lod.indices[i + 2]]) /
-                                       3.0f;
-            worst = std::max(worst, 1.0f - glm::length(centroid));
-        }
-        return worst;
-    };
-    const float full = worst_centroid(lod.levels[0]);
+    const float full = worst_centroid(sphere, level_indices(lod, sphere, 0));
     for (std::size_t k = 1; k < lod.levels.size(); ++k)
-        EXPECT_LE(worst_centroid(lod.levels[k]), lod.levels[k].error + full)
+        EXPECT_LE(worst_centroid(sphere, level_indices(lod, sphere, k)), lod.levels[k].error + full)
             << "level " << k << " error " << lod.levels[k].error;
+}
+
+// Watertight: every edge a -> b as often as b -> a, so no edge borders a hole (is_closed asks more:
+// each once, which a simplifier that pinches a thin part into a fold need not keep).
+bool watertight(std::span<const std::uint32_t> indices) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> balance;
+    for (std::size_t t = 0; t < indices.size(); t += 3)
+        for (std::size_t e = 0; e < 3; ++e) {
+            const std::uint32_t a = indices[t + e], b = indices[t + (e + 1) % 3];
+            balance[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : -1;
+        }
+    return std::all_of(balance.begin(), balance.end(), [](const auto& edge) { return edge.second == 0; });
+}
+
+// A large mesh's levels are simplified in spatial chunks with locked borders (CasterLodChunks; the
+// thresholds lowered here so that a small sphere is cut into 17 chunks): the chunks still meet edge to
+// edge (every level of the closed sphere is watertight: no crack between chunks), the errors still
+// bound the distance from the surface, and the progress still rises from 0 to 1.
+TEST(CasterLod, ChunkedLevelsMeetEdgeToEdgeWithinTheirError) {
+    const Mesh sphere = make_mesh(SphereShape{1.0f, 128});  // 16,128 triangles
+    std::vector<double> fractions;
+    const CasterLod lod = build_caster_lod(
+        sphere.positions, sphere.indices, [&](double fraction) { fractions.push_back(fraction); },
+        CasterLodChunks{2000, 1000});
+    ASSERT_GE(lod.levels.size(), 4u);
+    EXPECT_TRUE(lod.levels[0].closed);
+    const float full = worst_centroid(sphere, level_indices(lod, sphere, 0));
+    for (std::size_t k = 1; k < lod.levels.size(); ++k) {
+        const CasterLevel& level = lod.levels[k];
+        EXPECT_TRUE(watertight(level_indices(lod, sphere, k))) << "level " << k;
+        EXPECT_LE(double(level.index_count), 0.9 * double(lod.levels[k - 1].index_count)) << k;
+        EXPECT_LE(worst_centroid(sphere, level_indices(lod, sphere, k)), level.error + full)
+            << "level " << k << " error " << level.error;
+    }
+    EXPECT_LT(lod.levels.back().index_count, sphere.indices.size() / 10);
+    ASSERT_GE(fractions.size(), 3u);
+    EXPECT_EQ(fractions.front(), 0.0);
+    EXPECT_EQ(fractions.back(), 1.0);
+    EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+}
+
+// Closed: every directed edge once and its reverse once, whatever the vertex numbers (a level of a
+// large mesh uses a few of its vertices, numbered sparsely).
+TEST(CasterLod, ClosedMeansEveryEdgeMeetsItsReverse) {
+    const Mesh sphere = make_mesh(SphereShape{1.0f, 16});
+    EXPECT_TRUE(is_closed(sphere.indices));
+    std::vector<std::uint32_t> sparse = sphere.indices;
+    for (std::uint32_t& index : sparse) index = 7 * index + 1'000'000;
+    EXPECT_TRUE(is_closed(sparse));
+    std::vector<std::uint32_t> open(sphere.indices.begin(), sphere.indices.end() - 3);  // one triangle missing
+    EXPECT_FALSE(is_closed(open));
+    std::vector<std::uint32_t> flipped = sphere.indices;  // one triangle wound the other way
+    std::swap(flipped[4], flipped[5]);
+    EXPECT_FALSE(is_closed(flipped));
+    std::vector<std::uint32_t> doubled = sphere.indices;  // a triangle twice
+    doubled.insert(doubled.end(), sphere.indices.begin(), sphere.indices.begin() + 3);
+    EXPECT_FALSE(is_closed(doubled));
 }
 
 TEST(CasterLod, ChoosesTheCoarsestLevelWithinTheBudget) {
@@ -80,6 +146,17 @@ TEST(CasterLod, SmallMeshesKeepOnlyTheFullLevel) {
     const CasterLod lod = build_caster_lod(box.positions, box.indices);
     ASSERT_EQ(lod.levels.size(), 1u);
     EXPECT_EQ(lod.levels[0].index_count, 36u);
+}
+
+// Degenerate input: a large mesh whose vertices all lie at one point has nothing to simplify (and
+// no extent to size the error grids by).
+TEST(CasterLod, MeshAtOnePointKeepsOnlyTheFullLevel) {
+    Mesh point = make_mesh(SphereShape{1.0f, 32});
+    for (glm::vec3& p : point.positions) p = glm::vec3(2.0f, 3.0f, 4.0f);
+    const CasterLod lod = build_caster_lod(point.positions, point.indices);
+    ASSERT_EQ(lod.levels.size(), 1u);
+    EXPECT_EQ(lod.levels[0].index_count, point.indices.size());
+    EXPECT_FALSE(lod.levels[0].closed);  // welded, every triangle is degenerate
 }
 
 TEST(CasterLod, ErrorBudgetIsAFractionOfATexelInObjectSpace) {
