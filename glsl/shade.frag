@@ -28,6 +28,8 @@ layout(location = 2) centroid in vec2 v_texcoord;
 layout(location = LOC_EYE) uniform vec3 u_eye;
 layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
 layout(location = LOC_ATLAS_TEXEL) uniform vec2 u_atlas_texel;  // size of one atlas texel in uv
+layout(location = LOC_SLOPE_BIAS) uniform float u_slope_bias;   // of the receiver-plane depth bias
+vec3 plane_normal;  // the triangle's normal (either side) at this pixel: main() sets it first
 layout(location = LOC_K_D) uniform vec3 u_k_d;                  // rho_d / pi
 // The base-colour texture (linear: an sRGB texture), white without one; it scales k_d at each pixel.
 layout(binding = UNIT_BASE_COLOR) uniform sampler2D u_base_color;
@@ -86,6 +88,26 @@ const float kKernelTexels = 1.5;  // tap offsets of 1 texel plus the 2x2 bilinea
 #else
 const float kKernelTexels = 0.5;
 #endif
+// The receiver-plane depth bias's slopes are clamped at 50 texels of depth per texel (the plane's normal
+// at least 0.02 off the tile's plane in clip space): more than 5, the soft shadows' clamp, since a convex
+// receiver near its terminator (a sphere under N = 1) would otherwise shadow itself.
+const float kPlaneBiasMinNormalZ = 0.02;
+
+// Depth change per tile texel (x, y) along the receiver's tangent plane with normal n: what a lookup
+// that far from the receiver's own point must allow for (docs/DESIGN.md §5.3), and what the soft
+// shadows' taps compare against (no acne on planes). The normal in clip space
+// is M^-T n = (M n)_k / |row_k|^2 for the orthographic M = diag(1 / half) R; slopes clamped at
+// 1 / min_nz (n_clip.z at least min_nz in magnitude).
+vec2 receiver_depth_slope(Light light, vec3 n, float min_nz) {
+    mat3 m = mat3(light.clip_from_world);
+    vec3 row_sq = vec3(dot(vec3(m[0][0], m[1][0], m[2][0]), vec3(m[0][0], m[1][0], m[2][0])),
+                       dot(vec3(m[0][1], m[1][1], m[2][1]), vec3(m[0][1], m[1][1], m[2][1])),
+                       dot(vec3(m[0][2], m[1][2], m[2][2]), vec3(m[0][2], m[1][2], m[2][2])));
+    vec3 n_clip = normalize((m * n) / row_sq);
+    float nz = n_clip.z < 0.0 ? min(n_clip.z, -min_nz) : max(n_clip.z, min_nz);
+    float tile_texels = light.tile.z / u_atlas_texel.x;
+    return -n_clip.xy / nz / tile_texels;  // d(0.5 z + 0.5) per texel: clip x spans 2 over tile_texels
+}
 
 #if defined(SOFT_SHADOWS)
 // Percentage-closer soft shadows per cell (docs/DESIGN.md §5.9): a cap of radius r_i shadows a receiver
@@ -103,19 +125,6 @@ const vec2 kFilterDisc[kFilterTaps] = vec2[](
     vec2(0.5712, -0.3634), vec2(-0.1911, 0.7107), vec2(-0.3644, -0.7016), vec2(0.7906, 0.2887), vec2(-0.8224, 0.3395),
     vec2(0.3965, -0.8472), vec2(0.2930, 0.9341));
 
-// Depth change per tile texel (x, y) along the receiver's tangent plane, so that taps away from the
-// centre compare against the receiver's own depth there (no acne on planes). The normal in clip space
-// is M^-T n = (M n)_k / |row_k|^2 for the orthographic M = diag(1 / half) R; slopes clamped at 5.
-vec2 receiver_depth_slope(Light light, vec3 n) {
-    mat3 m = mat3(light.clip_from_world);
-    vec3 row_sq = vec3(dot(vec3(m[0][0], m[1][0], m[2][0]), vec3(m[0][0], m[1][0], m[2][0])),
-                       dot(vec3(m[0][1], m[1][1], m[2][1]), vec3(m[0][1], m[1][1], m[2][1])),
-                       dot(vec3(m[0][2], m[1][2], m[2][2]), vec3(m[0][2], m[1][2], m[2][2])));
-    vec3 n_clip = normalize((m * n) / row_sq);
-    float nz = n_clip.z < 0.0 ? min(n_clip.z, -0.2) : max(n_clip.z, 0.2);
-    float tile_texels = light.tile.z / u_atlas_texel.x;
-    return -n_clip.xy / nz / tile_texels;  // d(0.5 z + 0.5) per texel: clip x spans 2 over tile_texels
-}
 
 // A per-pixel, per-light rotation of the discs: interleaved gradient noise of the pixel (deterministic:
 // the same every frame and run) plus a hash of the tile's corner, so the N cells' patterns differ.
@@ -132,7 +141,7 @@ float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard) {
     vec2 search = per_depth * depth;  // the widest penumbra: a blocker at depth 0
     if (max(search.x, search.y) < 1.0) return hard;
     vec2 lo = light.tile.xy + 0.5 * u_atlas_texel, hi = light.tile.xy + light.tile.zw - 0.5 * u_atlas_texel;
-    vec2 slope = receiver_depth_slope(light, n);
+    vec2 slope = receiver_depth_slope(light, n, 0.2);
     mat2 rotation = disc_rotation(light);
     float blocker_sum = 0.0, blockers = 0.0;
     for (int k = 0; k < kBlockerTaps; ++k) {
@@ -154,9 +163,12 @@ float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard) {
 }
 #endif
 
-// Fraction of the cell's shadow map that sees `p`. The receiver is moved along its normal by the
-// light's normal offset (more at grazing angles) and its depth lowered by the depth bias; the slope
-// bias is applied to the casters when the atlas is drawn. Lookups are clamped to the tile's
+// Fraction of the cell's shadow map that sees `p`. The receiver's depth is lowered by the receiver-plane
+// depth bias (docs/DESIGN.md §5.3): u_slope_bias times the depth its triangle's plane changes by out to
+// the farthest texel centre the filter reads, kKernelTexels + 0.5 texels away along each axis, so that
+// no texel of its own plane shadows it; and by the depth bias, which covers the casters' level of
+// detail (at most 0.3 texel off). It may also be moved along its normal by the light's normal offset
+// (more at grazing angles; 0 by default). Lookups are clamped to the tile's
 // interior so no tap reads a neighbouring tile; casters keep a margin from the tile's border, so a
 // receiver outside the tile reads cleared depth and is lit. Receivers beyond the far plane compare
 // at the far plane: shadowed where any caster is above them.
@@ -167,7 +179,9 @@ float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
     vec2 margin = kKernelTexels * u_atlas_texel;
     vec2 unclamped = light.tile.xy + (0.5 * clip.xy + 0.5) * light.tile.zw;
     vec2 uv = clamp(unclamped, light.tile.xy + margin, light.tile.xy + light.tile.zw - margin);
-    float depth = min(0.5 * clip.z + 0.5 - light.bias.x, 1.0);
+    vec2 slope = receiver_depth_slope(light, plane_normal, kPlaneBiasMinNormalZ);
+    float plane_bias = u_slope_bias * (kKernelTexels + 0.5) * (abs(slope.x) + abs(slope.y));
+    float depth = min(0.5 * clip.z + 0.5 - light.bias.x - plane_bias, 1.0);
 #if defined(SOFT_SHADOWS)
     return soft_visibility(light, n, unclamped, depth, texture(u_atlas, vec3(uv, depth)));
 #elif defined(PCF_WIDE)
@@ -256,6 +270,11 @@ void main() {
     vec3 p = v_world_position;
     vec3 view = normalize(u_eye - p);
     vec3 n = shading_normal(normalize(v_world_normal), view);
+    // The plane of the triangle, from the position's screen derivatives (helper invocations interpolate
+    // the same triangle): the surface the atlas holds, which the interpolated normal only approximates.
+    // A triangle seen edge on has none: its shading normal stands in.
+    vec3 across = cross(dFdx(p), dFdy(p));
+    plane_normal = dot(across, across) > 0.0 ? normalize(across) : n;
     vec3 mirror = reflect(-view, n);
 
     vec3 radiance = vec3(0.0);

@@ -126,16 +126,21 @@ std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dve
     rtcIntersect1(state_->everything, &context, &query);
     if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
 
-    const std::size_t object = state_->object_of_geometry[query.hit.geomID];
+    return hit_at(state_->object_of_geometry[query.hit.geomID], query.hit.primID, query.hit.u, query.hit.v,
+                  query.ray.tfar, direction);
+}
+
+Hit RayTracer::hit_at(std::size_t object, std::size_t triangle_index, double u, double v, double distance,
+                      const glm::dvec3& direction) const {
     const std::vector<glm::vec3>& positions = state_->positions[object];
     const std::vector<glm::vec3>& normals = state_->normals[object];
-    const std::uint32_t* triangle = state_->indices[object]->data() + 3 * std::size_t(query.hit.primID);
-    const double u = query.hit.u, v = query.hit.v, w = 1.0 - u - v;
+    const std::uint32_t* triangle = state_->indices[object]->data() + 3 * triangle_index;
+    const double w = 1.0 - u - v;
     const glm::dvec3 p0(positions[triangle[0]]), p1(positions[triangle[1]]), p2(positions[triangle[2]]);
     Hit hit;
     hit.object = object;
-    hit.triangle = query.hit.primID;
-    hit.distance = query.ray.tfar;
+    hit.triangle = triangle_index;
+    hit.distance = distance;
     hit.position = w * p0 + u * p1 + v * p2;
     // A mirroring transform turns the winding round: the front stays the side of the object's winding.
     const glm::dvec3 face = (state_->mirrored[object] ? -1.0 : 1.0) * glm::cross(p1 - p0, p2 - p0);
@@ -151,23 +156,39 @@ std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dve
     return hit;
 }
 
-std::optional<glm::dvec2> RayTracer::texcoord_on_plane(const Hit& hit, const glm::dvec3& origin,
-                                                       const glm::dvec3& direction) const {
-    const std::vector<glm::vec2>& uv = *state_->texcoords[hit.object];
-    if (uv.empty()) return std::nullopt;
+std::optional<glm::dvec3> RayTracer::plane_crossing(const Hit& hit, const glm::dvec3& origin,
+                                                    const glm::dvec3& direction) const {
     const std::vector<glm::vec3>& positions = state_->positions[hit.object];
     const std::uint32_t* triangle = state_->indices[hit.object]->data() + 3 * hit.triangle;
     const glm::dvec3 p0(positions[triangle[0]]), p1(positions[triangle[1]]), p2(positions[triangle[2]]);
     const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0, normal = glm::cross(e1, e2);
     const double denominator = glm::dot(normal, direction);
     if (!(std::abs(denominator) > 1e-12 * glm::length(normal))) return std::nullopt;
-    const glm::dvec3 q = origin + (glm::dot(normal, p0 - origin) / denominator) * direction;
+    const double distance = glm::dot(normal, p0 - origin) / denominator;
+    const glm::dvec3 q = origin + distance * direction;
     // Barycentrics of q in the plane (Cramer's rule on the edge vectors).
     const double d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
     const double r1 = glm::dot(q - p0, e1), r2 = glm::dot(q - p0, e2);
     const double det = d11 * d22 - d12 * d12;
     if (!(det > 0.0)) return std::nullopt;
-    const double u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
+    return glm::dvec3((d22 * r1 - d12 * r2) / det, (d11 * r2 - d12 * r1) / det, distance);
+}
+
+std::optional<Hit> RayTracer::hit_on_plane(const Hit& hit, const glm::dvec3& origin,
+                                           const glm::dvec3& direction) const {
+    const std::optional<glm::dvec3> crossing = plane_crossing(hit, origin, direction);
+    if (!crossing || !(crossing->z > 0.0)) return std::nullopt;
+    return hit_at(hit.object, hit.triangle, crossing->x, crossing->y, crossing->z, direction);
+}
+
+std::optional<glm::dvec2> RayTracer::texcoord_on_plane(const Hit& hit, const glm::dvec3& origin,
+                                                       const glm::dvec3& direction) const {
+    const std::vector<glm::vec2>& uv = *state_->texcoords[hit.object];
+    if (uv.empty()) return std::nullopt;
+    const std::optional<glm::dvec3> crossing = plane_crossing(hit, origin, direction);
+    if (!crossing) return std::nullopt;
+    const std::uint32_t* triangle = state_->indices[hit.object]->data() + 3 * hit.triangle;
+    const double u = crossing->x, v = crossing->y;
     return (1.0 - u - v) * glm::dvec2(uv[triangle[0]]) + u * glm::dvec2(uv[triangle[1]]) +
            v * glm::dvec2(uv[triangle[2]]);
 }

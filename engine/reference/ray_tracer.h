@@ -35,6 +35,11 @@ public:
     // Whether a shadow caster lies along origin + t direction, t in (0, t_max).
     bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_max) const;
 
+    // Where the ray origin + t direction meets the plane of `hit`'s triangle (extended beyond its edges):
+    // a Hit on that triangle with the barycentrics there (outside [0, 1] off the triangle), its normals and
+    // texture coordinates interpolated (extrapolated) alike. Nothing where the ray runs parallel to the
+    // plane, meets it behind the origin or the triangle is degenerate.
+    std::optional<Hit> hit_on_plane(const Hit& hit, const glm::dvec3& origin, const glm::dvec3& direction) const;
     // The texture coordinates where the ray origin + t direction meets the plane of `hit`'s triangle
     // (extended beyond its edges): a neighbouring pixel's ray there gives the pixel's footprint in uv
     // (a ray differential). Nothing where the ray runs parallel to the plane or the mesh has no
@@ -47,6 +52,14 @@ public:
     std::size_t triangle_count() const { return triangles_; }
 
 private:
+    // The hit on `triangle` of `object` at barycentrics (u, v) (of vertices 1 and 2), `distance` along the
+    // unit `direction`.
+    Hit hit_at(std::size_t object, std::size_t triangle, double u, double v, double distance,
+               const glm::dvec3& direction) const;
+    // Barycentrics (u, v) and distance where the ray meets the plane of `hit`'s triangle.
+    std::optional<glm::dvec3> plane_crossing(const Hit& hit, const glm::dvec3& origin,
+                                             const glm::dvec3& direction) const;
+
     struct State;
     std::unique_ptr<State> state_;
     double extent_ = 1.0;

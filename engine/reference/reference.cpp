@@ -12,6 +12,7 @@
 #include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/vec4.hpp>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -219,6 +220,39 @@ glm::vec3 footprint_mean(const MaterialTexture& texture, const Hit& hit, const s
     return glm::vec3(sum / double(taps * taps));
 }
 
+// A camera ray's hit with gaps narrower than the rasteriser's vertex precision closed (docs/DESIGN.md §5.8):
+// rasterisers snap vertices to 1/2^8 of a pixel (GL_SUBPIXEL_BITS on llvmpipe and desktop GPUs), so a
+// crack between two surfaces that nearly meet (the separately tessellated faces of a CAD model, microns
+// apart) covers no pixel centre there, whereas the exact ray through a centre can slip through it and
+// find the inside of a part. Where the rays 1/256 pixel to either side (in x, or in y) both hit nearer
+// than the centre's ray, by more than kGapDepthSteps times that step's width, the centre lies in such
+// a gap: its hit is taken on the plane of the nearer of the two triangles. `ray(px, py)`: the unit
+// direction through a point of the image, in pixels.
+constexpr double kSubpixelStep = 1.0 / 256.0;
+constexpr double kGapDepthSteps = 10.0;  // deeper than a V-shaped crease of slope 10 between the two rays
+template <class RayThrough>
+std::optional<Hit> camera_hit(const RayTracer& tracer, const glm::dvec3& eye, const RayThrough& ray, double px,
+                              double py) {
+    const glm::dvec3 direction = ray(px, py);
+    const std::optional<Hit> centre = tracer.intersect(eye, direction);
+    const double centre_distance = centre ? centre->distance : std::numeric_limits<double>::infinity();
+    std::optional<Hit> cover;
+    for (const glm::dvec2 step : {glm::dvec2(kSubpixelStep, 0.0), glm::dvec2(0.0, kSubpixelStep)}) {
+        const std::optional<Hit> a = tracer.intersect(eye, ray(px + step.x, py + step.y));
+        const std::optional<Hit> b = tracer.intersect(eye, ray(px - step.x, py - step.y));
+        if (!a || !b) continue;
+        const Hit& nearer = a->distance <= b->distance ? *a : *b;
+        const double farther = std::max(a->distance, b->distance);
+        const glm::dvec3 across = ray(px + step.x, py + step.y) - ray(px - step.x, py - step.y);
+        const double step_width = 0.5 * farther * glm::length(across);
+        if (centre_distance - farther <= kGapDepthSteps * step_width) continue;
+        if (!cover || nearer.distance < cover->distance) cover = nearer;
+    }
+    if (!cover) return centre;
+    const std::optional<Hit> on_plane = tracer.hit_on_plane(*cover, eye, direction);
+    return on_plane ? on_plane : cover;
+}
+
 struct PixelResult {
     glm::dvec3 value{0.0}, standard_error{0.0};
     long long samples = 0;
@@ -244,6 +278,13 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
     // Pixels darker than 2% of the map's mean radiance stop on an absolute error (target * floor) instead.
     const double dark_floor = 0.02 * environment.mean_luminance();
 
+    // The unit world direction through a point (px, py) of the image, in pixels from its top left corner.
+    const auto ray = [&](double px, double py) {
+        const glm::dvec3 v((2.0 * px / width - 1.0) * tan_half_fov * aspect, (1.0 - 2.0 * py / height) * tan_half_fov,
+                           -1.0);
+        return glm::normalize(world_from_view_rotation * v);
+    };
+
     std::vector<PixelResult> pixels(std::size_t(width) * std::size_t(height));
     std::vector<long long> rays_per_row(std::size_t(height), 0);
     std::atomic<int> rows_done{0};
@@ -254,10 +295,8 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
             long long rays = 0;
             for (int x = 0; x < width; ++x) {
                 PixelResult& out = pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)];
-                const glm::dvec3 view_direction((2.0 * (x + 0.5) / width - 1.0) * tan_half_fov * aspect,
-                                                (1.0 - 2.0 * (y + 0.5) / height) * tan_half_fov, -1.0);
-                const glm::dvec3 direction = glm::normalize(world_from_view_rotation * view_direction);
-                const std::optional<Hit> hit = tracer.intersect(eye, direction);
+                const glm::dvec3 direction = ray(x + 0.5, y + 0.5);
+                const std::optional<Hit> hit = camera_hit(tracer, eye, ray, x + 0.5, y + 0.5);
                 if (!hit) {
                     out.value = environment.radiance_filtered(direction);
                     continue;
@@ -276,11 +315,6 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                 // pixel's footprint (as the GPU's mip level does; docs/DESIGN.md §5.12).
                 glm::vec3 rho_d = material.rho_d;
                 if (material.base_color_texture && !scene.objects[hit->object].mesh->texcoords.empty()) {
-                    const auto ray = [&](double px, double py) {
-                        const glm::dvec3 v((2.0 * px / width - 1.0) * tan_half_fov * aspect,
-                                           (1.0 - 2.0 * py / height) * tan_half_fov, -1.0);
-                        return glm::normalize(world_from_view_rotation * v);
-                    };
                     rho_d *= footprint_mean(*material.base_color_texture, *hit,
                                             tracer.texcoord_on_plane(*hit, eye, ray(x + 1.5, y + 0.5)),
                                             tracer.texcoord_on_plane(*hit, eye, ray(x + 0.5, y + 1.5)));

@@ -49,12 +49,17 @@ struct RenderSettings {
     TileSizing tile_sizing = TileSizing::share;
     int depth_bits = 16;  // 16 or 32
     PcfKernel pcf = PcfKernel::hardware_2x2;
-    // Bias against shadow acne: the casters' depth is pushed back by glPolygonOffset(slope, 1)
-    // (slope-scaled), the receiver is moved along its normal by `normal_offset` shadow texels
-    // (scaled by sin theta, at least a fifth) and its depth lowered by `depth_bias` texels.
-    float slope_bias = 2.0f;
-    float normal_offset = 1.0f;
-    float depth_bias = 1.0f;
+    // Bias against shadow acne (docs/DESIGN.md §5.3), all at the receiver: its depth is lowered by
+    // `slope_bias` times the depth its triangle's plane changes by out to the farthest texel centre the
+    // filter reads (a receiver-plane depth bias: 1 is that bound exactly) and by `depth_bias` texels;
+    // it may be moved along its normal by `normal_offset` texels too (scaled by sin theta, at least a
+    // fifth). The casters are drawn with glPolygonOffset(0, 1): one step of the map's depth precision.
+    // Before issue 14's engine study the casters took glPolygonOffset(2, 1) and the receivers 1 texel
+    // of each of the other two: light leaked into slots a few texels wide (engine/courtyard 5.1% against
+    // 2.1%; docs/accuracy/engine_by_hand.md).
+    float slope_bias = 1.0f;
+    float normal_offset = 0.0f;
+    float depth_bias = 0.5f;
     SpecularMode specular = SpecularMode::blended;
     CapKind cap = CapKind::weighted;
     DiffuseMode diffuse = DiffuseMode::center;
@@ -71,11 +76,12 @@ struct RenderSettings {
     // Optimisations of issue 10 (docs/PERFORMANCE.md); baseline() turns them all off.
     // Shadow casters drawn at the coarsest level of detail whose measured error is at most this many
     // of the frame's smallest atlas texels (render/caster_lod.h); 0: the full meshes. A surface moved
-    // by d along its normal is still compared (max(sin, 0.2) + cos) * texel >= texel in front of
-    // itself by the normal offset and depth bias (1 texel each), so it cannot shadow itself up to a
-    // texel; but thin parts a few texels across (the viruses' spikes at 128^2 tiles) change their
-    // shadows' speckle visibly already at 0.4 texel (golden fails: 0.22% of pixels differ, 0.2%
-    // allowed), so 0.3; flyover's figures take 1 texel invisibly (docs/PERFORMANCE.md).
+    // by d texels along its normal moves d / cos theta <= d (1 + tan theta) along the light, within the
+    // receiver's bias of depth_bias + slope_bias tan theta (0.5 + tan theta texels, docs/DESIGN.md
+    // §5.3) for d <= 0.5, so it cannot shadow itself; but thin parts a few texels across (the viruses'
+    // spikes at 128^2 tiles) change their shadows' speckle visibly already at 0.4 texel (golden fails:
+    // 0.22% of pixels differ, 0.2% allowed), so 0.3; flyover's figures take 1 texel invisibly
+    // (docs/PERFORMANCE.md).
     float caster_lod = 0.3f;  // 0..kMaxCasterLod
     // Depth-only pass of the objects first, then the N-light shading once per visible pixel
     // (depth test EQUAL) instead of once per rasterised fragment.

@@ -331,8 +331,8 @@ void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
     atlas_triangles_ = 0;
     int moving = 0;
     for (std::size_t i = 0; i < plan.objects.size(); ++i) moving += plan.objects[i].casts_shadows && moves(i);
-    const AtlasKey key{plan.fit_version,     content_version_,          settings_.slope_bias,
-                       settings_.caster_lod, settings_.cull_back_faces, settings_.atlas};
+    const AtlasKey key{plan.fit_version, content_version_, settings_.caster_lod, settings_.cull_back_faces,
+                       settings_.atlas};
     const std::optional<AtlasKey> last = std::exchange(last_key_, key);
     if (!settings_.shadow_cache || plan.lights.empty()) {
         atlas_holds_static_.reset();
@@ -385,7 +385,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
     glDepthFunc(GL_LESS);
     glDisable(GL_CULL_FACE);  // both faces cast: open meshes and thin parts stay in the map
     glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(settings_.slope_bias, 1.0f);
+    glPolygonOffset(0.0f, 1.0f);  // the map's depth precision; the rest of the bias is the receiver's (§5.3)
     atlas_program_.use();
     const int tiles = int(plan.lights.size());
 
@@ -504,6 +504,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         glProgramUniform3f(program, loc::eye, view.eye.x, view.eye.y, view.eye.z);
         glProgramUniform1i(program, loc::light_count, int(plan.lights.size()));
         glProgramUniform2f(program, loc::atlas_texel, 1.0f / float(layout_.width()), 1.0f / float(layout_.height()));
+        glProgramUniform1f(program, loc::slope_bias, settings_.slope_bias);
         glProgramUniform1ui(program, loc::tiles_x, GLuint(screen_tiles_.x));
     }
     atlas_depth_.bind(unit::atlas);

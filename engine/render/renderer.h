@@ -175,7 +175,7 @@ private:
     struct AtlasKey {
         std::uint64_t fit_version = 0;      // FramePlan::fit_version
         std::uint64_t content_version = 0;  // bumped by set_scene and by a new atlas texture
-        float slope_bias = 0.0f, caster_lod = 0.0f;
+        float caster_lod = 0.0f;
         bool cull_back_faces = false;
         AtlasMode atlas = AtlasMode::clip_distances;
         bool operator==(const AtlasKey&) const = default;

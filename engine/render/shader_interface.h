@@ -38,6 +38,7 @@ namespace envshadow::render::shader {
     X(loc, unshadowed, 19)                                                                             \
     X(loc, env_from_world, 20)  /* SHADING_RATIO: world to map directions (mat3: 20-22) */             \
     X(loc, specular_weight, 23) /* SHADING_RATIO: weight of u_specular_upper, linear in log n */       \
+    X(loc, slope_bias, 24)      /* RenderSettings::slope_bias, of the receiver-plane depth bias */     \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \

@@ -277,6 +277,42 @@ TEST(Reference, ObjectsAreOpaqueAndTheBackgroundTransparent) {
     EXPECT_FLOAT_EQ(result.image.at(0, 0).r, 2.0f);
 }
 
+// A plate of two rectangles in the plane z = 0 facing the camera on +Z, one mesh, x < -gap / 2 and
+// x > gap / 2: the two halves of a face that a CAD model tessellated apart.
+Scene plate_with_a_gap(float gap) {
+    Scene scene = scene_looking_at({0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f});
+    auto mesh = std::make_shared<Mesh>();
+    const float h = 0.5f * gap;
+    mesh->positions = {{-1, -1, 0}, {-h, -1, 0}, {-h, 1, 0}, {-1, 1, 0}, {h, -1, 0}, {1, -1, 0}, {1, 1, 0}, {h, 1, 0}};
+    mesh->normals.assign(mesh->positions.size(), glm::vec3(0, 0, 1));
+    mesh->indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};  // counter-clockwise seen from +Z
+    mesh->compute_bounds();
+    Material material;
+    material.rho_d = glm::vec3(0.5f);
+    scene.objects.push_back(object(mesh, glm::mat4(1.0f), material));
+    return scene;
+}
+
+// Camera rays through the middle column of an odd-sized picture run in the plane x = 0, through the
+// gap. One ten thousandth of a pixel wide, a crack no rasteriser shows (it snaps vertices to 1/256
+// pixel): the reference closes it, and shows the plate there, lit like the rest. Half a pixel wide, a
+// slot the rasteriser resolves: the background shows through it.
+TEST(Reference, CameraRaysDoNotSlipThroughCracksNarrowerThanTheRasterisersPrecision) {
+    ReferenceOptions options = small(33);
+    const double pixel = 2.0 * 3.0 * std::tan(0.5 * glm::radians(45.0)) / 33.0;  // at the plate's distance
+    const ReferenceImage crack =
+        reference::render_reference(plate_with_a_gap(float(1e-4 * pixel)), uniform_map(), options);
+    const ReferenceImage slot =
+        reference::render_reference(plate_with_a_gap(float(0.5 * pixel)), uniform_map(), options);
+    for (int y = 8; y <= 24; ++y) {  // rows across the plate (it spans pixels 4 to 28)
+        EXPECT_EQ(crack.image.at(16, y).a, 1.0f) << "row " << y;
+        EXPECT_NEAR(crack.image.at(16, y).r, 0.5f, 0.015f) << "row " << y;
+        EXPECT_EQ(crack.image.at(15, y).a, 1.0f) << "row " << y;
+        EXPECT_EQ(slot.image.at(16, y).a, 0.0f) << "row " << y;
+        EXPECT_EQ(slot.image.at(15, y).a, 1.0f) << "row " << y;
+    }
+}
+
 TEST(Reference, SameSeedSameImage) {
     Scene scene = scene_looking_at({0.0f, 1.0f, 3.0f}, {0.0f, 0.0f, 0.0f});
     scene.objects.push_back(object(sphere(0.7f, 48, 24), glm::mat4(1.0f), Material{}));

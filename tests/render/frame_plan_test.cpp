@@ -119,7 +119,9 @@ TEST(FramePlan, SizedTilesFitEachLightToItsOwnTile) {
     const AtlasLayout layout = plan_atlas(luminance, TileSizing::share, kTile, 16384);
     ASSERT_EQ(layout.tiles[0].size, 512);
     ASSERT_EQ(layout.tiles[1].size, 128);
-    const FramePlan& plan = planner.plan(0.0, eye_at({0, 2, 6}), layout, RenderSettings{});
+    RenderSettings settings;
+    settings.normal_offset = 1.0f;  // bias.y: one texel of each light's fit in the world
+    const FramePlan& plan = planner.plan(0.0, eye_at({0, 2, 6}), layout, settings);
     ASSERT_EQ(plan.lights.size(), 8u);
     for (std::size_t k = 0; k < 8; ++k) {
         const TileRect& tile = layout.tiles[k];
@@ -325,6 +327,7 @@ TEST(FramePlan, WithoutLightsThereIsOneEmptyRectangleAndNoTexel) {
 RenderSettings fitted_over_animation() {
     RenderSettings settings;
     settings.shadow_fit = ShadowFit::animation;
+    settings.normal_offset = 1.0f;  // bias.y: one texel of the fit in the world
     return settings;
 }
 
@@ -359,6 +362,7 @@ TEST(FramePlan, FrameFitsFollowTheMovingCasterAndCountTheirChanges) {
     const AtlasLayout layout = plan_atlas(5, kTile, 16384);
     RenderSettings settings;
     settings.shadow_fit = ShadowFit::frame;
+    settings.normal_offset = 1.0f;  // bias.y: one texel of the fit in the world
     const FramePlan at_0 = planner.plan(0.0, eye_at({0, 2, 6}), layout, settings);
     EXPECT_EQ(planner.plan(0.0, eye_at({1, 3, 6}), layout, settings).fit_version, at_0.fit_version)
         << "the same casters, the same fits: the camera does not count";
@@ -381,6 +385,7 @@ TEST(FramePlan, WithoutMotionBothFitsAreTheSame) {
     const AtlasLayout layout = plan_atlas(9, kTile, 16384);
     RenderSettings frame;
     frame.shadow_fit = ShadowFit::frame;
+    frame.normal_offset = 1.0f;  // bias.y: one texel of the fit in the world
     const FramePlan a = planner.plan(3.0, eye_at({0, 2, 6}), layout, frame);
     const FramePlan b = planner.plan(3.0, eye_at({0, 2, 6}), layout, fitted_over_animation());
     for (std::size_t k = 0; k < a.lights.size(); ++k) {
@@ -414,6 +419,7 @@ TEST(FramePlan, FlyoversAnimationFitKeepsMostOfTheTexelDensity) {
     const AtlasLayout layout = plan_atlas(128, kTile, 16384);
     RenderSettings frame;
     frame.shadow_fit = ShadowFit::frame;
+    frame.normal_offset = 1.0f;  // bias.y: one texel of the fit in the world
     double sum = 0.0, lowest = 1.0;
     int count = 0;
     for (int step = 0; step < 64; ++step) {

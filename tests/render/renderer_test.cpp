@@ -17,8 +17,10 @@
 #include "env/environment.h"
 #include "env/orientation.h"
 #include "gl_fixture.h"
+#include "render/frame_plan.h"
 #include "render/render_test_util.h"
 #include "render/renderer.h"
+#include "render/shadow_atlas_layout.h"
 #include "scene/meshes.h"
 
 namespace envshadow::testing {
@@ -168,6 +170,53 @@ TEST_P(RendererTest, GroundIsDarkerOnTheBoxsSideAwayFromTheSun) {
     const float lit = luminance(image.at(towards.x, towards.y)), shadowed = luminance(image.at(away.x, away.y));
     EXPECT_LT(shadowed, 0.5f * lit);
     EXPECT_GT(luminance(image.at(open.x, open.y)), 0.8f * lit);  // no shadow where nothing casts one
+}
+
+// A plate 1.7 texels (of its light's shadow map) above a floor, lit from 70 degrees off overhead: its
+// shadow reaches past its edge by h tan 70, and the floor there must be dark. Along the light the plate
+// is 2.9 h = 5 texels nearer than that floor; the receiver-plane depth bias (docs/DESIGN.md §5.3) takes
+// tan 70 + 0.5 = 3.2 texels off the floor's depth, so the plate still shadows it. The slope-scaled
+// caster offset used before (2 tan 70 = 5.5 texels, plus 1 texel of depth bias and 0.3 of normal
+// offset) pushed the plate behind the floor: light leaked under it, as into the engine's narrow slots.
+// The open floor must still show no acne.
+TEST_P(RendererTest, APlateJustAboveAFloorShadowsItUnderAGrazingLight) {
+    const float angle = glm::radians(70.0f);
+    const glm::vec3 toward_light(std::sin(angle), std::cos(angle), 0.0f);
+    ASSERT_LT(glm::length(world_direction_from_map(toward_light, 0.0f) - toward_light), 1e-6f);
+    Cell light;
+    light.direction = toward_light;
+    light.radiance = glm::vec3(1.0f);
+    light.solid_angle = 1e-4f;
+    light.cos_radius = light.cos_radius_weighted = 1.0f - 1e-4f / (2.0f * std::numbers::pi_v<float>);
+    // One light takes the whole budget, a 256^2 tile, fitted as the planner fits it; its wider axis spans
+    // the floor's 2 along z, which the plate, inside the floor's outline, does not widen.
+    std::vector<glm::vec3> corners;
+    for (const float x : {-1.0f, 1.0f})
+        for (const float z : {-1.0f, 1.0f}) corners.push_back({x, 0.0f, z});
+    const float texel =
+        render::fit_orthographic(render::light_frame(toward_light), corners, 256, render::kTileMarginTexels)
+            .texel_world;
+    const float height = 1.7f * texel;
+    Scene scene;
+    scene.objects.push_back(make_object(mesh_of(PlaneShape{2.0f}), glm::vec3(0.0f), diffuse(0.8f)));
+    scene.objects.push_back(make_object(mesh_of(PlaneShape{1.0f}), glm::vec3(0.0f, height, 0.0f), diffuse(0.8f)));
+    Renderer renderer;
+    renderer.set_scene(scene);
+    renderer.set_lights({light});
+    const CameraView view = look_at({-0.5f, 1.0f, 0.001f}, {-0.5f, 0.0f, 0.0f}, 128, 128);
+    renderer.render(0.0, view);
+    const Image image = renderer.read_back();
+    const float reach = height * std::tan(angle);  // the shadow's band beyond the plate's edge at x = -0.5
+    const glm::ivec2 band = pixel_of(view, {-0.5f - 0.6f * reach, 0.0f, 0.0f});
+    const glm::ivec2 open = pixel_of(view, {-0.8f, 0.0f, 0.0f});
+    ASSERT_LT(band.x, pixel_of(view, {-0.5f, 0.0f, 0.0f}).x);  // the band is resolved by the picture
+    const float lit = luminance(image.at(open.x, open.y));
+    ASSERT_GT(lit, 0.0f);
+    EXPECT_LT(luminance(image.at(band.x, band.y)), 0.25f * lit) << "light leaks under the plate";
+    // and no acne: the open floor, away from the shadow, is lit alike at this grazing angle.
+    const glm::ivec2 edge = pixel_of(view, {-0.6f, 0.0f, 0.0f});
+    for (int y = 0; y < image.height; y += 4)
+        for (int x = 0; x < edge.x; x += 2) EXPECT_NEAR(luminance(image.at(x, y)), lit, 0.01f * lit) << x << "," << y;
 }
 
 // --time moves an animated object, and its shadow goes with it.
