@@ -181,8 +181,9 @@ float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
 }
 
 // a(dw_i, w) of light i: k_d times the cosine term plus k_s times the specular average, which is zero
-// for a cell whose centre is under the tangent plane. `whole_lobe` hears the same with that cell's specular
-// term kept (the ratio's denominator, below), computed in the same pass.
+// for a cell whose centre is under the tangent plane (in ratio shading: times the part of the cell's cap
+// above it). `whole_lobe` hears the same with the whole specular term kept (the ratio's denominator,
+// below), computed in the same pass.
 #define CLIP_COS_RADIUS 0.9
 vec3 reflectivity(int i, vec3 n, vec3 mirror, out vec3 whole_lobe) {
     vec3 w = lights[i].direction.xyz;
@@ -194,10 +195,7 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror, out vec3 whole_lobe) {
     float diffuse = max(cos_theta, 0.0);  // the paper's centre sample, a_d = k_d cos theta_c
 #endif
 #if defined(SHADING_RATIO)
-    // The BRDF is zero under the tangent plane (docs/DESIGN.md §2), but the whole lobe is wanted too, and
-    // a cell too large to clip (its cap wider than acos CLIP_COS_RADIUS) keeps all of it.
-    bool clipped = cos_theta <= 0.0 && cos_r >= CLIP_COS_RADIUS;
-    bool needed = true;
+    bool needed = true;  // the whole lobe is wanted too
 #else
     bool clipped = cos_theta <= 0.0;  // the BRDF is zero under the tangent plane (docs/DESIGN.md §2)
     bool needed = !clipped;
@@ -213,7 +211,15 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror, out vec3 whole_lobe) {
     }
 #endif
     whole_lobe = k_d * diffuse + u_k_s * specular;
+#if defined(SHADING_RATIO)
+    // The BRDF is zero under the tangent plane (docs/DESIGN.md §2): a cell straddling it keeps the part of
+    // its cap above it (§4.1), rather than all or nothing by its centre; a cell too large to clip (its cap
+    // wider than acos CLIP_COS_RADIUS) keeps all of it.
+    if (cos_r < CLIP_COS_RADIUS) return whole_lobe;
+    return k_d * diffuse + u_k_s * specular * cap_fraction_above(cos_theta, cos_r);
+#else
     return clipped ? k_d * diffuse : whole_lobe;
+#endif
 }
 
 vec3 reflectivity(int i, vec3 n, vec3 mirror) {
