@@ -86,23 +86,3 @@ float average_clamped_cosine(float cos_theta_c, float cos_r) {
     }
     return max(integral, 0.0) / (2.0 * PI * one_minus_r);
 }
-
-// Fraction of the solid angle of the cell's cap above the tangent plane, exact: the C++ twin
-// brdf::cap_fraction_above derives it (engine/env/brdf.cpp). R >= 0 here; wider caps through the
-// complement about -c.
-float cap_fraction_above_small(float t, float r) {
-    float one_minus_r = 1.0 - r;
-    if (one_minus_r <= 0.0) return t > 0.0 ? 1.0 : 0.0;  // a point cap
-    float s = sqrt(max((1.0 - t) * (1.0 + t), 0.0));
-    float q2 = max((one_minus_r - t * t / (1.0 + s)) * (s + r), 0.0);
-    float q = sqrt(q2);
-    float fraction = atan(q * t * one_minus_r, t * t * r + q2) / (PI * one_minus_r) + atan(q, -r * t) / PI;
-    return clamp(fraction, 0.0, 1.0);
-}
-
-float cap_fraction_above(float cos_theta_c, float cos_r) {
-    float t = clamp(cos_theta_c, -1.0, 1.0), r = clamp(cos_r, -1.0, 1.0);
-    if (r >= 0.0) return cap_fraction_above_small(t, r);
-    float complement_above = cap_fraction_above_small(-t, -r) * (1.0 + r);
-    return clamp((1.0 - complement_above) / (1.0 - r), 0.0, 1.0);
-}

@@ -105,37 +105,4 @@ float average_clamped_cosine(float cos_theta_c, float cos_r) {
     return float(std::max(integral, 0.0) / (2.0 * kPi * one_minus_r));
 }
 
-namespace {
-
-// Part of a cap of cosine radius R >= 0 above the tangent plane, in the frame of average_clamped_cosine.
-// By the closed form of the area of two intersecting caps, with the hemisphere about N for the second,
-// the part above has area 2 (pi - acos(t / rho) - R phi0), of the cap's 2 pi (1 - R). With
-// pi - acos(t / rho) = (acos(y) - acos(t / rho)) + phi0, y = -cos phi0 = R t / (rho s), and
-// sqrt(1 - (t / rho)^2) = q / rho, sqrt(1 - y^2) = q / (rho s) (q^2 = s^2 - R^2 = rho^2 - t^2):
-//   acos(y) - acos(t / rho) = atan2(q t (1 - R), t^2 R + q^2),   phi0 = atan2(q, -R t),
-//   fraction = atan2(q t (1 - R), t^2 R + q^2) / (pi (1 - R)) + phi0 / pi,
-// with no cancellation for small caps; q = 0 gives 1 above the plane and 0 below. brdf_test.cpp checks it
-// against quadrature.
-double cap_fraction_above_small(double t, double r) {
-    const double one_minus_r = 1.0 - r;
-    if (one_minus_r <= 0.0) return t > 0.0 ? 1.0 : 0.0;  // a point cap
-    const double s = std::sqrt(std::max(0.0, 1.0 - t * t));
-    const double q2 = std::max(0.0, (one_minus_r - t * t / (1.0 + s)) * (s + r));
-    const double q = std::sqrt(q2);
-    const double fraction =
-        std::atan2(q * t * one_minus_r, t * t * r + q2) / (kPi * one_minus_r) + std::atan2(q, -r * t) / kPi;
-    return std::clamp(fraction, 0.0, 1.0);
-}
-
-}  // namespace
-
-float cap_fraction_above(float cos_theta_c, float cos_r) {
-    const double t = clamp_unit(cos_theta_c), r = clamp_unit(cos_r);
-    if (r >= 0.0) return float(cap_fraction_above_small(t, r));
-    // A cap wider than a hemisphere: the sphere less the cap of cosine radius -R about -c; the upper
-    // hemisphere's 2 pi less that cap's part above, over the cap's 2 pi (1 - R).
-    const double complement_above = cap_fraction_above_small(-t, -r) * (1.0 + r);
-    return float(std::clamp((1.0 - complement_above) / (1.0 - r), 0.0, 1.0));
-}
-
 }  // namespace envshadow::brdf

@@ -16,9 +16,5 @@ float average_specular_single(float cos_psi_c, float shininess);
 // Average of max(0, cos theta) over a cap of cosine radius `cos_r` whose centre makes cos theta_c
 // with the normal (exact, also for caps straddling the horizon). Multiply by k_d.
 float average_clamped_cosine(float cos_theta_c, float cos_r);
-// Fraction of the solid angle of a cap of cosine radius `cos_r` whose centre makes cos theta_c with the
-// normal that lies above the tangent plane (exact; 1 or 0 for a point cap). The ratio shading's clipping
-// of a cell's specular term there (docs/DESIGN.md §4.1).
-float cap_fraction_above(float cos_theta_c, float cos_r);
 
 }  // namespace envshadow::brdf
