@@ -194,9 +194,41 @@ float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
 #endif
 }
 
+#if defined(SHADING_RATIO)
+// Standard normal cumulative distribution: erf by Abramowitz and Stegun 7.1.26 (|error| < 1.5e-7).
+float normal_cdf(float x) {
+    float z = abs(x) * 0.70710678;
+    float t = 1.0 / (1.0 + 0.3275911 * z);
+    float erf_z = 1.0 - t * (0.254829592 + t * (-0.284496736 + t * (1.421413741 + t * (-1.453152027 + t * 1.061405429)))) * exp(-z * z);
+    return 0.5 + 0.5 * sign(x) * erf_z;
+}
+
+// Elevation above the tangent plane of a direction whose cosine with the normal is c: asin c (by atan,
+// which llvmpipe evaluates more precisely than asin).
+float elevation(float c) {
+    c = clamp(c, -1.0, 1.0);
+    return atan(c, sqrt((1.0 - c) * (1.0 + c)));
+}
+
+// Part of the lobe inside the cell's cap that lies above the tangent plane (docs/DESIGN.md §4.1), from the
+// elevations of the mirror direction and of the cap's centre: with the lobe cos^n psi ~ exp(-n psi^2 / 2)
+// and the cap (a disc of radius r, whose elevation has variance r^2 / 4) as Gaussians, their product's
+// elevation is Gaussian with precision n + 4 / r^2 and the precision-weighted mean of the two; its part
+// above zero is the normal distribution's. A lobe narrower than the cell is clipped where it is, a
+// cell smaller than the lobe by the part of it above the plane.
+float lobe_part_above(float cos_mirror, float cos_centre, float cos_r, float n) {
+    float r = precise_acos(cos_r);
+    float lobe_precision = n, cap_precision = 4.0 / max(r * r, 1e-12);
+    float precision_sum = lobe_precision + cap_precision;
+    float mean = (lobe_precision * elevation(cos_mirror) + cap_precision * elevation(cos_centre)) / precision_sum;
+    return normal_cdf(mean * sqrt(precision_sum));
+}
+#endif
+
 // a(dw_i, w) of light i: k_d times the cosine term plus k_s times the specular average, which is zero
-// for a cell whose centre is under the tangent plane. `whole_lobe` hears the same with that cell's specular
-// term kept (the ratio's denominator, below), computed in the same pass.
+// for a cell whose centre is under the tangent plane (in ratio shading: times the part of the lobe in the
+// cell's cap above it). `whole_lobe` hears the same with the whole specular term kept (the ratio's denominator,
+// below), computed in the same pass.
 #define CLIP_COS_RADIUS 0.9
 vec3 reflectivity(int i, vec3 n, vec3 mirror, out vec3 whole_lobe) {
     vec3 w = lights[i].direction.xyz;
@@ -208,10 +240,7 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror, out vec3 whole_lobe) {
     float diffuse = max(cos_theta, 0.0);  // the paper's centre sample, a_d = k_d cos theta_c
 #endif
 #if defined(SHADING_RATIO)
-    // The BRDF is zero under the tangent plane (docs/DESIGN.md §2), but the whole lobe is wanted too, and
-    // a cell too large to clip (its cap wider than acos CLIP_COS_RADIUS) keeps all of it.
-    bool clipped = cos_theta <= 0.0 && cos_r >= CLIP_COS_RADIUS;
-    bool needed = true;
+    bool needed = true;  // the whole lobe is wanted too
 #else
     bool clipped = cos_theta <= 0.0;  // the BRDF is zero under the tangent plane (docs/DESIGN.md §2)
     bool needed = !clipped;
@@ -227,7 +256,15 @@ vec3 reflectivity(int i, vec3 n, vec3 mirror, out vec3 whole_lobe) {
     }
 #endif
     whole_lobe = k_d * diffuse + u_k_s * specular;
+#if defined(SHADING_RATIO)
+    // The BRDF is zero under the tangent plane (docs/DESIGN.md §2): a cell near it keeps the part of its
+    // lobe above it (§4.1), rather than all or nothing by its centre; a cell too large to clip (its cap
+    // wider than acos CLIP_COS_RADIUS) keeps all of it.
+    if (cos_r < CLIP_COS_RADIUS) return whole_lobe;
+    return k_d * diffuse + u_k_s * specular * lobe_part_above(dot(n, mirror), cos_theta, cos_r, u_shininess);
+#else
     return clipped ? k_d * diffuse : whole_lobe;
+#endif
 }
 
 vec3 reflectivity(int i, vec3 n, vec3 mirror) {

@@ -40,6 +40,7 @@ SCENES = {
     "figure": (f"{SCENE_DIR}/figure.json", 128, 72, None),
     "sphere_n10": (f"{SCENE_DIR}/sphere_n10.json", 96, 72, f"{SCENE_DIR}/sphere_mask.json"),
     "sphere_n100": (f"{SCENE_DIR}/sphere_n100.json", 96, 72, f"{SCENE_DIR}/sphere_mask.json"),
+    "sphere_n1000": (f"{SCENE_DIR}/sphere_n1000.json", 96, 72, f"{SCENE_DIR}/sphere_mask.json"),
     "engine": ("assets/scenes/engine.json", 128, 72, None),
     "sphere_ground": (f"{SCENE_DIR}/sphere_ground.json", 160, 120, f"{SCENE_DIR}/sphere_ground_mask.json"),
 }
@@ -62,6 +63,7 @@ SPECULAR_PAIRS = [("sphere_n10", "city"), ("sphere_n100", "city"), ("sphere_n100
 DIFFUSE_PAIRS = [("figure", "city"), ("figure", "studio"), ("engine", "courtyard")]
 # The shading study (issue 15): cells against ratio, glossy and diffuse.
 SHADING_PAIRS = [("sphere_n10", "city"), ("sphere_n100", "city"), ("sphere_n100", "studio"), ("sphere_n100", "sky"),
+                 ("sphere_n1000", "city"), ("sphere_n1000", "studio"), ("sphere_n1000", "sky"),
                  ("figure", "city"), ("figure", "studio"), ("engine", "courtyard")]
 TILE_PAIRS = [("figure", "city"), ("figure", "studio"), ("engine", "courtyard")]
 
@@ -737,7 +739,7 @@ def write_accuracy(ctx, path):
     w("  the method): differences below about 0.5% are not meaningful.")
     w("- **Scenes** (`docs/accuracy/scenes/`, kept out of `assets/scenes/` so the regression suite does not render them):")
     w("  `figure`: a diffuse figure (15k triangles, ρ_d = 0.7) on a diffuse plane, all object pixels compared;")
-    w("  `sphere_n10`, `sphere_n100`: one sphere (ρ_d = 0.1, ρ_s = 0.7, shininess 10 / 100, paper Fig. 7) on a plane,")
+    w("  `sphere_n10`, `sphere_n100`, `sphere_n1000`: one sphere (ρ_d = 0.1, ρ_s = 0.7, shininess 10 / 100 / 1000, paper Fig. 7) on a plane,")
     w("  **only the sphere's pixels** compared (mask from `sphere_mask.json`); `engine`: `assets/scenes/engine.json`")
     w("  (the 2-cylinder engine, 75k triangles, heavy self-occlusion), all object pixels; `sphere_ground`: a diffuse sphere")
     w("  (r = 0.5 m, ρ_d = 0.7) standing on a 20 m ground (ρ_d = 0.7), only the sphere's pixels compared (`sphere_ground_mask.json`).")
