@@ -531,8 +531,11 @@ def bench(args, cache, scene, sweep, width, height, frames, name):
     out = f"{cache}/bench_{name}_{width}x{height}_f{frames}.json"
     if not os.path.exists(out):
         log(f"bench {scene} {sweep} ...")
+        # The shadow cache off: every timed frame draws the atlas, as a scene with anything moving does (a
+        # still scene's frames after the first draw none, docs/DESIGN.md §5.11).
         run([args.bin, "bench", "--scene", scene, "--width", str(width), "--height", str(height), "--frames",
-             str(frames), "--warmup", "1", "--sweep", sweep, "--json", out + ".tmp.json"])
+             str(frames), "--warmup", "1", "--sweep", sweep, "--variants", "shadow_cache=off", "--json",
+             out + ".tmp.json"])
         os.replace(out + ".tmp.json", out)
     with open(out) as f:
         return json.load(f)
