@@ -238,13 +238,13 @@ std::optional<Hit> camera_hit(const RayTracer& tracer, const glm::dvec3& eye, co
     const double centre_distance = centre ? centre->distance : std::numeric_limits<double>::infinity();
     std::optional<Hit> cover;
     for (const glm::dvec2 step : {glm::dvec2(kSubpixelStep, 0.0), glm::dvec2(0.0, kSubpixelStep)}) {
-        const std::optional<Hit> a = tracer.intersect(eye, ray(px + step.x, py + step.y));
-        const std::optional<Hit> b = tracer.intersect(eye, ray(px - step.x, py - step.y));
+        const glm::dvec3 plus = ray(px + step.x, py + step.y), minus = ray(px - step.x, py - step.y);
+        const std::optional<Hit> a = tracer.intersect(eye, plus);
+        const std::optional<Hit> b = tracer.intersect(eye, minus);
         if (!a || !b) continue;
         const Hit& nearer = a->distance <= b->distance ? *a : *b;
         const double farther = std::max(a->distance, b->distance);
-        const glm::dvec3 across = ray(px + step.x, py + step.y) - ray(px - step.x, py - step.y);
-        const double step_width = 0.5 * farther * glm::length(across);
+        const double step_width = 0.5 * farther * glm::length(plus - minus);
         if (centre_distance - farther <= kGapDepthSteps * step_width) continue;
         if (!cover || nearer.distance < cover->distance) cover = nearer;
     }

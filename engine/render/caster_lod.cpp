@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <utility>
 
 #include <meshoptimizer.h>
 #include <tbb/blocked_range.h>
@@ -110,15 +111,22 @@ std::uint64_t cell_key(const glm::ivec3& c) {
            (std::uint64_t(std::uint32_t(c.y) & 0x1fffffu) << 21) | std::uint64_t(std::uint32_t(c.z) & 0x1fffffu);
 }
 
+// The first and last grid cells (inclusive) of the bounding box of the triangle at indices[t ..].
+std::pair<glm::ivec3, glm::ivec3> triangle_cells(std::span<const glm::vec3> positions,
+                                                 std::span<const std::uint32_t> indices, std::size_t t,
+                                                 float inverse_h) {
+    const glm::vec3 a = positions[indices[t]], b = positions[indices[t + 1]], c = positions[indices[t + 2]];
+    return {grid_cell(glm::min(a, glm::min(b, c)), inverse_h), grid_cell(glm::max(a, glm::max(b, c)), inverse_h)};
+}
+
 // Cells of size h that the triangles' bounding boxes cover, counted up to `limit`.
 std::size_t covered_cells(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices, float h,
                           std::size_t limit) {
     std::size_t cells = 0;
     const float inverse_h = 1.0f / h;
     for (std::size_t t = 0; t + 2 < indices.size() && cells <= limit; t += 3) {
-        const glm::vec3 a = positions[indices[t]], b = positions[indices[t + 1]], c = positions[indices[t + 2]];
-        const glm::ivec3 extent =
-            grid_cell(glm::max(a, glm::max(b, c)), inverse_h) - grid_cell(glm::min(a, glm::min(b, c)), inverse_h) + 1;
+        const auto [lo, hi] = triangle_cells(positions, indices, t, inverse_h);
+        const glm::ivec3 extent = hi - lo + 1;
         cells += std::size_t(extent.x) * std::size_t(extent.y) * std::size_t(extent.z);
     }
     return cells;
@@ -205,10 +213,7 @@ private:
     template <class F>
     void for_each_cell(F&& f) const {
         for (std::uint32_t t = 0; t + 2 < indices_.size(); t += 3) {
-            const glm::vec3 a = positions_[indices_[t]], b = positions_[indices_[t + 1]],
-                            c = positions_[indices_[t + 2]];
-            const glm::ivec3 lo = grid_cell(glm::min(a, glm::min(b, c)), inverse_h_),
-                             hi = grid_cell(glm::max(a, glm::max(b, c)), inverse_h_);
+            const auto [lo, hi] = triangle_cells(positions_, indices_, t, inverse_h_);
             for (int z = lo.z; z <= hi.z; ++z)
                 for (int y = lo.y; y <= hi.y; ++y)
                     for (int x = lo.x; x <= hi.x; ++x) f(t, glm::ivec3(x, y, z));
