@@ -16,7 +16,9 @@ layout(location = LOC_UNSHADOWED) uniform vec3 u_unshadowed;  // FLAT_RECEIVER: 
 layout(std430, binding = BINDING_TILE_LISTS) readonly buffer TileLists { uint tile_lists[]; };
 
 struct CellSums {
-    vec3 shadowed;    // sum_i V_i L~_i a_i, the paper's estimate (Barsi et al. §2)
+    // sum_i V_i L~_i a_i, the paper's estimate (Barsi et al. §2); with the tile lists, until shadowed_sum(),
+    // the unshadowed sum less the listed cells' shadows.
+    vec3 shadowed;
     vec3 whole_lobe;  // sum_i L~_i a^_i, the ratio's denominator (docs/DESIGN.md §4.1)
 };
 
