@@ -1,11 +1,11 @@
 #version 450 core
-// Which lights can shadow each SCREEN_TILE^2-pixel tile of the image (issue 10: "cull per tile"). After the
+// Which lights can shadow each SCREEN_TILE^2-pixel tile of the image (docs/DESIGN.md §5.5). After the
 // depth pre-pass, one work group per screen tile bounds the visible receivers of its pixels in the
 // world (pushed out by the largest normal offset), and lists the lights for which any of them falls
 // inside the rectangle of one of the casters in that light's tile (the caster's box projected into
 // the light's clip space, widened by 2 texels: the PCF footprint's reach). Everywhere else the tile
-// holds cleared depth, so the visibility there is exactly 1 and shade.frag (SHADOW_TILE_LISTS) skips
-// the lookup. The list keeps the light order.
+// holds cleared depth, so the visibility there is exactly 1 and shade.frag (SHADOW_TILE_LISTS,
+// shade_cell_sums.glsl) skips the lookup. The list keeps the light order.
 #include "cells.glsl"
 
 layout(local_size_x = SCREEN_TILE, local_size_y = SCREEN_TILE) in;

@@ -58,7 +58,7 @@ struct PrefilteredLevel {
     // Lat-long, W = 2H, columns as in the map (phi = 2 pi (i + 0.5) / W) but rows from pole to pole,
     // theta = pi j / (H - 1): a lookup near a pole interpolates towards the pole's own value instead of
     // clamping to a row half a texel away (2% off at the zenith of a 64 x 32 grid, the ground's normal).
-    // In texture coordinates: v' = (v (H - 1) + 0.5) / H, v = theta / pi (glsl/shade.frag).
+    // In texture coordinates: v' = (v (H - 1) + 0.5) / H, v = theta / pi (glsl/shade_ratio.glsl).
     int width = 0, height = 0;
     std::vector<glm::vec3, LevelAllocator<glm::vec3>> texels;  // S_n (n + 1) / (2 pi), texel (i, j) at j * width + i
 };

@@ -70,10 +70,10 @@ void basis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {
     b2 = {b, sign + n.y * n.y * a, -n.y};
 }
 
-// The shading normal (docs/DESIGN.md §5.4), as glsl/shade.frag's shading_normal(): the side from the
+// The shading normal (docs/DESIGN.md §5.4), as glsl/shade_surface.glsl's shading_normal(): the side from the
 // triangle (turned round where its back is seen), then a normal that still faces away from the viewer
 // near a silhouette bent towards the viewer in the plane of n and v until n.v is about kFacingEpsilon.
-constexpr double kFacingEpsilon = 0.01;  // glsl/shade.frag's
+constexpr double kFacingEpsilon = 0.01;  // glsl/shade_surface.glsl's
 glm::dvec3 shading_normal(const Hit& hit, const glm::dvec3& view) {
     glm::dvec3 n = glm::dot(hit.geometric_normal, view) >= 0.0 ? hit.shading_normal : -hit.shading_normal;
     const double facing = glm::dot(n, view);

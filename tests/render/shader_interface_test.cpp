@@ -1,6 +1,7 @@
 // The numbers C++ and glsl/ share come from one table (render/shader_interface.h): every program the
 // engine builds, in every variant, has each active uniform, sampler, image, storage block, vertex
 // input and work group where the table says, and every table entry is used by some program.
+#include <bit>
 #include <cctype>
 #include <map>
 #include <set>
@@ -150,6 +151,33 @@ TEST_P(ShaderInterfaceTest, EveryProgramUsesTheTablesNumbers) {
         if (key.rfind("size/", 0) == 0) continue;  // sizes: WorkGroupsAreTheTablesSizes and the C++ side
         EXPECT_TRUE(used.count(key)) << key << " is in the table but no program uses it";
     }
+}
+
+// shade.frag builds with any of the options renderer.cpp's build_programs sets, alone, in every pair and
+// all together, each with the diffuse-only and flat-receiver defines too: each option's #if sits in its
+// own include, so a combination that no other test draws could still break. (All 384 combinations take
+// half a minute on llvmpipe; pairs catch an #if that assumes another option on or off.)
+TEST_P(ShaderInterfaceTest, ShadeBuildsWithEveryPairOfOptions) {
+    const gl::ShaderLibrary library = render::embedded_shaders();
+    const std::vector<gl::ShaderStage> shade = {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}};
+    const std::vector<std::string> options = {"LIGHTS_UNIFORM_BLOCK", "DIFFUSE_CAP",   "SPECULAR_SINGLE", "PCF_WIDE",
+                                              "SHADOW_TILE_LISTS",    "SHADING_RATIO", "SOFT_SHADOWS"};
+    const unsigned all = (1u << options.size()) - 1;
+    int built = 0;
+    for (unsigned mask = 0; mask <= all; ++mask) {
+        if (std::popcount(mask) > 2 && mask != all) continue;
+        std::vector<std::string> defines;
+        for (std::size_t bit = 0; bit < options.size(); ++bit)
+            if (mask & (1u << bit)) defines.push_back(options[bit]);
+        for (const char* material : {"", "DIFFUSE_ONLY", "FLAT_RECEIVER"}) {
+            if (*material) defines.push_back(material);
+            std::string name;
+            for (const std::string& define : defines) name += define + " ";
+            EXPECT_NO_THROW(library.build(shade, defines)) << name;
+            ++built;
+        }
+    }
+    EXPECT_EQ(built, 3 * (1 + 7 + 21 + 1));
 }
 
 TEST_P(ShaderInterfaceTest, WorkGroupsAreTheTablesSizes) {

@@ -1,0 +1,22 @@
+// The shadow atlas as the shading reads it (docs/DESIGN.md §5.2, §5.3): one tile per cell, whose depths
+// the light record's clip_from_world maps the world into.
+#include "cells.glsl"
+
+layout(binding = UNIT_ATLAS) uniform sampler2DShadow u_atlas;   // hardware depth comparison, linear
+layout(location = LOC_ATLAS_TEXEL) uniform vec2 u_atlas_texel;  // size of one atlas texel in uv
+
+// Depth change per tile texel (x, y) along the receiver's tangent plane with normal n: what a lookup
+// that far from the receiver's own point must allow for (docs/DESIGN.md §5.3), and what the soft
+// shadows' taps compare against (no acne on planes). The normal in clip space
+// is M^-T n = (M n)_k / |row_k|^2 for the orthographic M = diag(1 / half) R; slopes clamped at
+// 1 / min_nz (n_clip.z at least min_nz in magnitude).
+vec2 receiver_depth_slope(Light light, vec3 n, float min_nz) {
+    mat3 m = mat3(light.clip_from_world);
+    vec3 row_sq = vec3(dot(vec3(m[0][0], m[1][0], m[2][0]), vec3(m[0][0], m[1][0], m[2][0])),
+                       dot(vec3(m[0][1], m[1][1], m[2][1]), vec3(m[0][1], m[1][1], m[2][1])),
+                       dot(vec3(m[0][2], m[1][2], m[2][2]), vec3(m[0][2], m[1][2], m[2][2])));
+    vec3 n_clip = normalize((m * n) / row_sq);
+    float nz = n_clip.z < 0.0 ? min(n_clip.z, -min_nz) : max(n_clip.z, min_nz);
+    float tile_texels = light.tile.z / u_atlas_texel.x;
+    return -n_clip.xy / nz / tile_texels;  // d(0.5 z + 0.5) per texel: clip x spans 2 over tile_texels
+}

@@ -1,0 +1,98 @@
+// The sums over the cells that shade.frag's one loop builds, and which cells that loop visits:
+//   SHADOW_TILE_LISTS  every cell is summed unshadowed first, and the loop takes off (1 - V) L~ a for the
+//                      cells listed for the pixel's screen tile only (glsl/shadow_tiles.comp; the others see
+//                      V = 1 there; docs/DESIGN.md §5.5); without it the loop sums V L~ a over every cell
+//   FLAT_RECEIVER      (with DIFFUSE_ONLY and SHADOW_TILE_LISTS) the unshadowed sum from u_unshadowed
+#include "cells.glsl"
+#include "shade_reflectivity.glsl"
+#include "shade_surface.glsl"
+#include "shade_visibility.glsl"
+
+layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
+layout(location = LOC_TILES_X) uniform uint u_tiles_x;        // screen tiles per row (SHADOW_TILE_LISTS)
+layout(location = LOC_UNSHADOWED) uniform vec3 u_unshadowed;  // FLAT_RECEIVER: sum of L~_i a_i, the same for every pixel
+
+// glsl/shadow_tiles.comp: per screen tile of SCREEN_TILE^2 pixels, a count and MAX_LIGHTS indices.
+layout(std430, binding = BINDING_TILE_LISTS) readonly buffer TileLists { uint tile_lists[]; };
+
+struct CellSums {
+    // sum_i V_i L~_i a_i, the paper's estimate (Barsi et al. §2); with the tile lists, until shadowed_sum(),
+    // the unshadowed sum less the listed cells' shadows.
+    vec3 shadowed;
+    vec3 whole_lobe;  // sum_i L~_i a^_i, the ratio's denominator (docs/DESIGN.md §4.1)
+};
+
+// The cells whose shadow the loop looks up: the screen tile's list, the same for all pixels of a tile (so
+// on SIMD rasterisers the loop's trip count is uniform), or every cell.
+struct LookedUpCells {
+    uint first;  // in tile_lists: where the tile's indices start
+    uint count;
+};
+
+LookedUpCells looked_up_cells() {
+#if defined(SHADOW_TILE_LISTS)
+    uvec2 tile = uvec2(gl_FragCoord.xy) / uint(SCREEN_TILE);
+    uint base = (tile.y * u_tiles_x + tile.x) * uint(MAX_LIGHTS + 1);
+    return LookedUpCells(base + 1u, tile_lists[base]);
+#else
+    return LookedUpCells(0u, uint(u_light_count));
+#endif
+}
+
+// The index in `lights` of the k-th cell looked up.
+int cell_index(LookedUpCells cells, uint k) {
+#if defined(SHADOW_TILE_LISTS)
+    return int(tile_lists[cells.first + k]);
+#else
+    return int(k);
+#endif
+}
+
+// Both sums with every cell unshadowed (V = 1).
+CellSums unshadowed_sums(Surface s) {
+#if defined(FLAT_RECEIVER)
+    // A plane with a diffuse material: its normal, hence every a_i up to the texture's factor, is constant;
+    // diffuse only, there is nothing of a lobe to clip.
+    vec3 unshadowed = u_unshadowed * s.base_color;
+    return CellSums(unshadowed, unshadowed);
+#else
+    CellSums sums = CellSums(vec3(0.0), vec3(0.0));
+    for (int i = 0; i < u_light_count; ++i) {
+        Reflectivity a = reflectivity(s, i);
+        sums.shadowed += lights[i].radiance.rgb * a.kept;
+        sums.whole_lobe += lights[i].radiance.rgb * a.whole_lobe;
+    }
+    return sums;
+#endif
+}
+
+// The sums before the loop: every cell unshadowed with the tile lists, else nothing yet.
+CellSums sums_before_lookups(Surface s) {
+#if defined(SHADOW_TILE_LISTS)
+    return unshadowed_sums(s);
+#else
+    return CellSums(vec3(0.0), vec3(0.0));
+#endif
+}
+
+// Cell i's shadow into the sums; a cell that reflects nothing is skipped without a shadow lookup.
+void add_cell(inout CellSums sums, Surface s, int i) {
+    Reflectivity a = reflectivity(s, i);
+#if defined(SHADOW_TILE_LISTS)
+    if (!reflects(a.kept)) return;
+    sums.shadowed -= (1.0 - cell_visibility(s, i)) * lights[i].radiance.rgb * a.kept;
+#else
+    if (!reflects(a.whole_lobe)) return;
+    sums.whole_lobe += lights[i].radiance.rgb * a.whole_lobe;
+    if (reflects(a.kept)) sums.shadowed += cell_visibility(s, i) * lights[i].radiance.rgb * a.kept;
+#endif
+}
+
+// sum_i V_i L~_i a_i once the loop is done.
+vec3 shadowed_sum(CellSums sums) {
+#if defined(SHADOW_TILE_LISTS)
+    return max(sums.shadowed, vec3(0.0));  // fully shadowed pixels: the difference may round below zero
+#else
+    return sums.shadowed;
+#endif
+}

@@ -1,0 +1,47 @@
+// The ratio estimator (SHADING_RATIO, docs/DESIGN.md §4.1): the unshadowed k_d E(n) + k_s S_n(r) from the
+// prefiltered map, times the cells' shadowed fraction
+//   L(x, w) = [k_d E(n) + k_s S_n(r)] sum_i V_i L~_i a_i / sum_i L~_i a^_i   (1 where the denominator is 0),
+// a^_i with the whole specular lobe (Reflectivity.whole_lobe). Without it the cells' sum itself.
+#include "latlong.glsl"
+#include "shade_surface.glsl"
+
+// env/prefilter.h's levels: the normalised lobe S_n (n + 1) / (2 pi) on lat-long grids in map space.
+layout(location = LOC_ENV_FROM_WORLD) uniform mat3 u_env_from_world;
+layout(location = LOC_SPECULAR_WEIGHT) uniform float u_specular_weight;  // of the upper level, linear in log n
+layout(binding = UNIT_IRRADIANCE) uniform sampler2D u_irradiance;        // level 0, n = 1: E = pi * it
+layout(binding = UNIT_SPECULAR_LOWER) uniform sampler2D u_specular_lower;
+layout(binding = UNIT_SPECULAR_UPPER) uniform sampler2D u_specular_upper;
+
+// A level's rows run from pole to pole (env/prefilter.h): theta = pi j / (H - 1).
+vec3 prefiltered(sampler2D level, vec2 uv) {
+    float h = float(textureSize(level, 0).y);
+    return texture(level, vec2(uv.x, (uv.y * (h - 1.0) + 0.5) / h)).rgb;
+}
+
+// k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows, S_n
+// over the whole lobe (the cells' ratio clips it at the tangent plane).
+vec3 unshadowed_radiance(Surface s) {
+    vec3 result = s.k_d * (PI * prefiltered(u_irradiance, latlong_uv(u_env_from_world * s.normal)));
+#if !defined(DIFFUSE_ONLY)
+    if (u_k_s > 0.0) {
+        vec2 uv = latlong_uv(u_env_from_world * s.mirror);
+        vec3 mean = mix(prefiltered(u_specular_lower, uv), prefiltered(u_specular_upper, uv), u_specular_weight);
+        result += u_k_s * (2.0 * PI / (u_shininess + 1.0)) * mean;
+    }
+#endif
+    return result;
+}
+
+// The shadowed fraction per channel, 1 where no cell reflects (denominator 0).
+vec3 shadowed_fraction(vec3 shadowed, vec3 unshadowed) {
+    return mix(vec3(1.0), clamp(shadowed / max(unshadowed, vec3(1e-30)), 0.0, 1.0), greaterThan(unshadowed, vec3(0.0)));
+}
+
+// The reflected radiance from the cells' sums sum_i V_i L~_i a_i (`shadowed`) and sum_i L~_i a^_i.
+vec3 reflected_radiance(Surface s, vec3 shadowed, vec3 whole_lobe) {
+#if defined(SHADING_RATIO)
+    return unshadowed_radiance(s) * shadowed_fraction(shadowed, whole_lobe);
+#else
+    return shadowed;  // the paper's sum (Barsi et al. §2)
+#endif
+}

@@ -1,0 +1,53 @@
+// Percentage-closer soft shadows per cell (SOFT_SHADOWS, docs/DESIGN.md §5.9): a cap of radius r_i
+// shadows a receiver at depth d behind a blocker at depth d_b over a penumbra of (d - d_b) tan r_i;
+// light.bias.zw turns a depth difference into tile texels. Taps on Vogel discs (radius
+// sqrt((k + 0.5) / K), golden angle).
+#include "shade_atlas.glsl"
+
+layout(binding = UNIT_ATLAS_DEPTH) uniform sampler2D u_atlas_depth;  // the atlas's depths (NEAREST)
+
+const int kBlockerTaps = 8;
+const vec2 kBlockerDisc[kBlockerTaps] = vec2[](vec2(0.2500, 0.0000), vec2(-0.3193, 0.2925), vec2(0.0489, -0.5569),
+                                               vec2(0.4024, 0.5249), vec2(-0.7385, -0.1306), vec2(0.6996, -0.4450),
+                                               vec2(-0.2340, 0.8705), vec2(-0.4463, -0.8593));
+const int kFilterTaps = 12;
+const vec2 kFilterDisc[kFilterTaps] = vec2[](
+    vec2(0.2041, 0.0000), vec2(-0.2607, 0.2388), vec2(0.0399, -0.4547), vec2(0.3286, 0.4286), vec2(-0.6030, -0.1067),
+    vec2(0.5712, -0.3634), vec2(-0.1911, 0.7107), vec2(-0.3644, -0.7016), vec2(0.7906, 0.2887), vec2(-0.8224, 0.3395),
+    vec2(0.3965, -0.8472), vec2(0.2930, 0.9341));
+
+// A per-pixel, per-light rotation of the discs: interleaved gradient noise of the pixel (deterministic:
+// the same every frame and run) plus a hash of the tile's corner, so the N cells' patterns differ.
+mat2 disc_rotation(Light light) {
+    float noise = fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715))));
+    float angle = 6.2831853 * fract(noise + dot(light.tile.xy, vec2(7.1313, 3.7171)));
+    float c = cos(angle), s = sin(angle);
+    return mat2(c, s, -s, c);
+}
+
+// uv: the receiver's (unclamped) position in the atlas, depth: its biased depth, hard: the 2x2 lookup there.
+float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard) {
+    vec2 per_depth = light.bias.zw;
+    vec2 search = per_depth * depth;  // the widest penumbra: a blocker at depth 0
+    if (max(search.x, search.y) < 1.0) return hard;
+    vec2 lo = light.tile.xy + 0.5 * u_atlas_texel, hi = light.tile.xy + light.tile.zw - 0.5 * u_atlas_texel;
+    vec2 slope = receiver_depth_slope(light, n, 0.2);
+    mat2 rotation = disc_rotation(light);
+    float blocker_sum = 0.0, blockers = 0.0;
+    for (int k = 0; k < kBlockerTaps; ++k) {
+        vec2 offset = rotation * kBlockerDisc[k] * search;  // texels
+        float z = textureLod(u_atlas_depth, clamp(uv + offset * u_atlas_texel, lo, hi), 0.0).r;
+        if (z < depth + dot(slope, offset)) blocker_sum += z, blockers += 1.0;
+    }
+    if (blockers == 0.0) return hard;
+    // Every tap of the widest region a blocker, and the centre too: the (smaller) filter region is umbra.
+    if (blockers == float(kBlockerTaps) && hard == 0.0) return 0.0;
+    vec2 radius = per_depth * max(depth - blocker_sum / blockers, 0.0);
+    if (max(radius.x, radius.y) < 1.0) return hard;  // the penumbra is under a texel
+    float sum = 0.0;
+    for (int k = 0; k < kFilterTaps; ++k) {
+        vec2 offset = rotation * kFilterDisc[k] * radius;
+        sum += texture(u_atlas, vec3(clamp(uv + offset * u_atlas_texel, lo, hi), min(depth + dot(slope, offset), 1.0)));
+    }
+    return sum / float(kFilterTaps);
+}

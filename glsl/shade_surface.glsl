@@ -1,0 +1,49 @@
+// The surface point a fragment of shade.frag shades, and its material (the paper's modified Phong BRDF:
+// k_d, k_s and the shininess n, Barsi et al. §2.3). Fragment stage only (screen derivatives, gl_FrontFacing).
+
+layout(location = LOC_EYE) uniform vec3 u_eye;
+layout(location = LOC_K_D) uniform vec3 u_k_d;  // rho_d / pi
+// The base-colour texture (linear: an sRGB texture), white without one; it scales k_d at each pixel.
+layout(binding = UNIT_BASE_COLOR) uniform sampler2D u_base_color;
+layout(location = LOC_K_S) uniform float u_k_s;  // rho_s (n + 2) / (2 pi)
+layout(location = LOC_SHININESS) uniform float u_shininess;
+
+struct Surface {
+    vec3 position;      // x, in world space
+    vec3 normal;        // the shading normal n (shading_normal)
+    vec3 plane_normal;  // the triangle's plane (either side): the surface the shadow atlas holds
+    vec3 mirror;        // r: the direction to the viewer reflected about n
+    vec3 base_color;    // the base-colour texture at this pixel
+    vec3 k_d;           // u_k_d times base_color
+};
+
+// Shading normal at p (docs/DESIGN.md §5.4). The side comes from the triangle: seen from behind (an open
+// mesh), the normal is turned round; the interpolated normal itself may still face away from the viewer
+// near a silhouette, and is then bent towards the viewer in the plane of n and v until n.v is about
+// kFacingEpsilon (turning it round instead would point it into the surface: a black rim): a simpler form
+// of Iray's shading normal adaptation (Keller et al. 2017). The reference (engine/reference/reference.cpp)
+// does the same.
+const float kFacingEpsilon = 0.01;
+vec3 shading_normal(vec3 interpolated, vec3 view) {
+    vec3 n = gl_FrontFacing ? interpolated : -interpolated;
+    float facing = dot(n, view);
+    if (facing < kFacingEpsilon) n = normalize(n + (kFacingEpsilon - facing) * view);
+    return n;
+}
+
+// The surface at the fragment's interpolated world position, normal and texture coordinates.
+Surface surface(vec3 position, vec3 interpolated_normal, vec2 texcoord) {
+    Surface s;
+    s.position = position;
+    s.base_color = texture(u_base_color, texcoord).rgb;
+    s.k_d = u_k_d * s.base_color;
+    vec3 view = normalize(u_eye - position);
+    s.normal = shading_normal(normalize(interpolated_normal), view);
+    // The plane of the triangle, from the position's screen derivatives (helper invocations interpolate
+    // the same triangle): the surface the atlas holds, which the interpolated normal only approximates.
+    // A triangle seen edge on has none: its shading normal stands in.
+    vec3 across = cross(dFdx(position), dFdy(position));
+    s.plane_normal = dot(across, across) > 0.0 ? normalize(across) : s.normal;
+    s.mirror = reflect(-view, s.normal);
+    return s;
+}
