@@ -3,8 +3,9 @@
 # with scripts/compare-matrix.sh: a change that must not move any image shows rel_rmse=0 everywhere.
 #   scripts/render-matrix.sh OUTDIR [ENVSHADOW]
 # The matrix: every scene of the regression set (tests/regression/render_flags.txt) at its defaults; the
-# default and spheres scenes under every value of every render setting; the accuracy scenes
-# (docs/accuracy/scenes) under both shading modes at one sample per pixel.
+# default and spheres scenes under every value of every render setting, and under the combinations that
+# reach the shader variants single flags miss; the accuracy scenes (docs/accuracy/scenes) under both
+# shading modes at one sample per pixel, alone and with --prepass off or --diffuse cap.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -28,6 +29,12 @@ variants=(
   "--shading ratio --shadows soft" "--msaa 1" "--msaa 8" "--atlas viewport-array" "--atlas per-tile"
   "--tile-sizes uniform" "--tile-sizes sqrt" "--depth-bits 32" "--baseline" "--caster-lod off"
   "--prepass off" "--no-background" "--hemisphere full" "--method fs-gpu" "--method ccvt"
+  # shader variants the single flags above do not reach
+  "--prepass off --shading ratio" "--prepass off --shading ratio --shadows soft" "--prepass off --shadows soft"
+  "--prepass off --pcf wide" "--prepass off --diffuse cap" "--prepass off --diffuse cap --shading ratio --specular single"
+  "--diffuse cap --shading ratio" "--specular single --shading ratio" "--pcf wide --shading ratio"
+  "--pcf wide --shadows soft" "--baseline --shading ratio" "--baseline --diffuse cap"
+  "--baseline --shading ratio --shadows soft"
 )
 for scene in default spheres; do
   for variant in "${variants[@]}"; do
@@ -41,7 +48,11 @@ for scene in docs/accuracy/scenes/*.json; do
   name="$(basename "$scene" .json)"
   case "$name" in *_mask) continue ;; esac
   for shading in cells ratio; do
-    render "accuracy_${name}__${shading}" --scene "$scene" --width 128 --height 96 --lights 32 --msaa 1 \
-      --shading "$shading"
+    for extra in "" "--prepass off" "--diffuse cap"; do
+      read -r -a flags <<< "$extra"
+      tag="$(echo "$extra" | tr -d '-' | tr ' ' '_')"
+      render "accuracy_${name}__${shading}${tag:+__$tag}" --scene "$scene" --width 128 --height 96 --lights 32 \
+        --msaa 1 --shading "$shading" "${flags[@]}"
+    done
   done
 done
