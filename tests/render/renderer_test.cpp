@@ -75,9 +75,6 @@ float luminance(const glm::vec4& c) {
     return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
 }
 
-// PSNR (dB) of `a` against `reference` over the RGB of the pixels where the reference has alpha 1 (the
-// objects); the peak is the reference's largest value there.
-
 struct FurnaceError {
     double rms = 0.0, max = 0.0;
     long pixels = 0;
