@@ -26,7 +26,7 @@ inline constexpr float kPrefilterMaxShininess = 10000.0f;  // shininess outside 
 // Storage of the levels (and the prefiltering's scratch): at least 1 MB is 2 MB-aligned, on transparent huge
 // pages where the kernel offers them (Linux, THP in madvise mode), and resize leaves the texels uninitialised
 // (the prefiltering writes each once, from the worker threads). First-touching tens of MB of fresh 4 KiB pages
-// cost more than the arithmetic on the measuring VM (docs/PERFORMANCE.md).
+// cost more than the arithmetic (docs/PERFORMANCE.md, "Prefiltering").
 namespace detail {
 void* allocate_level_storage(std::size_t bytes);
 void free_level_storage(void* storage) noexcept;

@@ -150,8 +150,8 @@ inline constexpr double kCcvtRelativeMovementTolerance = 0.1;
 inline constexpr int kCcvtMaxIterations = 40;
 inline constexpr int kCcvtMaxEvaluations = 300;
 // A capacity solve stops when its last kCcvtStallSteps steps gained less than kCcvtStallGain of the
-// variation between them (studio: 1.3 s to under 0.3 s, the cells' CV after balancing 4.0% to 4.4%;
-// docs/PERFORMANCE.md).
+// variation between them: the steps after a stall buy little balance for most of the solve's time
+// (docs/PERFORMANCE.md, "Decomposition").
 inline constexpr int kCcvtStallSteps = 2;
 inline constexpr double kCcvtStallGain = 0.05;
 

@@ -564,7 +564,7 @@ TEST_P(RendererTest, ReportsTheAtlasAndThePasses) {
     EXPECT_EQ(image.at(32, 32).a, 1.0f);  // object
 }
 
-// Issue 10's optimisations against the first working renderer (RenderSettings baseline()): a figure
+// The optimisations (docs/PERFORMANCE.md) against the first working renderer (RenderSettings baseline()): a figure
 // standing on the ground beside a sphere, 40 lights of the sky, each optimisation alone and all
 // together. The caster LOD must draw fewer triangles and stay within 45 dB of the full casters (the
 // regression scenes' bar); the others change only which work is done (fragments shaded, where the
