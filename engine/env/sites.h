@@ -68,7 +68,7 @@ std::vector<glm::dvec3> equal_importance_regions(const ImportanceMap& importance
 // (every split at the importance median).
 SiteSet sites_median_cut(const ImportanceMap& importance, int count);
 
-// lloyd: weighted Lloyd relaxation on the sphere (paper 002 §2.1): every site moves towards the
+// lloyd: weighted Lloyd relaxation on the sphere (Barsi et al. §2.1): every site moves towards the
 // normalised importance-weighted mean direction of its cell, decreasing E = sum I (1 - w . s), until an
 // iteration gains less than kLloydEnergyTolerance of E. The steps are over-relaxed
 // (`over_relaxation`, 1 for Lloyd's own steps); one that raises E is replaced by the plain step to the
