@@ -2,8 +2,9 @@
 """Every citation of the design document in the tree must resolve: `docs/DESIGN.md §N` or `§N.M`
 (also `§2, §4` and `§2, §3 and §6`) to a heading of docs/DESIGN.md ("## 4. ..." or "### 4.1 ..."),
 a `DESIGN.md#anchor` link to a heading's anchor, and the path itself to docs/DESIGN.md (from the
-repository root, or relative to the citing file). Prints file:line: reason for each one that does
-not and exits 1; exits 0 when all resolve.
+repository root, or relative to the citing file). Code (engine/, app/, glsl/) must also not name an
+issue ("issue 14"): comments state contracts and reasons, the story goes in commit messages. Prints
+file:line: reason for each fault and exits 1; exits 0 when there is none.
 
     scripts/check-design-citations.py [--root DIR]    # the tree (default: this script's repository)
     scripts/check-design-citations.py --self-test     # the checker on a made-up tree with known faults
@@ -32,6 +33,9 @@ CITATION = re.compile(
     r"(?P<sections>(?:\s*(?:,|and|or|&)?\s*§\s?\d+(?:\.\d+)*)*)"
 )
 SECTION = re.compile(r"§\s?(\d+(?:\.\d+)*)")
+# Folders of code, where "issue N" (any case) is history, not a contract.
+CODE_FOLDERS = ("engine/", "app/", "glsl/")
+ISSUE = re.compile(r"\bissues?(?:\s+#?|\s*#)\d+", re.IGNORECASE)
 
 
 def github_anchor(heading_text):
@@ -106,6 +110,14 @@ def check_line(rel, number, line, sections, anchors):
     return problems
 
 
+def check_history(rel, number, line):
+    """'issue N' in a line of code (engine/, app/, glsl/)."""
+    if not rel.startswith(CODE_FOLDERS):
+        return []
+    return [f"{rel}:{number}: '{m.group(0)}' in code: say the contract or the reason, and leave the story to "
+            "the commit message" for m in ISSUE.finditer(line)]
+
+
 def check(root):
     """Returns the problems found in the tree at `root`, one 'file:line: reason' each."""
     if not os.path.isfile(os.path.join(root, DESIGN)):
@@ -120,10 +132,13 @@ def check(root):
                 text = f.read()
         except (UnicodeDecodeError, OSError):
             continue
-        if "\0" in text or "DESIGN" not in text:
+        if "\0" in text:
             continue
+        cites = "DESIGN" in text
         for number, line in enumerate(text.splitlines(), start=1):
-            problems += check_line(rel, number, line, sections, anchors)
+            if cites:
+                problems += check_line(rel, number, line, sections, anchors)
+            problems += check_history(rel, number, line)
     return problems
 
 
@@ -141,6 +156,11 @@ def self_test():
                          "// DESIGN §9 without the file\n"),
         "docs/bad.md": ("[layers](DESIGN.md#layers) and DESIGN.md#3-decomposition-methods\n"
                         "[DESIGN.md](shared/DESIGN.md) §2\n"),
+        "docs/history.md": "Issue 14 moved the bias; tissue 3 is no issue.\n",
+        "tests/env/history_test.cpp": "// the inputs issue 16 listed\n",
+        "engine/history.cpp": "int x;  // tissue 3, reissued\n// Optimisations of issue 10\n",
+        "glsl/history.frag": "// after Issues 14 and 18\n",
+        "app/history.h": "// see #14 or issue#3\n",
     }
     expected = [
         "docs/bad.md:1: '#layers' is no heading",
@@ -151,6 +171,9 @@ def self_test():
         "engine/bad.h:4: 'DESIGN.md' is not docs/DESIGN.md",
         "engine/bad.h:5: '../shared/DESIGN.md' is not docs/DESIGN.md",
         "engine/bad.h:6: 'DESIGN §9' names no file",
+        "engine/history.cpp:2: 'issue 10' in code",
+        "glsl/history.frag:1: 'Issues 14' in code",
+        "app/history.h:1: 'issue#3' in code",
     ]
     with tempfile.TemporaryDirectory() as root:  # not a git checkout: the folder walk
         for rel, text in files.items():
@@ -168,7 +191,7 @@ def self_test():
         print(f"self-test: reported wrongly: {p}", file=sys.stderr)
     if failures or unexpected:
         return 1
-    print(f"self-test: {len(expected)} bad citations reported at their lines, the good ones passed")
+    print(f"self-test: {len(expected)} faults reported at their lines, the good lines passed")
     return 0
 
 
@@ -183,9 +206,10 @@ def main():
     for p in problems:
         print(p, file=sys.stderr)
     if problems:
-        print(f"{len(problems)} citation(s) of {DESIGN} do not resolve", file=sys.stderr)
+        print(f"{len(problems)} fault(s): citations of {DESIGN} that do not resolve, or issues named in code",
+              file=sys.stderr)
         return 1
-    print(f"every citation of {DESIGN} resolves")
+    print(f"every citation of {DESIGN} resolves, and no code names an issue")
     return 0
 
 

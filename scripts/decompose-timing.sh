@@ -1,7 +1,7 @@
 #!/bin/bash
 # scripts/decompose-timing.sh [full|upper] [RUNS]: per blender map, alternated runs of
 # `envshadow decompose` (the seconds it prints) and `bench_decompose --cold` (the same interval),
-# medians and their ratio, and the load average (docs/PERFORMANCE.md, issue 14). Needs build/.
+# medians and their ratio, and the load average (docs/PERFORMANCE.md, "Decomposition"). Needs build/.
 set -eu
 H=${1:-full}; R=${2:-5}; W=/usr/share/blender/datafiles/studiolights/world
 cd "$(dirname "$0")/.."

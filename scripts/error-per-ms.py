@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Error per millisecond (issue 18 part 3): relative RMSE against `envshadow reference` versus median frame
+"""Error per millisecond: relative RMSE against `envshadow reference` versus median frame
 time, over N = 16 ... 256 lights and tile budgets of N x 128^2, 256^2 and 512^2 texels, for the two scenes a
 user would pick a setting on (flyover under city, the sphere on the ground under courtyard).
 
@@ -18,13 +18,18 @@ import csv
 import json
 import os
 import sys
+import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import accuracy  # noqa: E402  (the Study, the references, gnuplot helpers)
-from accuracy import ROOT, log, run  # noqa: E402
+from accuracy_report import progress  # noqa: E402  (scripts/accuracy.py's package: the Study, references, plots)
+from accuracy_report.cache import atomic_open, result_key  # noqa: E402
+from accuracy_report.config import DEFAULTS, MAPS, ROOT, SCENES  # noqa: E402
+from accuracy_report.plots import gnuplot, plot_panel, TERM  # noqa: E402
+from accuracy_report.progress import log  # noqa: E402
+from accuracy_report.runner import run, Study  # noqa: E402
 
-accuracy.SCENES["flyover"] = ("assets/scenes/flyover.json", 160, 90, None)
+SCENES["flyover"] = ("assets/scenes/flyover.json", 160, 90, None)
 CASES = [("flyover", "city"), ("sphere_ground", "courtyard")]
 NS = [16, 32, 64, 128, 256]
 TILES = [128, 256, 512]
@@ -40,13 +45,13 @@ def bench_rows(args, cache, scene, map_, tile):
         if args.report_only:
             return {}, {}
         log(f"bench {scene} {map_} tile {tile} at {args.size} ...")
-        run([args.bin, "bench", "--scene", accuracy.SCENES[scene][0], "--env", accuracy.MAPS[map_], "--width", w,
+        run([args.bin, "bench", "--scene", SCENES[scene][0], "--env", MAPS[map_], "--width", w,
              "--height", h, "--frames", str(args.frames), "--warmup", "2", "--tile", str(tile), "--msaa", "1",
              "--sweep", "lights=" + ",".join(map(str, NS)), "--json", out + ".tmp.json"])
         with open(out + ".tmp.json") as f:
             data = json.load(f)
         data["load_average"] = os.getloadavg()[0]  # after the run: what the machine was doing meanwhile
-        with accuracy.atomic_open(out) as f:
+        with atomic_open(out) as f:
             json.dump(data, f)
         os.remove(out + ".tmp.json")
     with open(out) as f:
@@ -68,7 +73,7 @@ def collect(args, study):
             machine = machine or data.get("renderer")
             loads.append(data.get("load_average", float("nan")))
             for n in NS:
-                key = accuracy.result_key(scene, map_, "lloyd", n, dict(accuracy.DEFAULTS, tile=tile), args.error)
+                key = result_key(scene, map_, "lloyd", n, dict(DEFAULTS, tile=tile), args.error)
                 r = study.results.get(key)
                 if not r or n not in frames:
                     continue
@@ -86,7 +91,7 @@ def collect(args, study):
 
 
 def write_plot(rows, path):
-    s = accuracy.TERM.format(w=900, h=340) + f"set output '{path}'\nset multiplot layout 1,{len(CASES)}\n"
+    s = TERM.format(w=900, h=340) + f"set output '{path}'\nset multiplot layout 1,{len(CASES)}\n"
     s += f"set logscale xy\nset xlabel 'median frame time (ms, {ARGS.size}, llvmpipe)'\n"
     s += "set ylabel 'relative RMSE (%)'\nset grid\nset key top right\n"
     for scene, map_ in CASES:
@@ -95,13 +100,13 @@ def write_plot(rows, path):
             pts = [f"{r['frame_ms']:.2f} {100 * r['rel_rmse']:.4f}" for r in rows
                    if r["scene"] == scene and r["tile"] == tile]
             series.append((f"budget N x {tile}^2", pts))
-        s += accuracy.plot_panel(f"{scene} / {map_}: N = 16 ... 256 along each line", series)
+        s += plot_panel(f"{scene} / {map_}: N = 16 ... 256 along each line", series)
     s += "unset multiplot\n"
-    accuracy.gnuplot(s)
+    gnuplot(s)
 
 
 def section(rows, machine, load):
-    out = [MARK_BEGIN, "", "## Error per millisecond (issue 18 part 3)", ""]
+    out = [MARK_BEGIN, "", "## Error per millisecond", ""]
     out.append(f"`scripts/error-per-ms.py` on {machine} through EGL (load average {load} on the 2 cores when the "
                f"benches ran). Error: relative RMSE against `envshadow reference` (0.5% standard error per pixel) "
                f"as docs/ACCURACY.md measures it, at the reference's size (flyover 160×90 at time 0, every object "
@@ -159,7 +164,7 @@ def replace_section(path, text):
         doc = head + text.rstrip("\n") + tail
     else:
         doc = doc.rstrip("\n") + "\n\n" + text
-    with accuracy.atomic_open(path) as f:
+    with atomic_open(path) as f:
         f.write(doc)
 
 
@@ -208,26 +213,26 @@ def main():
     p.add_argument("--fresh", action="store_true", help="forget cached render/compare results")
     args = ARGS = p.parse_args()
     os.chdir(ROOT)
-    study = accuracy.Study(args)
+    study = Study(args)
     if not args.report_only:
         refs = cf.ThreadPoolExecutor(max_workers=1)
         refs.submit(study.make_references, CASES)
         jobs = [(s, m, n, t) for s, m in CASES for t in TILES for n in NS]
-        accuracy.progress = accuracy.Progress(len(jobs))
+        progress.start(len(jobs))
         with cf.ThreadPoolExecutor(max_workers=args.jobs) as ex:
             for f in [ex.submit(study.measure, s, m, "lloyd", n, tile=t) for s, m, n, t in jobs]:
                 f.result()
         refs.shutdown()
-        accuracy.progress.finish()
+        progress.finish()
     else:
         for case in CASES:
-            study.ref_ready.setdefault(case, accuracy.threading.Event()).set()
+            study.ref_ready.setdefault(case, threading.Event()).set()
     rows, machine, loads = collect(args, study)
     load = f"{min(loads):.1f}–{max(loads):.1f}" if loads else "?"
     if not rows:
         sys.exit("error-per-ms: nothing measured yet (run without --report-only)")
     os.makedirs(os.path.join(ROOT, "docs/performance"), exist_ok=True)
-    with accuracy.atomic_open(os.path.join(ROOT, "docs/performance/error_per_ms.csv")) as f:
+    with atomic_open(os.path.join(ROOT, "docs/performance/error_per_ms.csv")) as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)

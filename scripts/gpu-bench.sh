@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The GPU run, in one command (issue 18): builds Release, checks that EGL reaches a hardware GPU,
+# The GPU run, in one command: builds Release, checks that EGL reaches a hardware GPU,
 # benches flyover (the paper's Table 1 scene: two figures) at 1920x1080 for N = 64, 128, 256 in both
 # shading modes (the paper's cells, the ratio estimator) and the per-frame GPU sampler, and writes the table into docs/PERFORMANCE.md between the markers
 #   <!-- gpu-bench:begin --> ... <!-- gpu-bench:end -->

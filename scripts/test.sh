@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds with warnings as errors, runs the whole test suite with ctest.
-#   scripts/test.sh              the default suite (unit, gl, app, regression)
+#   scripts/test.sh              the default suite (ctest labels unit, gl, viewer, regression)
 #   scripts/test.sh --sanitize   the same under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)
 # The default suite is followed by the malformed-input tests (test_robustness: every loader on broken,
 # truncated and bit-flipped files, the fuzz findings) once more under ASan + UBSan, built alone into
@@ -38,10 +38,10 @@ else
 fi
 cd "${ENVSHADOW_BUILD_DIR:-$root/build}"
 if [ $sanitize -eq 1 ]; then
-  env "${sanitizer_env[@]}" ctest -j"$(nproc)" --output-on-failure --label-exclude 'fuzz|slow'
+  env "${sanitizer_env[@]}" ctest -j"$(nproc)" --output-on-failure --label-exclude fuzz
   exit 0
 fi
-ctest -j"$(nproc)" --output-on-failure --label-exclude 'fuzz|slow'
+ctest -j"$(nproc)" --output-on-failure --label-exclude fuzz
 
 # The malformed-input tests under ASan + UBSan: only test_robustness and what it links (core, env,
 # scene; 23 files, ~280 s of CPU from clean, so 2-3 minutes on 2 cores), then its 39 tests (~15 s).

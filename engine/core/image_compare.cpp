@@ -60,10 +60,11 @@ Image8 side_by_side(const Image8& a, const Image8& b) {
     return out;
 }
 
-HdrDifference compare_hdr(const Image& a, const Image& reference, const std::vector<bool>& mask) {
-    if (a.width != reference.width || a.height != reference.height)
-        throw InputError("image sizes differ: " + std::to_string(a.width) + "x" + std::to_string(a.height) + " vs " +
-                         std::to_string(reference.width) + "x" + std::to_string(reference.height));
+HdrDifference compare_hdr(const Image& reference, const Image& image, const std::vector<bool>& mask) {
+    if (image.width != reference.width || image.height != reference.height)
+        throw InputError("image sizes differ: " + std::to_string(reference.width) + "x" +
+                         std::to_string(reference.height) + " vs " + std::to_string(image.width) + "x" +
+                         std::to_string(image.height));
     if (!mask.empty() && mask.size() != reference.pixels.size()) throw InputError("mask size differs from the image");
     HdrDifference d;
     double err = 0.0, ref = 0.0, peak = 0.0;
@@ -71,7 +72,7 @@ HdrDifference compare_hdr(const Image& a, const Image& reference, const std::vec
         if (!mask.empty() && !mask[i]) continue;
         ++d.pixels;
         for (int c = 0; c < 3; ++c) {
-            const double e = double(a.pixels[i][c]) - double(reference.pixels[i][c]);
+            const double e = double(image.pixels[i][c]) - double(reference.pixels[i][c]);
             err += e * e;
             ref += double(reference.pixels[i][c]) * reference.pixels[i][c];
             peak = std::max(peak, double(reference.pixels[i][c]));

@@ -37,12 +37,13 @@ ImageDifference compare_images(const Image8& a, const Image8& b, int pixel_thres
 Image8 side_by_side(const Image8& a, const Image8& b);
 
 struct HdrDifference {
-    double relative_rmse = 0.0;  // sqrt(mean |a - b|^2) / sqrt(mean |b|^2) over masked RGB, b = reference
-    double psnr = 0.0;           // dB, peak = max of b over the mask
+    double relative_rmse = 0.0;  // sqrt(mean |image - reference|^2) / sqrt(mean |reference|^2) over masked RGB
+    double psnr = 0.0;           // dB, peak = max of the reference over the mask
     long pixels = 0;             // pixels in the mask
 };
 
-// Over pixels where mask[i] is true (all pixels when the mask is empty). Throws InputError on size mismatch.
-HdrDifference compare_hdr(const Image& a, const Image& reference, const std::vector<bool>& mask = {});
+// Over pixels where mask[i] is true (all pixels when the mask is empty). The reference comes first, as in
+// reference::compare_images and `envshadow compare A B`. Throws InputError on size mismatch.
+HdrDifference compare_hdr(const Image& reference, const Image& image, const std::vector<bool>& mask = {});
 
 }  // namespace envshadow

@@ -36,7 +36,7 @@ void check_shape(const std::string& name, long long width, long long height) {
 // Negative components (real photographs carry small ones) become 0; NaN, infinite and absurdly large
 // ones are an error unless the caller asked to clamp them too.
 // Row by row in parallel: also the process's first parallel work, so the thread pool starts here
-// rather than inside the decomposition that follows (2.5 ms on the 2-core VM).
+// rather than inside the timed decomposition that follows.
 void sanitise(EnvironmentMap& map, const EnvironmentLoadOptions& options, EnvironmentLoadReport& report) {
     std::vector<EnvironmentLoadReport> rows(static_cast<size_t>(map.height));
     tbb::parallel_for(0, map.height, [&](int j) {

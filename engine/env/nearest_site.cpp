@@ -15,8 +15,8 @@ namespace {
 constexpr int kTopTileSize = 128;   // texels per side of the coarsest tiles
 constexpr int kChunkTileSize = 32;  // a row of these tiles is one unit of parallel work
 // Below the leaf size, texels are scored one by one against the candidates. 8 x 8 rather than 4 x 4:
-// a quarter of the tiles' caps and moments (1.1 MB instead of 4.4 MB at 1024 x 512, fresh pages that a
-// first run pays for), the same cells, and no slower (docs/PERFORMANCE.md, issue 14).
+// a quarter of the tiles' caps and moments to allocate and touch (fresh pages cost a first run most),
+// and the same cells.
 constexpr int kLeafTileSize = 8;
 constexpr int kLevels = 5;  // 128, 64, 32, 16, 8
 constexpr int kChunkLevel = 2;

@@ -94,7 +94,7 @@ enum class SiteSearch { tiles, brute_force };
 // The nearest-site partition of one importance map (which must outlive it) by either search: what the
 // relaxations evaluate at every iteration. The tile hierarchy is built on first use, so that a method
 // that starts at a lower resolution (Lloyd) has freed that stage's memory by then: fresh pages are
-// what a decomposition's first run in a process costs most (docs/PERFORMANCE.md, issue 14).
+// what a decomposition's first run in a process costs most (docs/PERFORMANCE.md, "Decomposition").
 class Partition {
 public:
     Partition(const ImportanceMap& importance, SiteSearch search);

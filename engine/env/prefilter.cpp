@@ -17,344 +17,39 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
-#include <memory>
-#include <new>
 #include <numbers>
 #include <utility>
 
+#include "env/fft.h"
 #include "env/latlong.h"
-
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
+#include "env/legendre.h"
+#include "env/level_storage.h"
+#include "env/prefilter_levels.h"
+#include "env/row_block.h"
 
 namespace envshadow {
 
-namespace detail {
-
-void* allocate_level_storage(std::size_t bytes) {
-    constexpr std::size_t kHugePage = std::size_t(2) << 20;
-    void* storage = nullptr;
-    if (bytes >= kHugePage / 2) {
-        const std::size_t rounded = (bytes + kHugePage - 1) & ~(kHugePage - 1);
-        storage = std::aligned_alloc(kHugePage, rounded);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-        if (storage) madvise(storage, rounded, MADV_HUGEPAGE);  // advice only
-#endif
-    } else {
-        storage = std::malloc(std::max<std::size_t>(bytes, 1));
-    }
-    if (!storage) throw std::bad_alloc();
-    return storage;
-}
-
-void free_level_storage(void* storage) noexcept {
-    std::free(storage);
-}
-
-}  // namespace detail
-
 namespace {
 
+using prefiltering::block_fft;
+using prefiltering::degree_sums;
+using prefiltering::FftTables;
+using prefiltering::kBlock;
+using prefiltering::kLevels;
+using prefiltering::last_nonzero_order;
+using prefiltering::LegendreRecurrence;
+using prefiltering::level_shininess;
+using prefiltering::order_coefficients;
+using prefiltering::order_legendre;
+using prefiltering::sectoral;
 using Complex = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
-// n_k = 10^(k / 8) up to 1000 (1, 10, 100, 1000 exact; neighbours 1.33x apart), then 10^(1/4) apart up to
-// 10^4: the sharp lobes' grids and bands cost the most.
-constexpr int kFineLevels = 25;
-constexpr int kLevels = kFineLevels + 4;
-double level_shininess(int k) {
-    return k < kFineLevels ? std::pow(10.0, k / 8.0) : std::pow(10.0, 3.0 + (k - kFineLevels + 1) / 4.0);
-}
-// The level coordinate of shininess n: k + fraction, linear in log n within each spacing.
-double level_coordinate(double n) {
-    const double decades = std::log10(n);
-    return decades <= 3.0 ? decades * 8.0 : kFineLevels - 1 + (decades - 3.0) * 4.0;
-}
 constexpr int kMaxGridWidth = 1024;      // levels and the source are at most 1024 x 512
 constexpr int kMinGridWidth = 64;        // E (n = 1): 64 x 32
 constexpr double kTexelsPerLobe = 32.0;  // grid width ~ 32 sqrt(n) (spacing ~ 0.2 / sqrt(n)): 24 left 4% at n = 100
 
-// Rows are processed kBlock at a time, one lane each: arrays laid out [..][lane] make every inner loop kBlock
-// independent lanes (one or two SIMD vectors) with no horizontal sums, and share the recurrences' latency.
-constexpr int kBlock = 8;
-
-// Scratch arrays, uninitialised, on the levels' storage (huge pages from 1 MB).
-struct StorageDeleter {
-    void operator()(void* storage) const noexcept { detail::free_level_storage(storage); }
-};
-template <class T>
-using Scratch = std::unique_ptr<T[], StorageDeleter>;
-template <class T>
-Scratch<T> scratch(std::size_t count) {
-    return Scratch<T>(static_cast<T*>(detail::allocate_level_storage(count * sizeof(T))));
-}
-
-// The hot loops below are compiled twice, for the baseline x86-64 and for x86-64-v3 (AVX2 and FMA: 4 doubles a
-// vector instead of 2, a * b + c in one rounding; this file is compiled with -ffp-contract=fast), and the
-// processor picks one at load time; elsewhere once.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define ENVSHADOW_VECTOR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define ENVSHADOW_VECTOR_CLONES
-#endif
-
-// Four doubles with element-wise arithmetic (GCC and Clang vector extensions): one AVX2 register in the
-// x86-64-v3 clones, two SSE2 ones in the baseline. A block's kBlock lanes are two of them; the kernels below
-// hold their accumulators and butterflies in such vectors so that they stay in the 16 registers.
-constexpr int kVector = 4;
-typedef double Vector __attribute__((vector_size(kVector * sizeof(double))));
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"  // Vector by value only between this file's always-inlined helpers
-#endif
-[[gnu::always_inline]] inline Vector load(const double* from) {
-    Vector v;
-    std::memcpy(&v, from, sizeof v);
-    return v;
-}
-[[gnu::always_inline]] inline void store(double* to, const Vector& v) {
-    std::memcpy(to, &v, sizeof v);
-}
-[[gnu::always_inline]] inline double lane_sum(const Vector& v) {
-    return (v[0] + v[1]) + (v[2] + v[3]);
-}
-
-// Radix-2 FFT tables for size n: the bit reversal and the twiddles e^{i pi k / h} of each stage.
-struct FftTables {
-    int n = 0;
-    std::vector<int> reversed;     // the input of index i goes to reversed[i]
-    std::vector<double> cos, sin;  // the stage of half-length h: entries h - 1 .. 2h - 2
-    explicit FftTables(int size)
-        : n(size), reversed(std::size_t(size)), cos(std::size_t(std::max(size - 1, 1))), sin(cos.size()) {
-        for (int i = 0, j = 0; i < n; ++i) {
-            reversed[std::size_t(i)] = j;
-            int bit = n >> 1;
-            for (; j & bit; bit >>= 1) j ^= bit;
-            j ^= bit;
-        }
-        for (int half = 1; half < n; half <<= 1)
-            for (int k = 0; k < half; ++k) {
-                cos[std::size_t(half - 1 + k)] = std::cos(kPi * k / half);
-                sin[std::size_t(half - 1 + k)] = std::sin(kPi * k / half);
-            }
-    }
-};
-
-// (a, b) -> (a + b, (a - b) w) in every lane: the decimation-in-frequency butterfly.
-[[gnu::always_inline]] inline void butterfly(Vector& ar, Vector& ai, Vector& br, Vector& bi, double wr, double wi) {
-    const Vector dr = ar - br, di = ai - bi;
-    ar += br, ai += bi;
-    br = dr * wr - di * wi, bi = dr * wi + di * wr;
-}
-
-// a_j -> sum_k a_k e^{sign 2 pi i j k / N} for kBlock rows at once, in place on split real and imaginary parts
-// laid out [index][lane]: the input in natural order, the output in bit-reversed order (index j at
-// FftTables::reversed[j]; the callers read it so). Decimation in frequency, two stages at a time (radix 2^2:
-// four points loaded once for two stages' butterflies, so a block's 128 KB of rows at N = 1024 is swept five
-// times instead of ten), the last two (twiddles 1 and +-i) without multiplications.
-ENVSHADOW_VECTOR_CLONES
-void block_fft(const FftTables& fft, double* re, double* im, double sign) {
-    const int n = fft.n;
-    int half = n / 2;
-    for (; half >= 4; half /= 4) {  // stages h and h / 2
-        const int quarter = half / 2;
-        const std::size_t stride = std::size_t(quarter) * kBlock;
-        for (int start = 0; start < n; start += 2 * half)
-            for (int k = 0; k < quarter; ++k) {
-                // Stage h: (0, 2) with the twiddle e^{sign i pi k / h}, (1, 3) with e^{sign i pi (k + h/2) / h};
-                // stage h / 2: (0, 1) and (2, 3) with e^{sign i pi k / (h/2)}.
-                const std::size_t w0 = std::size_t(half - 1 + k), w1 = w0 + std::size_t(quarter);
-                const std::size_t w2 = std::size_t(quarter - 1 + k);
-                for (int lane = 0; lane < kBlock; lane += kVector) {
-                    double* r = re + std::size_t(start + k) * kBlock + std::size_t(lane);
-                    double* i = im + std::size_t(start + k) * kBlock + std::size_t(lane);
-                    Vector x0r = load(r), x1r = load(r + stride), x2r = load(r + 2 * stride),
-                           x3r = load(r + 3 * stride);
-                    Vector x0i = load(i), x1i = load(i + stride), x2i = load(i + 2 * stride),
-                           x3i = load(i + 3 * stride);
-                    butterfly(x0r, x0i, x2r, x2i, fft.cos[w0], sign * fft.sin[w0]);
-                    butterfly(x1r, x1i, x3r, x3i, fft.cos[w1], sign * fft.sin[w1]);
-                    butterfly(x0r, x0i, x1r, x1i, fft.cos[w2], sign * fft.sin[w2]);
-                    butterfly(x2r, x2i, x3r, x3i, fft.cos[w2], sign * fft.sin[w2]);
-                    store(r, x0r), store(r + stride, x1r), store(r + 2 * stride, x2r), store(r + 3 * stride, x3r);
-                    store(i, x0i), store(i + stride, x1i), store(i + 2 * stride, x2i), store(i + 3 * stride, x3i);
-                }
-            }
-    }
-    if (half == 2) {  // stages 2 and 1: (0, 2) and (1, 3) with twiddles 1 and e^{sign i pi / 2}, then (0, 1), (2, 3)
-        for (int start = 0; start < n; start += 4)
-            for (int lane = 0; lane < kBlock; lane += kVector) {
-                double* r = re + std::size_t(start) * kBlock + std::size_t(lane);
-                double* i = im + std::size_t(start) * kBlock + std::size_t(lane);
-                Vector x0r = load(r), x1r = load(r + kBlock), x2r = load(r + 2 * kBlock), x3r = load(r + 3 * kBlock);
-                Vector x0i = load(i), x1i = load(i + kBlock), x2i = load(i + 2 * kBlock), x3i = load(i + 3 * kBlock);
-                const Vector a0r = x0r + x2r, a0i = x0i + x2i, a2r = x0r - x2r, a2i = x0i - x2i;
-                const Vector a1r = x1r + x3r, a1i = x1i + x3i;
-                const Vector a3r = sign * (x3i - x1i), a3i = sign * (x1r - x3r);  // (x1 - x3) e^{sign i pi / 2}
-                store(r, a0r + a1r), store(r + kBlock, a0r - a1r), store(r + 2 * kBlock, a2r + a3r);
-                store(r + 3 * kBlock, a2r - a3r);
-                store(i, a0i + a1i), store(i + kBlock, a0i - a1i), store(i + 2 * kBlock, a2i + a3i);
-                store(i + 3 * kBlock, a2i - a3i);
-            }
-    } else if (half == 1) {  // the last stage alone: (0, 1) with twiddle 1
-        for (int start = 0; start < n; start += 2)
-            for (int lane = 0; lane < kBlock; lane += kVector) {
-                double* r = re + std::size_t(start) * kBlock + std::size_t(lane);
-                double* i = im + std::size_t(start) * kBlock + std::size_t(lane);
-                Vector x0r = load(r), x1r = load(r + kBlock), x0i = load(i), x1i = load(i + kBlock);
-                store(r, x0r + x1r), store(r + kBlock, x0r - x1r), store(i, x0i + x1i), store(i + kBlock, x0i - x1i);
-            }
-    }
-}
-
 int next_power_of_two(int x) {
     return int(std::bit_ceil(unsigned(std::max(x, 1))));
-}
-
-// Orthonormal associated Legendre functions (no Condon-Shortley phase) by the standard stable recurrences:
-//   P_mm = sqrt((2m+1)/(2m)) s P_{m-1,m-1},  P_{m+1,m} = sqrt(2m+3) x P_mm,
-//   P_lm = a_lm (x P_{l-1,m} - b_lm P_{l-2,m}) = (a_lm x) P_{l-1,m} - (a_lm b_lm) P_{l-2,m},
-// the last with one fused multiply-add on the recurrence's dependency chain. Tabled by order, then degree:
-// entry offset(m) + l - m.
-struct LegendreRecurrence {
-    int lmax;
-    std::vector<double> sectoral_factor;  // sqrt((2m+1)/(2m)), m >= 1
-    std::vector<double> a, ab;            // a_lm, a_lm b_lm for l >= m + 2
-    std::size_t offset(int m) const {
-        return std::size_t(m) * std::size_t(lmax + 1) - std::size_t(m) * std::size_t(m - 1) / 2;
-    }
-    explicit LegendreRecurrence(int max_degree)
-        : lmax(max_degree), sectoral_factor(std::size_t(max_degree) + 1), a(offset(max_degree + 1)), ab(a.size()) {
-        for (int m = 1; m <= lmax; ++m) sectoral_factor[std::size_t(m)] = std::sqrt((2.0 * m + 1.0) / (2.0 * m));
-        tbb::parallel_for(0, lmax + 1, [&](int m) {
-            for (int l = m + 2; l <= lmax; ++l) {
-                const double l2 = double(l) * l, m2 = double(m) * m, lm1 = double(l - 1) * (l - 1);
-                const double a_lm = std::sqrt((4.0 * l2 - 1.0) / (l2 - m2));
-                a[offset(m) + std::size_t(l - m)] = a_lm;
-                ab[offset(m) + std::size_t(l - m)] = a_lm * std::sqrt((lm1 - m2) / (4.0 * lm1 - 1.0));
-            }
-        });
-    }
-};
-
-// P_mm(s) of kBlock rows for m = 0..last, at pmm[m * kBlock + b].
-void sectoral(const LegendreRecurrence& recurrence, const double* s, int last, double* pmm) {
-    for (int b = 0; b < kBlock; ++b) pmm[b] = std::sqrt(1.0 / (4.0 * kPi));
-    for (int m = 1; m <= last; ++m)
-        for (int b = 0; b < kBlock; ++b)
-            pmm[std::size_t(m) * kBlock + std::size_t(b)] =
-                recurrence.sectoral_factor[std::size_t(m)] * s[b] * pmm[std::size_t(m - 1) * kBlock + std::size_t(b)];
-}
-
-// The highest order whose sectoral value has not underflowed to zero in some lane: above it, every P_lm of the
-// block is zero (the recurrences start from P_mm), near the poles where sin theta is small.
-int last_nonzero_order(const double* pmm, int last) {
-    while (last > 0 && std::all_of(pmm + std::size_t(last) * kBlock, pmm + std::size_t(last + 1) * kBlock,
-                                   [](double p) { return p == 0.0; }))
-        --last;
-    return last;
-}
-
-// c_lm = sum over row pairs of P_lm(x) (E_m if l - m is even, O_m if odd: the pair's even and odd spectra) for
-// one order m, l = m..lmax, into c[(l - m) * 6 + q]. Degree by degree, every block's recurrence advanced one step
-// (state in p1, p2): the blocks are independent chains, and the sums stay in registers per lane, reduced across
-// lanes once per degree; four lanes at a time. The blocks nearest the pole whose sectoral values underflowed to
-// zero add nothing and are skipped.
-ENVSHADOW_VECTOR_CLONES
-void order_coefficients(const LegendreRecurrence& recurrence, int m, int blocks, int bands, int parities,
-                        const double* spectra, const double* block_x, const double* block_pmm, double* p1, double* p2,
-                        double* c) {
-    auto pmm_of = [&](int block) {
-        return &block_pmm[(std::size_t(block) * std::size_t(bands) + std::size_t(m)) * kBlock];
-    };
-    auto spectrum = [&](int block, std::size_t parity) {  // spectra[block][m][parity][q][lane]
-        return &spectra[((std::size_t(block) * std::size_t(bands) + std::size_t(m)) * std::size_t(parities) + parity) *
-                        6 * kBlock];
-    };
-    int first_block = 0;
-    while (first_block < blocks &&
-           std::all_of(pmm_of(first_block), pmm_of(first_block) + kBlock, [](double p) { return p == 0.0; }))
-        ++first_block;
-    const double start = std::sqrt(2.0 * m + 3.0);
-    const std::size_t table = recurrence.offset(m);
-    for (int l = m; l <= recurrence.lmax; ++l)
-        for (int q = 0; q < 6; ++q) c[std::size_t(l - m) * 6 + std::size_t(q)] = 0.0;
-    for (int lane = 0; lane < kBlock; lane += kVector)
-        for (int l = m; l <= recurrence.lmax; ++l) {
-            const double a = l >= m + 2 ? recurrence.a[table + std::size_t(l - m)] : 0.0;
-            const double ab = l >= m + 2 ? recurrence.ab[table + std::size_t(l - m)] : 0.0;
-            const std::size_t parity = std::size_t((l - m) & (parities - 1));  // 0 when one parity
-            Vector sum0 = {}, sum1 = {}, sum2 = {}, sum3 = {}, sum4 = {}, sum5 = {};
-            for (int block = first_block; block < blocks; ++block) {
-                const std::size_t at = std::size_t(block) * kBlock + std::size_t(lane);
-                const Vector x = load(&block_x[at]), q1 = load(&p1[at]), q2 = load(&p2[at]);
-                const Vector p = l == m       ? load(pmm_of(block) + lane)
-                                 : l == m + 1 ? start * x * q1
-                                              : (a * x) * q1 - ab * q2;
-                store(&p2[at], q1), store(&p1[at], p);
-                const double* f = spectrum(block, parity) + lane;
-                sum0 += p * load(f), sum1 += p * load(f + kBlock), sum2 += p * load(f + 2 * kBlock);
-                sum3 += p * load(f + 3 * kBlock), sum4 += p * load(f + 4 * kBlock), sum5 += p * load(f + 5 * kBlock);
-            }
-            double* out = &c[std::size_t(l - m) * 6];
-            out[0] += lane_sum(sum0), out[1] += lane_sum(sum1), out[2] += lane_sum(sum2);
-            out[3] += lane_sum(sum3), out[4] += lane_sum(sum4), out[5] += lane_sum(sum5);
-        }
-}
-
-// P_lm(x_b) of one block of rows for l = m..last, at legendre[(l - m) * kBlock + b]: the block's two vectors are
-// two independent dependency chains.
-ENVSHADOW_VECTOR_CLONES
-void order_legendre(const LegendreRecurrence& recurrence, const double* x, const double* pmm, int m, int last,
-                    double* legendre) {
-    const Vector x_lo = load(x), x_hi = load(x + kVector);
-    Vector p1_lo = load(pmm), p1_hi = load(pmm + kVector);
-    store(legendre, p1_lo), store(legendre + kVector, p1_hi);
-    if (m + 1 > last) return;
-    const double start = std::sqrt(2.0 * m + 3.0);
-    Vector p2_lo = p1_lo, p2_hi = p1_hi;
-    p1_lo = start * x_lo * p2_lo, p1_hi = start * x_hi * p2_hi;
-    store(legendre + kBlock, p1_lo), store(legendre + kBlock + kVector, p1_hi);
-    const double* a = &recurrence.a[recurrence.offset(m)];
-    const double* ab = &recurrence.ab[recurrence.offset(m)];
-    for (int k = 2; k <= last - m; ++k) {
-        const Vector p_lo = (a[k] * x_lo) * p1_lo - ab[k] * p2_lo, p_hi = (a[k] * x_hi) * p1_hi - ab[k] * p2_hi;
-        store(legendre + std::size_t(k) * kBlock, p_lo), store(legendre + std::size_t(k) * kBlock + kVector, p_hi);
-        p2_lo = p1_lo, p2_hi = p1_hi, p1_lo = p_lo, p1_hi = p_hi;
-    }
-}
-
-// For one order m and one block of rows: sums[parity of l - m][re/im x rgb][lane] = sum over l = m..band of that
-// parity of factors[l - m] c[(l - m) * 6 + q] P_lm(x_lane) (the level's Funk-Hecke factors times the order's
-// coefficients). Four lanes at a time, so that the twelve accumulators (six sums, two parities), the two
-// Legendre vectors and a broadcast fit the 16 vector registers.
-ENVSHADOW_VECTOR_CLONES
-void degree_sums(const double* legendre, const double* c, const double* factors, int m, int band,
-                 double (&sums)[2][6][kBlock]) {
-    const int count = band - m + 1;
-    for (int lane = 0; lane < kBlock; lane += kVector) {
-        Vector e0 = {}, e1 = {}, e2 = {}, e3 = {}, e4 = {}, e5 = {};
-        Vector o0 = {}, o1 = {}, o2 = {}, o3 = {}, o4 = {}, o5 = {};
-        int k = 0;
-        for (; k + 1 < count; k += 2) {
-            const Vector pe = load(&legendre[std::size_t(k) * kBlock + std::size_t(lane)]) * factors[k];
-            const Vector po = load(&legendre[std::size_t(k + 1) * kBlock + std::size_t(lane)]) * factors[k + 1];
-            const double* ce = &c[std::size_t(k) * 6];
-            e0 += pe * ce[0], e1 += pe * ce[1], e2 += pe * ce[2], e3 += pe * ce[3], e4 += pe * ce[4], e5 += pe * ce[5];
-            o0 += po * ce[6], o1 += po * ce[7], o2 += po * ce[8], o3 += po * ce[9], o4 += po * ce[10],
-                o5 += po * ce[11];
-        }
-        if (k < count) {
-            const Vector pe = load(&legendre[std::size_t(k) * kBlock + std::size_t(lane)]) * factors[k];
-            const double* ce = &c[std::size_t(k) * 6];
-            e0 += pe * ce[0], e1 += pe * ce[1], e2 += pe * ce[2], e3 += pe * ce[3], e4 += pe * ce[4], e5 += pe * ce[5];
-        }
-        store(&sums[0][0][lane], e0), store(&sums[0][1][lane], e1), store(&sums[0][2][lane], e2);
-        store(&sums[0][3][lane], e3), store(&sums[0][4][lane], e4), store(&sums[0][5][lane], e5);
-        store(&sums[1][0][lane], o0), store(&sums[1][1][lane], o1), store(&sums[1][2][lane], o2);
-        store(&sums[1][3][lane], o3), store(&sums[1][4][lane], o4), store(&sums[1][5][lane], o5);
-    }
 }
 
 // The map at kMaxGridWidth x kMaxGridWidth / 2: wider maps box-halved (weighted by texel solid angle),
@@ -409,41 +104,6 @@ double phong_lobe_factor(int l, double n) {
     const double log_value = 0.5 * std::log(kPi) - (n + 1.0) * std::log(2.0) + std::lgamma(n + 1.0) - std::lgamma(x) -
                              std::lgamma(0.5 * n + 0.5 * l + 1.5);
     return 2.0 * kPi * sign * std::exp(log_value);
-}
-
-LevelPair PrefilteredEnvironment::level_pair(float shininess) const {
-    const int last = int(levels.size()) - 1;
-    if (last <= 0) return {};
-    const double n = std::clamp(double(shininess), double(kPrefilterMinShininess), double(kPrefilterMaxShininess));
-    const double t = std::clamp(level_coordinate(n), 0.0, double(last));
-    const int lower = std::min(int(std::floor(t + 1e-9)), last - 1);  // n = 1000 lands on its level, not below
-    return {lower, lower + 1, float(std::clamp(t - lower, 0.0, 1.0))};
-}
-
-glm::vec3 PrefilteredEnvironment::sample(int level, const glm::dvec3& direction) const {
-    const PrefilteredLevel& g = levels[std::size_t(level)];
-    const glm::dvec2 uv = latlong::uv(direction);
-    const double x = uv.x * g.width - 0.5, y = uv.y * (g.height - 1);
-    const double fx = std::floor(x), fy = std::floor(y);
-    const double ax = x - fx, ay = y - fy;
-    const int i0 = (int(fx) % g.width + g.width) % g.width, i1 = (i0 + 1) % g.width;
-    const int j0 = int(fy), j1 = std::min(j0 + 1, g.height - 1);
-    auto at = [&](int i, int j) {
-        return glm::dvec3(g.texels[std::size_t(j) * std::size_t(g.width) + std::size_t(i)]);
-    };
-    const glm::dvec3 top = at(i0, j0) * (1.0 - ax) + at(i1, j0) * ax;
-    const glm::dvec3 bottom = at(i0, j1) * (1.0 - ax) + at(i1, j1) * ax;
-    return glm::vec3(top * (1.0 - ay) + bottom * ay);
-}
-
-glm::vec3 PrefilteredEnvironment::irradiance(const glm::dvec3& n) const {
-    return float(kPi) * sample(0, n);  // S_1 = E; level 0 stores S_1 (1 + 1) / (2 pi)
-}
-
-glm::vec3 PrefilteredEnvironment::specular(const glm::dvec3& r, float shininess) const {
-    const LevelPair pair = level_pair(shininess);
-    const glm::vec3 mean = sample(pair.lower, r) * (1.0f - pair.weight) + sample(pair.upper, r) * pair.weight;
-    return mean * float(2.0 * kPi / (double(shininess) + 1.0));
 }
 
 PrefilteredEnvironment prefilter_environment(const EnvironmentMap& full_map, Hemisphere hemisphere) {

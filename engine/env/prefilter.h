@@ -8,50 +8,18 @@
 // shininess level. Each level stores the normalised lobe S_n (n + 1) / (2 pi), which is smooth in n (the
 // map's mean radiance in the lobe: 1 under builtin:constant), so interpolating it in log n between
 // levels is accurate; E = pi * level 0 (n = 1).
-#include <cstddef>
-#include <new>
-#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
 #include "env/environment.h"
 #include "env/importance.h"
+#include "env/level_storage.h"
 
 namespace envshadow {
 
 inline constexpr float kPrefilterMinShininess = 1.0f;
 inline constexpr float kPrefilterMaxShininess = 10000.0f;  // shininess outside is clamped to this range
-
-// Storage of the levels (and the prefiltering's scratch): at least 1 MB is 2 MB-aligned, on transparent huge
-// pages where the kernel offers them (Linux, THP in madvise mode), and resize leaves the texels uninitialised
-// (the prefiltering writes each once, from the worker threads). First-touching tens of MB of fresh 4 KiB pages
-// cost more than the arithmetic on the measuring VM (docs/PERFORMANCE.md).
-namespace detail {
-void* allocate_level_storage(std::size_t bytes);
-void free_level_storage(void* storage) noexcept;
-}  // namespace detail
-
-template <class T>
-struct LevelAllocator {
-    using value_type = T;
-    LevelAllocator() = default;
-    template <class U>
-    LevelAllocator(const LevelAllocator<U>&) noexcept {}
-    T* allocate(std::size_t count) { return static_cast<T*>(detail::allocate_level_storage(count * sizeof(T))); }
-    void deallocate(T* storage, std::size_t) noexcept { detail::free_level_storage(storage); }
-    template <class U, class... Args>
-    void construct(U* at, Args&&... args) {
-        if constexpr (sizeof...(Args) == 0)
-            ::new (static_cast<void*>(at)) U;  // default-initialised: no zeroing
-        else
-            ::new (static_cast<void*>(at)) U(std::forward<Args>(args)...);
-    }
-    template <class U>
-    bool operator==(const LevelAllocator<U>&) const noexcept {
-        return true;
-    }
-};
 
 struct PrefilteredLevel {
     float shininess = 1.0f;

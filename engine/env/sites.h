@@ -35,16 +35,16 @@ std::vector<std::size_t> sample_distinct_texels(const ImportanceMap& importance,
 // Site directions of texel centres.
 std::vector<glm::dvec3> texel_centres(const ImportanceMap& importance, std::span<const std::size_t> texels);
 
-// random: independent importance samples (seed 000 §1.2), texel centres.
+// random: independent importance samples (Szirmay-Kalos et al. §1.2), texel centres.
 SiteSet sites_random(const ImportanceMap& importance, int count, std::uint64_t seed);
 
-// Floyd-Steinberg halftoning (seed 000 §1.3, Listing 1.1) of per-texel weights into `count` samples:
+// Floyd-Steinberg halftoning (Szirmay-Kalos et al. §1.3, Listing 1.1) of per-texel weights into `count` samples:
 // serpentine scan, threshold S / (2M), a sample removes S / M, error weights 3/8 (next), 3/8 (below),
 // 1/4 (below next; around the seam, a neighbour on the sphere). The error is diffused between blocks of
 // B x B texels (B a power of two, as large as keeps at least kBlocksPerSample blocks per sample), not
 // single texels: with M << texels a texel holds a tiny fraction of the threshold, and the error would
-// spread over whole rows without firing until the last one (the warm-up seed 000 warns about for few
-// samples). For the same reason a dark block passes more along its row, as seed 000 advises: the share
+// spread over whole rows without firing until the last one (the warm-up Szirmay-Kalos et al. warn about for few
+// samples). For the same reason a dark block passes more along its row, as Szirmay-Kalos et al. advise: the share
 // going to the next block is max(3/8, min(15/16, 1 - g)), g the block's weight over 2 thresholds, the
 // rest 3:2 below and below-next. Each sample stands at its block's weighted mean direction. Mass is
 // conserved up to the error left at the last block, so there are M samples barring rounding, M - 1 at
@@ -68,7 +68,7 @@ std::vector<glm::dvec3> equal_importance_regions(const ImportanceMap& importance
 // (every split at the importance median).
 SiteSet sites_median_cut(const ImportanceMap& importance, int count);
 
-// lloyd: weighted Lloyd relaxation on the sphere (paper 002 §2.1): every site moves towards the
+// lloyd: weighted Lloyd relaxation on the sphere (Barsi et al. §2.1): every site moves towards the
 // normalised importance-weighted mean direction of its cell, decreasing E = sum I (1 - w . s), until an
 // iteration gains less than kLloydEnergyTolerance of E. The steps are over-relaxed
 // (`over_relaxation`, 1 for Lloyd's own steps); one that raises E is replaced by the plain step to the
@@ -150,8 +150,8 @@ inline constexpr double kCcvtRelativeMovementTolerance = 0.1;
 inline constexpr int kCcvtMaxIterations = 40;
 inline constexpr int kCcvtMaxEvaluations = 300;
 // A capacity solve stops when its last kCcvtStallSteps steps gained less than kCcvtStallGain of the
-// variation between them (studio: 1.3 s to under 0.3 s, the cells' CV after balancing 4.0% to 4.4%;
-// docs/PERFORMANCE.md).
+// variation between them: the steps after a stall buy little balance for most of the solve's time
+// (docs/PERFORMANCE.md, "Decomposition").
 inline constexpr int kCcvtStallSteps = 2;
 inline constexpr double kCcvtStallGain = 0.05;
 

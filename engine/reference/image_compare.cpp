@@ -42,7 +42,7 @@ std::vector<bool> selection(const Image& a, const Image& b, const Image8* mask, 
 
 Comparison compare_images(const Image& a, const Image& b, const Image8* mask, const std::string& what) {
     const std::vector<bool> selected = selection(a, b, mask, what);
-    const HdrDifference d = compare_hdr(b, a, selected);  // a is the reference
+    const HdrDifference d = compare_hdr(a, b, selected);  // a is the reference
     if (d.pixels == 0)
         throw InputError(prefix(what) + "no pixels to compare (no alpha > 0.5 in the first image, or an empty mask)");
     if (std::isnan(d.relative_rmse) || std::isnan(d.psnr)) throw InputError(prefix(what) + "non-finite pixel values");

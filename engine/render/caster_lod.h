@@ -1,5 +1,5 @@
 #pragma once
-// Shadow-caster level of detail (issue 10): a chain of simplified index buffers of a mesh
+// Shadow-caster level of detail: a chain of simplified index buffers of a mesh
 // (meshoptimizer), each with its geometric error, and the choice of the coarsest level whose error
 // stays under a fraction of a shadow-map texel. Plain C++, no GL: tested headless.
 //

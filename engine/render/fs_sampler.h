@@ -1,7 +1,8 @@
 #pragma once
-// Floyd-Steinberg sampling of an environment texture on the GPU (seed 000 §1.3, Listing 1.1;
-// docs/DESIGN.md §5): lights regenerated from the texture every frame, without a CPU round trip, so the
-// environment may rotate, change exposure, be swapped or animate. docs/FS_GPU.md has the design.
+// Floyd-Steinberg sampling of an environment texture on the GPU (Szirmay-Kalos, Szécsi, Penzov,
+// Environment Mapping with Floyd-Steinberg Halftoning, §1.3, Listing 1.1; docs/DESIGN.md §5): lights regenerated from
+// the texture every frame, without a CPU round trip, so the environment may rotate, change exposure, be swapped or
+// animate. docs/FS_GPU.md has the design.
 //
 //   1. fs_importance.comp  environment texture -> importance map I = lum(sum L dw) at the chosen
 //                          resolution (default 256 x 128), its row sums and each texel's
@@ -70,7 +71,7 @@ struct FsDiffusionWeights {
 
 enum class FsWeighting {
     // Listing 1.1's 3/8, 3/8, 1/4. With M far below the texel count N, a region of uniform importance
-    // needs 5N / (16M) rows before its error reaches the threshold (the warm-up of seed 000
+    // needs 5N / (16M) rows before its error reaches the threshold (the warm-up of Szirmay-Kalos et al.
     // §1.3.1): much of the importance never becomes a sample (K = 7 for M = 32 on city.exr at
     // 1024 x 512) and leaves the map at the last row. docs/FS_GPU.md has the measurements.
     listing,

@@ -53,10 +53,10 @@ TEST(ImageCompare, SideBySideHoldsBothImagesAndTheAmplifiedDifference) {
 
 TEST(ImageCompare, HdrRelativeRmseOverTheMask) {
     Image reference(2, 1, glm::vec4(2.0f, 2.0f, 2.0f, 1.0f));
-    Image a = reference;
-    a.at(0, 0) = glm::vec4(2.2f, 2.2f, 2.2f, 1.0f);  // 10% off
-    a.at(1, 0) = glm::vec4(100.0f);                  // masked out
-    const HdrDifference d = compare_hdr(a, reference, {true, false});
+    Image image = reference;
+    image.at(0, 0) = glm::vec4(2.2f, 2.2f, 2.2f, 1.0f);  // 10% off
+    image.at(1, 0) = glm::vec4(100.0f);                  // masked out
+    const HdrDifference d = compare_hdr(reference, image, {true, false});
     EXPECT_EQ(d.pixels, 1);
     EXPECT_NEAR(d.relative_rmse, 0.1, 1e-6);
     EXPECT_NEAR(d.psnr, 10.0 * std::log10(4.0 / 0.04), 1e-4);

@@ -376,7 +376,7 @@ TEST(Lloyd, PlacesSmallerCellsWhereImportanceIsHigher) {
     }
 }
 
-// Issue 14: Lloyd lands in minima of about the same quality whatever the seed. The quantisation
+// Lloyd lands in minima of about the same quality whatever the seed. The quantisation
 // energy sum I (1 - w . c) of the cells (recomputed here from the map's texels and the cells' centres)
 // over seeds 1-8, upper hemisphere, N = 128: measured spread 2.4% (courtyard) and 1.6% (studio).
 TEST(Lloyd, SeedsGiveMinimaOfTheSameEnergyOnTheUpperHemisphere) {
@@ -406,7 +406,7 @@ TEST(Lloyd, SeedsGiveMinimaOfTheSameEnergyOnTheUpperHemisphere) {
     }
 }
 
-// Over-relaxed steps (docs/DESIGN.md §3, issue 14 part 4): on the eight maps, N = 128, fewer iterations than
+// Over-relaxed steps (docs/DESIGN.md §3): on the eight maps, N = 128, fewer iterations than
 // Lloyd's own steps (measured: 367 against 576 in all) to an energy sum I (1 - w . s) as low (measured: within
 // 0.6% either way on every map, 0.2% lower on average).
 TEST(Lloyd, OverRelaxedStepsConvergeInFewerIterationsToAnEnergyAsLow) {

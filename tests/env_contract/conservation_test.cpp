@@ -1,4 +1,4 @@
-// Issue 3, "Done when": on the eight blender-data maps and the builtins, every method at every N of
+// On the eight blender-data maps and the builtins, every method at every N of
 // {1, 16, 64, 128, 256} conserves the integral and the sphere, and every cell is what docs/DESIGN.md §3 says
 // (contract_helpers.h: expect_cells_contract). One test per map and method, the five N inside it.
 #include <cctype>

@@ -129,7 +129,7 @@ TEST_F(EnvContractCli, JsonHasTheKeysOfDesignAndConservesTheIntegral) {
     }
 }
 
-// --hemisphere upper (issue 14): the JSON says so, its integral is the upper hemisphere's (rows 0 ..
+// --hemisphere upper: the JSON says so, its integral is the upper hemisphere's (rows 0 ..
 // H/2 - 1 of the 512), every light lies above the horizon and the cells cover 2 pi. The default is full.
 TEST_F(EnvContractCli, UpperHemisphereIsSaidAndIntegrated) {
     const ExrContents exr = read_exr(kCourtyard);

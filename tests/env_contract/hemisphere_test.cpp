@@ -1,4 +1,4 @@
-// Issue 14, part 1: with a ground plane only the upper hemisphere is decomposed (docs/DESIGN.md §3.1). For
+// With a ground plane only the upper hemisphere is decomposed (docs/DESIGN.md §3.1). For
 // every method and N of {1, 16, 64, 128, 256}: Σ L̃_i equals the integral over the upper hemisphere,
 // every texel below the horizon is in no cell, every cell is non-empty, lies above the horizon and is
 // integrated from its texels above it. Reference values are recomputed here from the map's texels with

@@ -107,7 +107,7 @@ INSTANTIATE_TEST_SUITE_P(Sun, EnvContractCcvtSunCell, ::testing::Values("city", 
 
 // --- lloyd -----------------------------------------------------------------------------------------
 
-// Quantisation theory (Gersho 1979; the slides of seed 003): minimising Σ I |ω - s|² in two dimensions
+// Quantisation theory (Gersho 1979; Wang and Lillethun's slides): minimising Σ I |ω - s|² in two dimensions
 // puts sites with density ∝ ρ^(1/2), ρ the importance per solid angle, so a cell's solid angle goes as
 // ρ^(-1/2). Independent importance samples would give ρ^(-1), a blind (uniform) placement ρ^0.
 // Checked two ways: the slope of log Δω_i against log ρ_i over the cells, and the share of cells in

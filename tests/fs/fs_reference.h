@@ -1,7 +1,7 @@
 #pragma once
 // Test-side references for the Floyd-Steinberg GPU sampler, written from the papers and docs/DESIGN.md,
 // independent of engine/render: importance maps in double, a serpentine Floyd-Steinberg scan in
-// double (seed 000 §1.3.1), maps to scan, and the upload of a map as a GL texture.
+// double (Szirmay-Kalos et al. §1.3.1), maps to scan, and the upload of a map as a GL texture.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -51,7 +51,7 @@ inline EnvironmentMap downsample(const EnvironmentMap& map, int width, int heigh
 struct DiffusionWeights {
     double next, below, below_next;
 };
-inline constexpr DiffusionWeights kListingWeights{0.375, 0.375, 0.25};  // seed 000, Listing 1.1
+inline constexpr DiffusionWeights kListingWeights{0.375, 0.375, 0.25};  // Szirmay-Kalos et al., Listing 1.1
 
 // docs/FS_GPU.md: the next-texel weight that makes a uniform region's warm-up half the mean sample
 // spacing, next = 1 - sqrt(M / N), at least 3/8; the rest 3 : 2 below and below-next.
@@ -65,7 +65,7 @@ struct ReferenceSample {
     int multiplicity;
 };
 
-// Floyd-Steinberg sampling as seed 000 §1.3.1 describes it: threshold S / (2M); a texel whose
+// Floyd-Steinberg sampling as Szirmay-Kalos et al. §1.3.1 describe it: threshold S / (2M); a texel whose
 // importance plus carried error exceeds it is a sample and the error drops by S / M; serpentine rows;
 // the error goes to the next texel, below and below the next in the given shares, and the carries run
 // on along the serpentine path across row ends, as in Listing 1.1. With `multi_level`, a texel takes

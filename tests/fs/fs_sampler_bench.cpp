@@ -1,6 +1,6 @@
 // GPU time of the Floyd-Steinberg sampler per frame (its three passes), measured with a pair of
 // GL_TIMESTAMP queries around FsSampler::sample, on city.exr (1024 x 512) at importance maps of
-// 256 x 128 and 1024 x 512; seed 000 §1.3.2 reports 47 ms for 1024 x 512 on a GeForce 8800. Each
+// 256 x 128 and 1024 x 512; Szirmay-Kalos et al. §1.3.2 report 47 ms for 1024 x 512 on a GeForce 8800. Each
 // benchmark runs 25 frames after 3 warm-up ones and reports the median as gpu_ms_median, and the
 // median wall-clock time between two glFinish calls as wall_ms_median.
 // Timestamps, not GL_TIME_ELAPSED: Mesa 22.3's llvmpipe returns 0 for compute dispatches and garbage

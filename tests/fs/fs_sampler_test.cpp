@@ -263,7 +263,7 @@ TEST_P(FsSamplerTest, BlocksThatDoNotDivideTheMapAreHalvedUntilTheyDo) {
 }
 
 // The listing's weights spread the error so thinly when M is far below the texel count that most of
-// it never becomes a sample (the warm-up of seed 000 §1.3.1); the warm-up-matched ones do not.
+// it never becomes a sample (the warm-up of Szirmay-Kalos et al. §1.3.1); the warm-up-matched ones do not.
 TEST_P(FsSamplerTest, ListingWeightsLoseMostSamplesOnCityWhereWarmUpMatchedKeepThem) {
     const gl::Texture environment = upload(city_map());
     FsSampler listing(render::embedded_shaders(), FsSamplerOptions{0, 0, 0, render::FsWeighting::listing, true, false});

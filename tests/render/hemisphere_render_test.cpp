@@ -1,5 +1,5 @@
-// Issue 14: with a ground plane only the upper hemisphere is decomposed, so every cell asked for is
-// drawn (none hidden under the ground), by the CPU methods and by the GPU Floyd-Steinberg sampler.
+// With a ground plane only the upper hemisphere is decomposed (docs/DESIGN.md §3.1), so every cell asked
+// for is drawn (none hidden under the ground), by the CPU methods and by the GPU Floyd-Steinberg sampler.
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -113,7 +113,7 @@ TEST_P(HemisphereRenderTest, GpuFloydSteinbergSamplesOnlyTheUpperHemisphere) {
     }
 }
 
-// Issue 14, part 5: fs-gpu's lights (the CPU method's blocks, integrated over their cells) light the
+// fs-gpu's lights (the CPU method's blocks, integrated over their cells) light the
 // scene as the CPU method fs does, on a ground (upper hemisphere) and without one (the whole sphere).
 // Measured 0.5% apart on assets/scenes/default.json at N = 64 (docs/FS_GPU.md).
 TEST_P(HemisphereRenderTest, GpuFloydSteinbergLightsAsTheCpuMethodDoes) {

@@ -75,9 +75,6 @@ float luminance(const glm::vec4& c) {
     return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
 }
 
-// PSNR (dB) of `a` against `reference` over the RGB of the pixels where the reference has alpha 1 (the
-// objects); the peak is the reference's largest value there.
-
 struct FurnaceError {
     double rms = 0.0, max = 0.0;
     long pixels = 0;
@@ -567,7 +564,7 @@ TEST_P(RendererTest, ReportsTheAtlasAndThePasses) {
     EXPECT_EQ(image.at(32, 32).a, 1.0f);  // object
 }
 
-// Issue 10's optimisations against the first working renderer (RenderSettings baseline()): a figure
+// The optimisations (docs/PERFORMANCE.md) against the first working renderer (RenderSettings baseline()): a figure
 // standing on the ground beside a sphere, 40 lights of the sky, each optimisation alone and all
 // together. The caster LOD must draw fewer triangles and stay within 45 dB of the full casters (the
 // regression scenes' bar); the others change only which work is done (fragments shaded, where the

@@ -1,7 +1,7 @@
 // glTF animation (scene/gltf_animation.h, docs/SCENES.md "Animation"): the three interpolations worked
 // out by hand, a node-animated box that moves and loops (or stops), a two-bone skin whose tip turns
 // about its joint, the real simple_skin and AnimatedMorphCube models posed at two times, and the bad
-// inputs of issue 16 (joints past the skin, weights that are not numbers, keys out of order, outputs of
+// inputs docs/ROBUSTNESS.md lists (joints past the skin, weights that are not numbers, keys out of order, outputs of
 // the wrong type), each a one-line InputError naming the file.
 #include <cmath>
 #include <cstring>

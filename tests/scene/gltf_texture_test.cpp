@@ -1,6 +1,6 @@
 // Base-colour textures from glTF (docs/SCENES.md "Textures"): the real BoxTextured models in each of
 // their storage forms, texture coordinates through KHR_texture_transform worked out by hand, and the
-// bad inputs of issue 16 (absurd image sizes, truncated and missing images, texture coordinate sets the
+// bad inputs docs/ROBUSTNESS.md lists (absurd image sizes, truncated and missing images, texture coordinate sets the
 // primitive lacks), each a one-line InputError naming the file and the reason.
 #include <cmath>
 #include <cstring>
