@@ -1,5 +1,5 @@
 #version 450 core
-// Importance map of the Floyd-Steinberg sampler (seed 000 §1.3.2, light source sampling): the
+// Importance map of the Floyd-Steinberg sampler (Szirmay-Kalos et al. §1.3.2, light source sampling): the
 // luminance of the radiance integrated over each texel's solid angle, I = lum(sum L dw), at the
 // importance map's resolution, and the importance-weighted direction sum (for the texel's centroid). Each importance texel sums the environment texels whose centres it
 // contains (an exact box of f x f texels when the sizes divide). One work group per importance row

@@ -3,7 +3,7 @@
 // (docs/DESIGN.md §5). A light of multiplicity m (m of the K samples on one texel) gets the texel's
 // importance-weighted mean direction (its centre where it has no importance: as the CPU's
 // centroid_direction does, falling back on the centre rather than the solid-angle mean); radiance of
-// luminance m S / K in the texel's colour (the estimator L / p of seed 000 §1.2 for a texel chosen with
+// luminance m S / K in the texel's colour (the estimator L / p of Szirmay-Kalos et al.'s §1.2 for a texel chosen with
 // p = I / S, over K samples); a cap of solid angle m 4 pi / K (cos_radius; m 2 pi / K when only the
 // upper hemisphere is sampled); and, as its radiance-weighted cap, the solid angle over which the
 // texel's own radiance integrates to that luminance, m (S / K) dw / I, at most that cap's: a

@@ -1,5 +1,6 @@
 #version 450 core
-// Floyd-Steinberg importance sampling in a geometry shader (seed 000 §1.3.1, Listing 1.1): one
+// Floyd-Steinberg importance sampling in a geometry shader (Szirmay-Kalos, Szécsi, Penzov, Environment Mapping with
+// Floyd-Steinberg Halftoning, §1.3.1, Listing 1.1): one
 // invocation scans the importance map in serpentine rows with threshold S / (2M); a texel whose
 // error-diffused importance exceeds the threshold becomes a sample and gives back S / M. The error
 // goes to the next texel, the texel below and the one below the next (u_weights; Listing 1.1 uses
