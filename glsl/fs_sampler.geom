@@ -1,8 +1,8 @@
 #version 450 core
-// Floyd-Steinberg importance sampling in a geometry shader (Szirmay-Kalos, Szécsi, Penzov, Environment Mapping with
-// Floyd-Steinberg Halftoning, §1.3.1, Listing 1.1): one
-// invocation scans the importance map in serpentine rows with threshold S / (2M); a texel whose
-// error-diffused importance exceeds the threshold becomes a sample and gives back S / M. The error
+// Floyd-Steinberg importance sampling in a geometry shader (Szirmay-Kalos, Szécsi, Penzov, Environment
+// Mapping with Floyd-Steinberg Halftoning, §1.3.1, Listing 1.1): one invocation scans the importance
+// map in serpentine rows with threshold S / (2M); a texel whose error-diffused importance exceeds the
+// threshold becomes a sample and gives back S / M. The error
 // goes to the next texel, the texel below and the one below the next (u_weights; Listing 1.1 uses
 // 3/8, 3/8, 1/4), carried in registers (carry_pixel, carry_diagonal) and in one array for the next
 // row, and, as in the listing, carries on across row ends along the serpentine path.
