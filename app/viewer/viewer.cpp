@@ -186,10 +186,7 @@ public:
 
         display_ = std::make_unique<render::Display>();
         panels_ = std::make_unique<Panels>(*display_);
-        controls_.settings.shading = shading_mode(options.shading);
-        controls_.settings.msaa = options.msaa;
-        controls_.settings.shadows = shadow_mode(options.shadows);
-        controls_.settings.tile_sizing = tile_sizing(options.tile_sizes);
+        controls_.settings = settings_from(options.settings, command_defaults());
         controls_.tone_map = tone_map_option(options.tonemap);
         renderer_ = std::make_unique<render::Renderer>(controls_.settings);
         renderer_->set_pass_timing(pass_timing(options.pass_timing, context_->is_software()));
@@ -600,7 +597,6 @@ private:
     // The frame without the UI: linear EXR, tone-mapped PNG, and the settings beside them.
     void save_screenshot() {
         controls_.screenshot_requested = false;
-        const render::RenderSettings& s = controls_.settings;
         try {
             fs::create_directories("screenshots");
             const std::string stem = "screenshots/view_" + scene_.file.stem().string() + "_" + method_name() + "_N" +
@@ -623,20 +619,8 @@ private:
                  {{"position", {camera.position.x, camera.position.y, camera.position.z}},
                   {"target", {camera.target.x, camera.target.y, camera.target.z}},
                   {"fov_y_degrees", camera.fov_y_degrees}}},
-                {"tile", s.tile_size},
-                {"tile_sizes", render::to_string(s.tile_sizing)},
-                {"depth_bits", s.depth_bits},
-                {"pcf", render::to_string(s.pcf)},
-                {"specular", render::to_string(s.specular)},
-                {"cap", render::to_string(s.cap)},
-                {"diffuse", render::to_string(s.diffuse)},
-                {"shading", render::to_string(s.shading)},
-                {"msaa", s.msaa},
-                {"shadows", render::to_string(s.shadows)},
-                {"slope_bias", s.slope_bias},
-                {"depth_bias", s.depth_bias},
-                {"normal_offset", s.normal_offset},
             };
+            settings.update(settings_json(controls_.settings));
             write_file_atomically(stem + ".json", settings.dump(2) + "\n");
             last_screenshot_ = stem + ".png";
             log::info("wrote " + stem + ".{png,exr,json}");
