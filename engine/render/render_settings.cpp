@@ -166,6 +166,8 @@ std::vector<SettingInfo> make_setting_table() {
                "Each cell's shadow: hard (one 2x2 lookup at its centre direction) or soft (a penumbra as wide as the "
                "cell's cap, percentage-closer soft shadows)"),
         on_off("background", &RenderSettings::background, frame, "Draw the environment behind the objects"),
+        on_off("base-color-texture", &RenderSettings::base_color_texture, frame,
+               "Base-colour textures multiply the objects' base colour (off: the material's factors alone)"),
         integer_of("msaa", &RenderSettings::msaa, kMsaaSampleCounts, "MSAA samples", frame,
                    "Multisample anti-aliasing: samples per pixel, averaged in linear HDR before tone mapping"),
         choice("atlas", &RenderSettings::atlas, programs,

@@ -117,6 +117,9 @@ struct RenderSettings {
     ShadingMode shading = ShadingMode::cells;
     ShadowMode shadows = ShadowMode::hard;
     bool background = true;
+    // Objects' base-colour textures (glTF's baseColorTexture) multiply their base colour; off: the
+    // material's factors alone, as glTF viewers' debug views switch textures off one at a time.
+    bool base_color_texture = true;
     // Samples per pixel of the shading target (multisample anti-aliasing; one of msaa_sample_counts()),
     // resolved to one linear HDR colour per pixel (their mean) before tone mapping. The driver's maximum
     // caps it (Renderer::samples()). 1 here: the per-pixel values the engine's tests compare; the commands

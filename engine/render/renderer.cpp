@@ -541,7 +541,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
             prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
             glProgramUniform1f(program, loc::specular_weight, pair.weight);
         }
-        instance_textures_[i]->bind(unit::base_color);
+        (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }
