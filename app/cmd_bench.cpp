@@ -26,6 +26,7 @@
 #include "inputs.h"
 #include "render/light_source.h"
 #include "render/renderer.h"
+#include "session.h"
 #include "variants.h"
 
 namespace envshadow::app {
@@ -33,12 +34,9 @@ namespace {
 
 struct BenchOptions {
     CommonOptions common;  // --scene, --env, --lights, --method, --seed, --width, --height, --backend, --fs-importance
-    std::string json, sweep, atlas = "clip-distances", variants, pass_timing = "auto", shading = "cells";
-    OptimisationFlags optimisations;
-    int frames = 100, warmup = 10, tile = 256, depth_bits = 16;
-    int msaa = kDefaultMsaa;           // as render and view: bench measures what a user sees
-    std::string tile_sizes = "share";  // --tile-sizes
-    std::string shadows = kDefaultShadows;
+    SettingOptions settings;  // --tile, --atlas, --shading, ... (render::setting_table()), --baseline
+    std::string json, sweep, variants, pass_timing = "auto";
+    int frames = 100, warmup = 10;
     double time_step = 1.0 / 60.0;  // animation seconds per frame
 };
 
@@ -58,7 +56,7 @@ struct Row {
 
 struct RendererVariant {
     Variant variant;
-    std::unique_ptr<render::Renderer> renderer;
+    std::unique_ptr<RenderSession> session;
 };
 
 // One row per variant for this sweep point; the variants' frames are interleaved.
@@ -82,8 +80,8 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
     for (std::size_t v = 0; v < variants.size(); ++v) {
         render::RenderSettings settings = variants[v].variant.settings;
         if (point.tile) settings.tile_size = point.tile;
-        variants[v].renderer->set_settings(settings);
-        lights.attach(*variants[v].renderer);
+        variants[v].session->set_settings(settings);
+        lights.attach(variants[v].session->renderer());
         rows[v].variant = variants[v].variant.label;
         rows[v].tile = settings.tile_size;
     }
@@ -92,12 +90,12 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
         const render::CameraView view = render::camera_view(scene, common.width, common.height, time);
         for (std::size_t v = 0; v < variants.size(); ++v) {
             const auto start = std::chrono::steady_clock::now();
-            std::vector<gl::PassTime> sampling;
-            lights.update(*variants[v].renderer);  // per frame: waits for the sampler
+            // Waits for the sampler (per frame), then for the GPU's timer results.
+            render::FrameStats stats = variants[v].session->render(lights, time, view);
             // Wall time: GL_TIME_ELAPSED around the sampler's compute and transform feedback is unreliable
             // on llvmpipe and spoils the renderer's next query (docs/PERFORMANCE.md).
+            std::vector<gl::PassTime> sampling;
             if (lights.per_frame()) sampling.push_back({render::kFsSamplingPass, lights.sampling_ms()});
-            render::FrameStats stats = variants[v].renderer->render(time, view);  // waits for the GPU's timer results
             const double wall =
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
             stats.passes.insert(stats.passes.begin(), sampling.begin(), sampling.end());
@@ -139,14 +137,16 @@ const char* pass_timing_name(gl::PassTiming timing) {
     return timing == gl::PassTiming::synchronous ? "wait" : "queries";
 }
 
-void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std::string& renderer_name,
-                 std::size_t triangles, gl::PassTiming timing, Hemisphere hemisphere) {
+void print_table(const std::vector<Row>& rows, const BenchOptions& o, const render::RenderSettings& settings,
+                 const std::string& renderer_name, std::size_t triangles, gl::PassTiming timing,
+                 Hemisphere hemisphere) {
     std::printf(
         "envshadow bench  %s  |  %s (%s)  |  %zu triangles  |  %d frames after %d warm-up  |  passes timed by %s  |  "
         "lights from the %s  |  shading %s  |  shadows %s\n",
         o.common.scene.c_str(), renderer_name.c_str(), o.common.backend.c_str(), triangles, o.frames, o.warmup,
         timing == gl::PassTiming::synchronous ? "waiting for each" : "GL_TIME_ELAPSED queries",
-        hemisphere_words(hemisphere), o.shading.c_str(), o.shadows.c_str());
+        hemisphere_words(hemisphere), std::string(to_string(settings.shading)).c_str(),
+        std::string(to_string(settings.shadows)).c_str());
     std::vector<std::string> pass_names;  // union over the rows, in pipeline order
     for (const Row& r : rows)
         for (std::size_t i = 0; i < r.pass_order.size(); ++i)
@@ -181,8 +181,8 @@ void print_table(const std::vector<Row>& rows, const BenchOptions& o, const std:
     }
 }
 
-nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, const std::string& renderer_name,
-                       std::size_t triangles, gl::PassTiming timing) {
+nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, const render::RenderSettings& settings,
+                       const std::string& renderer_name, std::size_t triangles, gl::PassTiming timing) {
     auto summary = [](const TimeSummary& s) {
         return nlohmann::json{{"median", s.median}, {"p95", s.p95}, {"mean", s.mean}, {"min", s.min}, {"max", s.max}};
     };
@@ -195,7 +195,7 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
                           {"warmup", o.warmup},
                           {"fs_importance", gpu_sampler ? o.common.fs_importance : ""},
                           {"triangles", triangles},
-                          {"atlas_mode", o.atlas},
+                          {"atlas_mode", to_string(settings.atlas)},
                           {"variants", o.variants},
                           {"pass_timing", pass_timing_name(timing)},
                           {"rows", nlohmann::json::array()}};
@@ -233,16 +233,8 @@ int run_bench(const BenchOptions& o) {
         if (p.width > kMaxImageWidth || p.height > kMaxImageHeight)
             throw UsageError("--sweep " + p.label + ": resolution too large");
     }
-    render::RenderSettings settings;
-    settings.depth_bits = o.depth_bits;
-    settings.tile_size = o.tile;
-    settings.tile_sizing = tile_sizing(o.tile_sizes);
-    settings.atlas = naming_flag("--atlas", [&] { return render::parse_atlas_mode(o.atlas); });
-    settings.shading = shading_mode(o.shading);
-    settings.msaa = o.msaa;
-    settings.shadows = shadow_mode(o.shadows);
-    settings = apply(o.optimisations, settings);
-    render::validate(settings);
+    // As render and view: bench measures what a user sees.
+    const render::RenderSettings settings = settings_from(o.settings, command_defaults());
     // One renderer per variant (each with its own atlas), all in one context.
     std::vector<RendererVariant> variants;
     for (Variant& variant : parse_variants(o.variants, settings)) variants.push_back({std::move(variant), nullptr});
@@ -259,14 +251,8 @@ int run_bench(const BenchOptions& o) {
     auto context = gl::create_context(gl::parse_backend(c.backend));
     const std::string renderer_name = context->renderer();
     const gl::PassTiming timing = pass_timing(o.pass_timing, context->is_software());
-    for (RendererVariant& variant : variants) {
-        variant.renderer = std::make_unique<render::Renderer>(variant.variant.settings);
-        variant.renderer->set_pass_timing(timing);
-        set_scene_for(*variant.renderer, scene, false);
-        variant.renderer->set_environment(map);
-        if (variant.variant.settings.shading == render::ShadingMode::ratio)
-            prefilter_for(*variant.renderer, map, visible_hemisphere(scene), false);
-    }
+    for (RendererVariant& variant : variants)
+        variant.session = std::make_unique<RenderSession>(inputs, variant.variant.settings, timing, Report::quiet);
 
     // The lights of each N of the sweep, made once.
     std::map<int, render::LightSource> light_sources;
@@ -281,9 +267,10 @@ int run_bench(const BenchOptions& o) {
                         .first;
         for (Row& row : measure(o, point, scene, variants, found->second)) rows.push_back(std::move(row));
     }
-    print_table(rows, o, renderer_name, scene.triangle_count(), timing, hemisphere);
+    print_table(rows, o, settings, renderer_name, scene.triangle_count(), timing, hemisphere);
     if (!o.json.empty())
-        write_file_atomically(o.json, to_json(rows, o, renderer_name, scene.triangle_count(), timing).dump(2) + "\n");
+        write_file_atomically(o.json,
+                              to_json(rows, o, settings, renderer_name, scene.triangle_count(), timing).dump(2) + "\n");
     return 0;
 }
 
@@ -297,24 +284,15 @@ Command add_bench_command(CLI::App& parent) {
     add_common_options(app, &o->common, CommonOptionSet{});
     app->add_option("--frames", o->frames, "Timed frames")->check(CLI::Range(1, 100000));
     app->add_option("--warmup", o->warmup, "Untimed frames first")->check(CLI::Range(0, 100000));
-    add_atlas_options(app, &o->tile, &o->depth_bits);
-    add_tile_sizes_option(app, &o->tile_sizes);
-    app->add_option("--atlas", o->atlas, "clip-distances (one draw), viewport-array, per-tile (baseline)");
+    add_setting_options(app, &o->settings, command_defaults());
     app->add_option("--time-step", o->time_step, "Animation seconds per frame")
         ->check(CLI::Range(0.0, 10.0))
         ->check(finite_number());
     add_pass_timing_option(app, &o->pass_timing);
-    add_shading_option(app, &o->shading);
-    add_msaa_option(app, &o->msaa);
-    add_shadows_option(app, &o->shadows);
     app->add_option("--json", o->json, "Write the results as JSON");
-    app->add_option(
-        "--variants", o->variants,
-        "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… (caster-lod, prepass, ubo, "
-        "cull, specialise, tiles, flat, depth-bits, tile, atlas, pcf, shading, shadows, tile-sizes, msaa); ratios to "
-        "the "
-        "first");
-    add_optimisation_options(app, &o->optimisations);
+    app->add_option("--variants", o->variants,
+                    "Interleaved variants, ';'-separated: baseline, optimised, or key=value,… with the keys " +
+                        variant_keys() + "; ratios to the first");
     app->add_option("--sweep", o->sweep, "One row per setting: lights=16,32,…  resolution=640x360,…  tile=128,…");
     return {app, [o] { return run_bench(*o); }};
 }

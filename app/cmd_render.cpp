@@ -21,66 +21,56 @@
 #include "inputs.h"
 #include "render/light_source.h"
 #include "render/renderer.h"
+#include "session.h"
 
 namespace envshadow::app {
 namespace {
 
-// The atlas draws, and "all" to time each of them.
-std::vector<std::string> atlas_choices() {
-    std::vector<std::string> choices = render::names<render::AtlasMode>();
-    choices.emplace_back("all");
-    return choices;
-}
+// --atlas all: every frame drawn once per way of drawing the atlas.
+constexpr ExtraValue kEveryAtlasMode{"atlas", "all", "each of them, interleaved, to time them in one run"};
 
 constexpr const char* kSamplingWall = "sampling wall";  // the per-frame light source's, among the passes
 
 struct RenderOptions {
-    CommonOptions common;  // --scene, --env, --lights, --method, --seed, --width, --height, --backend
+    CommonOptions common;     // --scene, --env, --lights, --method, --seed, --width, --height, --backend
+    SettingOptions settings;  // --tile, --pcf, --shading, ... (render::setting_table()), --baseline
     std::string out, exr;
-    std::string pcf = "2x2", specular = "blended", cap = "weighted", diffuse = "center", shading = "cells", atlas;
-    int tile = 256, depth_bits = 16, frames = 1, msaa = kDefaultMsaa;
-    std::string tile_sizes = "share";
+    int frames = 1;
     std::string tonemap = "aces";
-    std::string shadows = kDefaultShadows;
     double time = 0.0;
     std::string pass_timing = "auto";
-    OptimisationFlags optimisations;
-    bool per_tile_atlas = false, no_background = false;
+    bool per_tile_atlas = false, no_background = false;  // short for --atlas per-tile, --background off
 };
 
-render::RenderSettings settings_from(const RenderOptions& o) {
-    render::RenderSettings s;
-    s.tile_size = o.tile;
-    s.tile_sizing = tile_sizing(o.tile_sizes);
-    s.depth_bits = o.depth_bits;
-    s.pcf = naming_flag("--pcf", [&] { return render::parse_pcf_kernel(o.pcf); });
-    s.specular = naming_flag("--specular", [&] { return render::parse_specular_mode(o.specular); });
-    s.cap = naming_flag("--cap", [&] { return render::parse_cap_kind(o.cap); });
-    s.diffuse = naming_flag("--diffuse", [&] { return render::parse_diffuse_mode(o.diffuse); });
-    s.shading = shading_mode(o.shading);
-    s.shadows = shadow_mode(o.shadows);
-    s.background = !o.no_background;
-    s.msaa = o.msaa;
-    if (o.per_tile_atlas) s.atlas = render::AtlasMode::per_tile;
-    s = apply(o.optimisations, s);
-    render::validate(s);
-    return s;
-}
+// The settings, and the atlas modes to draw each frame: the one chosen, or all three with --atlas all.
+struct RenderPlan {
+    render::RenderSettings settings;
+    std::vector<render::AtlasMode> atlas_modes;
+};
 
-// The atlas modes to draw each frame: the one chosen, or all three with --atlas all.
-std::vector<render::AtlasMode> atlas_modes(const RenderOptions& o, const render::RenderSettings& s) {
-    if (o.atlas.empty()) return {s.atlas};
-    if (o.per_tile_atlas) throw UsageError("--per-tile-atlas and --atlas exclude each other");
-    if (o.atlas == "all")
-        return {render::AtlasMode::clip_distances, render::AtlasMode::viewport_array, render::AtlasMode::per_tile};
-    return {naming_flag("--atlas", [&] { return render::parse_atlas_mode(o.atlas); })};
+RenderPlan plan_from(const RenderOptions& o) {
+    SettingOptions given = o.settings;
+    const auto atlas = given.given.find("atlas");
+    const bool every_atlas_mode = atlas != given.given.end() && atlas->second == kEveryAtlasMode.value;
+    if (o.per_tile_atlas && atlas != given.given.end())
+        throw UsageError("--per-tile-atlas and --atlas exclude each other");
+    if (every_atlas_mode) given.given.erase(atlas);
+    if (o.per_tile_atlas) given.given["atlas"] = to_string(render::AtlasMode::per_tile);
+    if (o.no_background) given.given["background"] = "off";
+    RenderPlan plan{settings_from(given, command_defaults()), {}};
+    if (every_atlas_mode)
+        for (const auto& [mode, name] : render::enum_names(render::AtlasMode{})) plan.atlas_modes.push_back(mode);
+    else
+        plan.atlas_modes = {plan.settings.atlas};
+    return plan;
 }
 
 int run_render(const RenderOptions& o) {
     if (o.out.empty() && o.exr.empty()) throw UsageError("render: give --out OUT.png and/or --exr OUT.exr");
     const CommonOptions& c = o.common;
-    render::RenderSettings settings = settings_from(o);
-    const std::vector<render::AtlasMode> modes = atlas_modes(o, settings);
+    const RenderPlan plan = plan_from(o);
+    render::RenderSettings settings = plan.settings;
+    const std::vector<render::AtlasMode>& modes = plan.atlas_modes;
     settings.atlas = modes.front();
 
     const Inputs inputs = load_inputs(c.scene, c.env, o.time);
@@ -88,10 +78,7 @@ int run_render(const RenderOptions& o) {
     const EnvironmentMap& map = inputs.map;
 
     auto context = gl::create_context(gl::parse_backend(c.backend));
-    render::Renderer renderer(settings);
-    renderer.set_pass_timing(pass_timing(o.pass_timing, context->is_software()));
-    set_scene_for(renderer, scene, true);
-    renderer.set_environment(map);
+    RenderSession session(inputs, settings, pass_timing(o.pass_timing, context->is_software()), Report::print);
     // fs-gpu: Floyd-Steinberg samples of the environment texture made on the GPU every frame
     // (docs/FS_GPU.md), instead of a decomposition at load time.
     const render::LightMethod& method = render::light_method(c.method);
@@ -99,9 +86,7 @@ int run_render(const RenderOptions& o) {
         method, map, c.lights, c.seed, hemisphere_for(c.hemisphere, scene),
         method.kind == render::LightSourceKind::gpu_fs ? fs_sampler_options(c.fs_importance, map)
                                                        : render::FsSamplerOptions{});
-    lights.attach(renderer);
-    // fs-gpu samples the same fixed map every frame: one prefiltering serves every frame.
-    if (settings.shading == render::ShadingMode::ratio) prefilter_for(renderer, map, visible_hemisphere(scene), true);
+    lights.attach(session.renderer());
     const render::CameraView view = render::camera_view(scene, c.width, c.height, o.time);
 
     // Per mode and pass, the GPU milliseconds of every measured frame.
@@ -112,17 +97,16 @@ int run_render(const RenderOptions& o) {
     for (int frame = 0; frame < warmup + o.frames; ++frame)
         for (render::AtlasMode mode : modes) {
             settings.atlas = mode;
-            renderer.set_settings(settings);
+            session.set_settings(settings);
             const auto start = std::chrono::steady_clock::now();
-            lights.update(renderer);  // per frame: the lights sampled again
+            stats = session.render(lights, o.time, view);  // returns after the GPU's timer results are in
             if (lights.per_frame() && frame >= warmup) times[mode][kSamplingWall].push_back(lights.sampling_ms());
-            stats = renderer.render(o.time, view);  // returns after the GPU's timer results are in
             const std::chrono::duration<double, std::milli> wall = std::chrono::steady_clock::now() - start;
             if (frame >= warmup) {
                 for (const gl::PassTime& pass : stats.passes) times[mode][pass.pass].push_back(pass.milliseconds);
                 times[mode]["frame wall"].push_back(wall.count());
             }
-            if (!image) image = renderer.read_back();  // the first mode's first frame
+            if (!image) image = session.renderer().read_back();  // the first mode's first frame
         }
 
     std::printf("scene %s, %dx%d, %s on %s\n", c.scene.c_str(), c.width, c.height,
@@ -143,12 +127,10 @@ int run_render(const RenderOptions& o) {
                     d.cells.size(), d.width, d.height, map.source.c_str(), hemisphere_words(d.hemisphere), d.seconds);
     }
     std::printf("shading: %s (specular %s, cap %s, diffuse %s), shadows %s\n",
-                std::string(render::to_string(settings.shading)).c_str(),
-                std::string(render::to_string(settings.specular)).c_str(),
-                std::string(render::to_string(settings.cap)).c_str(),
-                std::string(render::to_string(settings.diffuse)).c_str(),
-                std::string(render::to_string(settings.shadows)).c_str());
-    std::printf("msaa: %d samples per pixel\n", renderer.samples());
+                std::string(to_string(settings.shading)).c_str(), std::string(to_string(settings.specular)).c_str(),
+                std::string(to_string(settings.cap)).c_str(), std::string(to_string(settings.diffuse)).c_str(),
+                std::string(to_string(settings.shadows)).c_str());
+    std::printf("msaa: %d samples per pixel\n", session.renderer().samples());
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     const bool uniform_tiles = stats.atlas.sizing == render::TileSizing::uniform;
@@ -160,9 +142,9 @@ int run_render(const RenderOptions& o) {
                     ? " (lights sampled every frame keep uniform tiles)"
                     : "");
     for (render::AtlasMode mode : modes) {
-        std::printf("gpu ms (%s atlas%s%s):", std::string(render::to_string(mode)).c_str(),
+        std::printf("gpu ms (%s atlas%s%s):", std::string(to_string(mode)).c_str(),
                     o.frames > 1 ? (", median of " + std::to_string(o.frames) + " frames").c_str() : "",
-                    renderer.pass_timing() == gl::PassTiming::synchronous ? ", each pass waited for" : "");
+                    session.renderer().pass_timing() == gl::PassTiming::synchronous ? ", each pass waited for" : "");
         double total = 0.0;
         for (const gl::PassTime& pass : stats.passes) {
             const double ms = summarize(times[mode][pass.pass]).median;
@@ -181,7 +163,7 @@ int run_render(const RenderOptions& o) {
     if (!o.out.empty()) {
         // The PNG is for looking at: opaque where the environment was drawn behind the objects (the
         // EXR keeps alpha as the object mask).
-        if (!o.no_background)
+        if (settings.background)
             for (glm::vec4& pixel : image->pixels) pixel.a = 1.0f;
         write_png(o.out, tonemap_to_srgb8(*image, scene.environment.exposure_stops, tone_map_option(o.tonemap)));
         std::printf("wrote %s\n", o.out.c_str());
@@ -200,26 +182,11 @@ Command add_render_command(CLI::App& parent) {
     app->add_option("--out", o->out, "PNG to write (exposure, --tonemap, sRGB)");
     add_tonemap_option(app, &o->tonemap);
     app->add_option("--exr", o->exr, "EXR to write (linear; alpha 1 on objects, 0 on the background)");
-    add_atlas_options(app, &o->tile, &o->depth_bits);
-    add_tile_sizes_option(app, &o->tile_sizes);
-    app->add_option("--pcf", o->pcf, "Shadow filter: 2x2 (hardware) or wide (3x3 taps)")
-        ->check(CLI::IsMember(render::names<render::PcfKernel>()));
-    app->add_option("--specular", o->specular, "blended (Barsi et al.) or single (cos^n psi_c)")
-        ->check(CLI::IsMember(render::names<render::SpecularMode>()));
-    app->add_option("--cap", o->cap, "Cell cap: solid-angle or weighted (radiance-weighted)")
-        ->check(CLI::IsMember(render::names<render::CapKind>()));
-    app->add_option("--diffuse", o->diffuse, "center (the paper's sample) or cap (exact clamped cosine)")
-        ->check(CLI::IsMember(render::names<render::DiffuseMode>()));
-    add_shading_option(app, &o->shading);
-    add_msaa_option(app, &o->msaa);
-    add_shadows_option(app, &o->shadows);
-    app->add_flag("--per-tile-atlas", o->per_tile_atlas, "Draw the shadow atlas one tile at a time (baseline)");
-    app->add_option("--atlas", o->atlas, "clip-distances, viewport-array, per-tile, or all (times each, interleaved)")
-        ->check(CLI::IsMember(atlas_choices()));
+    add_setting_options(app, &o->settings, command_defaults(), std::span(&kEveryAtlasMode, 1));
+    app->add_flag("--per-tile-atlas", o->per_tile_atlas, "Short for --atlas per-tile");
+    app->add_flag("--no-background", o->no_background, "Short for --background off: transparent black");
     app->add_option("--frames", o->frames, "Frames to render; GPU times are their medians")
         ->check(CLI::Range(1, 10000));
-    add_optimisation_options(app, &o->optimisations);
-    app->add_flag("--no-background", o->no_background, "Leave the background transparent black");
     return {app, [o] { return run_render(*o); }};
 }
 

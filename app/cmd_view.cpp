@@ -22,11 +22,8 @@ Command add_view_command(CLI::App& parent) {
         ->check(CLI::Range(0.0f, 100.0f));
     add_time_option(app, &options->time);
     add_pass_timing_option(app, &options->pass_timing);
-    add_shading_option(app, &options->shading);
-    add_shadows_option(app, &options->shadows);
-    add_tile_sizes_option(app, &options->tile_sizes);
+    add_setting_options(app, &options->settings, command_defaults());
     add_tonemap_option(app, &options->tonemap);
-    add_msaa_option(app, &options->msaa);
     app->add_option("--target-ms", options->target_ms,
                     "While the view changes, shade at the fraction of the window that holds this frame time; "
                     "full size once still (0: always full size; default 100)")
@@ -41,7 +38,9 @@ Command add_view_command(CLI::App& parent) {
     app->add_option("--screenshot", options->screenshot, "With --frames: write the window, UI included, to this PNG");
     return {app, [options] {
                 if (options->common.scene.empty()) options->common.scene = ENVSHADOW_DEFAULT_SCENE;
-                parse_fs_importance(options->common.fs_importance);  // a bad value fails before the window opens
+                // Bad values fail before the window opens.
+                parse_fs_importance(options->common.fs_importance);
+                settings_from(options->settings, command_defaults());
                 if (!options->screenshot.empty() && options->frames == 0)
                     throw UsageError("--screenshot needs --frames (the window is captured after the last frame)");
                 if (!gl::display_available())

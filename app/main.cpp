@@ -17,8 +17,7 @@ int main(int argc, char** argv) {
     using namespace envshadow;
 #if defined(__GLIBC__)
     // Buffers of up to 32 MB come from the heap and stay mapped once freed, so that the decomposition
-    // reuses the pages the map's loading touched: a page touched for the first time costs 5-20 us on a
-    // VM (1024 x 512 lloyd, N = 128: 2700 fresh pages, 30 ms of a 70 ms first run; docs/PERFORMANCE.md).
+    // reuses the pages the map's loading touched instead of faulting in fresh ones (docs/PERFORMANCE.md).
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 64 << 20);
 #endif

@@ -1,14 +1,11 @@
 #include "options.h"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
 #include "core/image.h"
 #include "env/cells.h"
-#include "env/prefilter.h"
-#include "progress.h"
 #include "render/light_source.h"
 #include "render/shader_interface.h"
 #include "render/shadow_atlas_layout.h"
@@ -103,24 +100,6 @@ void add_time_option(CLI::App* app, double* time) {
         ->check(finite_number());
 }
 
-void add_atlas_options(CLI::App* app, int* tile, int* depth_bits) {
-    app->add_option("--tile", *tile, "Shadow map tile size")
-        ->check(CLI::Range(render::kMinTileSize, render::kMaxTileSize));
-    app->add_option("--depth-bits", *depth_bits, "Shadow depth bits: 16 or 32 (float)")->check(CLI::IsMember({16, 32}));
-}
-
-void add_tile_sizes_option(CLI::App* app, std::string* value) {
-    app->add_option("--tile-sizes", *value,
-                    "Shadow tile sizes: share (default: power-of-two tiles from 128^2 to 1024^2 with areas following "
-                    "each light's luminance share), sqrt (following its square root), both within the budget of N "
-                    "x --tile^2 texels, or uniform (every tile --tile^2); fs-gpu keeps uniform tiles")
-        ->check(CLI::IsMember(render::names<render::TileSizing>()));
-}
-
-render::TileSizing tile_sizing(const std::string& value) {
-    return naming_flag("--tile-sizes", [&] { return render::parse_tile_sizing(value); });
-}
-
 std::string tile_sizes_words(const render::AtlasLayout& layout) {
     if (layout.sizing == render::TileSizing::uniform) return "uniform";
     return std::string(render::to_string(layout.sizing)) + ": " + std::to_string(layout.smallest_tile()) + "^2 to " +
@@ -140,56 +119,6 @@ gl::PassTiming pass_timing(const std::string& value, bool software_rasteriser) {
     return naming_flag("--pass-timing", [&] { return gl::parse_pass_timing(value, software_rasteriser); });
 }
 
-void add_optimisation_options(CLI::App* app, OptimisationFlags* flags) {
-    app->add_flag("--baseline", flags->baseline, "The first working renderer: every issue-10 optimisation off");
-    app->add_option("--caster-lod", flags->caster_lod, "Shadow-caster LOD error in shadow texels (default 0.3), or off")
-        ->type_name("F|off");
-    app->add_option("--prepass", flags->prepass, "Depth pre-pass before shading: on (default) or off")
-        ->check(CLI::IsMember({"on", "off"}));
-}
-
-render::RenderSettings apply(const OptimisationFlags& flags, render::RenderSettings settings) {
-    if (flags.baseline) settings = render::baseline(settings);
-    if (!flags.caster_lod.empty())
-        naming_flag("--caster-lod", [&] {
-            settings.caster_lod = parse_caster_lod(flags.caster_lod);
-            render::validate(settings);
-        });
-    if (!flags.prepass.empty()) settings.depth_prepass = parse_on_off(flags.prepass);
-    return settings;
-}
-
-void add_shading_option(CLI::App* app, std::string* value) {
-    app->add_option("--shading", *value,
-                    "cells (the paper's sum over the cells) or ratio (unshadowed light from the prefiltered map, "
-                    "shadowed fraction from the cells)")
-        ->check(CLI::IsMember(render::names<render::ShadingMode>()));
-}
-
-render::ShadingMode shading_mode(const std::string& value) {
-    return naming_flag("--shading", [&] { return render::parse_shading_mode(value); });
-}
-
-void add_msaa_option(CLI::App* app, int* samples) {
-    const std::span<const int> counts = render::msaa_sample_counts();
-    app->add_option("--msaa", *samples,
-                    "Multisample anti-aliasing: samples per pixel, 1, 2, 4 (default) or 8, averaged in linear HDR "
-                    "before tone mapping")
-        ->check(CLI::IsMember(std::vector<int>(counts.begin(), counts.end())));
-}
-
-void add_shadows_option(CLI::App* app, std::string* value) {
-    app->add_option("--shadows", *value,
-                    "Each cell's shadow: hard (one 2x2 lookup at its centre direction) or soft (a penumbra as wide as "
-                    "the cell's cap, percentage-closer soft shadows); default " +
-                        kDefaultShadows)
-        ->check(CLI::IsMember(render::names<render::ShadowMode>()));
-}
-
-render::ShadowMode shadow_mode(const std::string& value) {
-    return naming_flag("--shadows", [&] { return render::parse_shadow_mode(value); });
-}
-
 void add_tonemap_option(CLI::App* app, std::string* value) {
     std::vector<std::string> names;
     for (std::string_view name : tone_map_names()) names.emplace_back(name);
@@ -205,30 +134,6 @@ ToneMap tone_map_option(const std::string& value) {
 
 Hemisphere visible_hemisphere(const Scene& scene) {
     return scene.has_ground ? Hemisphere::upper : Hemisphere::full;
-}
-
-void prefilter_for(render::Renderer& renderer, const EnvironmentMap& map, Hemisphere hemisphere, bool print) {
-    const PrefilteredEnvironment prefiltered = prefilter_environment(map, hemisphere);
-    renderer.set_prefiltered(prefiltered);
-    if (print)
-        std::printf("prefiltered: %zu levels n = 1..%g, %dx%d to %dx%d, %s, %.3f s\n", prefiltered.levels.size(),
-                    double(prefiltered.levels.back().shininess), prefiltered.levels.front().width,
-                    prefiltered.levels.front().height, prefiltered.levels.back().width,
-                    prefiltered.levels.back().height, hemisphere_words(hemisphere), prefiltered.seconds);
-}
-
-void set_scene_for(render::Renderer& renderer, const Scene& scene, bool print) {
-    constexpr std::size_t kShownFrom = 1'000'000;  // triangles: below, it takes well under a second
-    const auto start = std::chrono::steady_clock::now();
-    ProgressLine line("preparing the meshes", "triangles");
-    renderer.set_scene(scene, [&](std::size_t done, std::size_t total) {
-        if (total >= kShownFrom) line.update((long long)done, (long long)total);
-    });
-    line.finish();
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (print)
-        std::printf("meshes: %zu triangles, prepared (caster LOD, upload) in %.3f s\n", scene.triangle_count(),
-                    seconds);
 }
 
 Hemisphere hemisphere_for(const std::string& choice, const Scene& scene) {

@@ -18,6 +18,7 @@
 #include "render/renderer.h"
 #include "render/shadow_atlas_layout.h"
 #include "scene/scene.h"
+#include "setting_options.h"
 
 namespace envshadow::app {
 
@@ -72,14 +73,6 @@ const CLI::Validator& finite_number();
 // --time: the animation time in seconds.
 void add_time_option(CLI::App* app, double* time);
 
-// --tile and --depth-bits: the shadow atlas of render and bench.
-void add_atlas_options(CLI::App* app, int* tile, int* depth_bits);
-
-// --tile-sizes share|sqrt|uniform, for render, bench and view: power-of-two tiles sized by the
-// light's luminance share (default) or its square root within the budget of N --tile^2 texels, or
-// every tile --tile^2.
-void add_tile_sizes_option(CLI::App* app, std::string* value);
-render::TileSizing tile_sizing(const std::string& value);
 // "uniform", or e.g. "share: 128^2 to 1024^2, 8388608 texels of a budget of 128 x 256^2", as the
 // commands print it.
 std::string tile_sizes_words(const render::AtlasLayout& layout);
@@ -88,41 +81,13 @@ std::string tile_sizes_words(const render::AtlasLayout& layout);
 void add_pass_timing_option(CLI::App* app, std::string* value);
 gl::PassTiming pass_timing(const std::string& value, bool software_rasteriser);
 
-// --baseline, --caster-lod, --prepass: issue 10's optimisations, for render and bench.
-struct OptimisationFlags {
-    bool baseline = false;
-    std::string caster_lod, prepass;  // empty: the default
-};
-void add_optimisation_options(CLI::App* app, OptimisationFlags* flags);
-// `settings` with the flags applied (baseline first); UsageError naming the flag for a bad value.
-render::RenderSettings apply(const OptimisationFlags& flags, render::RenderSettings settings);
-
-// --shading cells|ratio (render, bench, view): the paper's per-cell sum, or the ratio estimator with the
-// unshadowed reflection from the prefiltered map (docs/DESIGN.md §4.1).
-void add_shading_option(CLI::App* app, std::string* value);
-render::ShadingMode shading_mode(const std::string& value);
-// --msaa 1|2|4|8 (render, bench, view): samples per pixel of the shading target, resolved before tone
-// mapping (render::RenderSettings::msaa). The commands' default.
-inline constexpr int kDefaultMsaa = 4;
-void add_msaa_option(CLI::App* app, int* samples);
 // --tonemap aces|agx|neutral|linear (render, reference, view): the display transform of 8-bit output
 // (core/tonemap.h); EXR stays linear.
 void add_tonemap_option(CLI::App* app, std::string* value);
-// --shadows hard|soft (render, bench, view): each cell's 2x2 shadow lookup, or its penumbra from the cell's
-// cap (docs/DESIGN.md §5.9). kDefaultShadows: RenderSettings' default, by name.
-inline const std::string kDefaultShadows{render::to_string(render::RenderSettings{}.shadows)};
-void add_shadows_option(CLI::App* app, std::string* value);
-render::ShadowMode shadow_mode(const std::string& value);
 ToneMap tone_map_option(const std::string& value);
 // The directions that reach the objects of `scene`: the upper hemisphere where a ground hides the rest
 // (as in the reference), whatever --hemisphere the cells were cut from. Ratio shading prefilters these.
 Hemisphere visible_hemisphere(const Scene& scene);
-// The map prefiltered for ratio shading over `hemisphere` (visible_hemisphere), uploaded to `renderer`;
-// prints its size and time on one line when `print`.
-void prefilter_for(render::Renderer& renderer, const EnvironmentMap& map, Hemisphere hemisphere, bool print);
-// renderer.set_scene(scene), with a progress line on a terminal for a million triangles or more (the
-// shadow-caster LOD takes seconds per million); `print`: a line with the triangles and the seconds.
-void set_scene_for(render::Renderer& renderer, const Scene& scene, bool print);
 
 // `parse()`, and a UsageError it throws (in the engine's words) prefixed by `flag`:
 // "--atlas: 'x' is not one of clip-distances, viewport-array, per-tile".

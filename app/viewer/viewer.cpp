@@ -6,16 +6,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "gl/gl.h"  // before GLFW
 #define GLFW_INCLUDE_NONE
@@ -24,7 +20,6 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image.h"
 #include "core/log.h"
@@ -41,8 +36,10 @@
 #include "scene/scene.h"
 #include "viewer/dynamic_resolution.h"
 #include "viewer/jobs.h"
+#include "viewer/motion_log.h"
 #include "viewer/orbit_camera.h"
 #include "viewer/panels.h"
+#include "viewer/screenshot.h"
 
 namespace envshadow::app {
 namespace {
@@ -74,54 +71,6 @@ struct AnimatedSky {
     double time = 0.0;                                          // the animation time (seconds) it was made for
 };
 
-// What a frame was drawn with, for the frame-time bookkeeping once the next one starts.
-struct DrawnFrame {
-    bool changing = false;  // the view differed from the frame before
-    float scale = 1.0f;     // of the window's size
-    int width = 0, height = 0;
-    int samples = 1;         // MSAA samples asked of the renderer
-    double render_ms = 0.0;  // Renderer::render's wall time: the rest of the frame is display, panels, swap
-    int atlas_passes = 0;    // 0 when the shadow cache kept the atlas (docs/DESIGN.md §5.11)
-    std::vector<gl::PassTime> passes;
-};
-
-// Frames while the view changed, and how soon a full-size frame followed: the viewer's log line at
-// the end, which automated runs (--orbit-frames) read.
-struct MotionLog {
-    std::vector<double> frame_ms;
-    std::vector<double> render_ms;
-    std::map<std::string, std::vector<double>> pass_ms;  // per pass, in the order first seen
-    std::vector<std::string> pass_order;
-    std::vector<float> scales;
-    int atlas_passes = 0;
-    DrawnFrame last_moving;
-    std::optional<double> stopped_at;  // the end of the last frame whose view changed (steady seconds)
-    std::optional<double> full_again;  // seconds from stopped_at to the end of the first full-size frame
-
-    void record(const DrawnFrame& frame, double ms, double now) {
-        if (frame.changing) {
-            frame_ms.push_back(ms);
-            render_ms.push_back(frame.render_ms);
-            atlas_passes += frame.atlas_passes;
-            for (const gl::PassTime& pass : frame.passes) {
-                if (!pass_ms.contains(pass.pass)) pass_order.push_back(pass.pass);
-                pass_ms[pass.pass].push_back(pass.milliseconds);
-            }
-            scales.push_back(frame.scale);
-            last_moving = frame;
-            stopped_at = now;
-            full_again.reset();
-        } else if (frame.scale == 1.0f && stopped_at && !full_again) {
-            full_again = now - *stopped_at;
-        }
-    }
-};
-
-double median_of(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    return values.empty() ? 0.0 : values[values.size() / 2];
-}
-
 bool same_view(const Camera& a, const Camera& b) {
     return a.position == b.position && a.target == b.target && a.up == b.up && a.fov_y_degrees == b.fov_y_degrees;
 }
@@ -152,13 +101,6 @@ LoadedEnvironment load_and_decompose(std::string spec, std::shared_ptr<const Env
             visible};
 }
 
-std::string timestamp() {
-    const std::time_t now = std::time(nullptr);
-    char text[32];
-    std::strftime(text, sizeof text, "%Y%m%d-%H%M%S", std::localtime(&now));
-    return text;
-}
-
 JobStatus status_of(const auto& job) {
     return {job.running(), job.what(), job.seconds()};
 }
@@ -186,10 +128,7 @@ public:
 
         display_ = std::make_unique<render::Display>();
         panels_ = std::make_unique<Panels>(*display_);
-        controls_.settings.shading = shading_mode(options.shading);
-        controls_.settings.msaa = options.msaa;
-        controls_.settings.shadows = shadow_mode(options.shadows);
-        controls_.settings.tile_sizing = tile_sizing(options.tile_sizes);
+        controls_.settings = settings_from(options.settings, command_defaults());
         controls_.tone_map = tone_map_option(options.tonemap);
         renderer_ = std::make_unique<render::Renderer>(controls_.settings);
         renderer_->set_pass_timing(pass_timing(options.pass_timing, context_->is_software()));
@@ -477,37 +416,9 @@ private:
         return environment_ ? &environment_->cells : nullptr;
     }
 
-    // The frames while the view changed (a drag, the animation): how fast, at what size, and how
-    // soon full size came back once it stopped.
+    // The frames while the view changed: the line automated runs (--orbit-frames) read.
     void log_motion() const {
-        if (motion_.frame_ms.empty()) return;
-        const double ms = median_of(motion_.frame_ms);
-        std::vector<double> scales(motion_.scales.begin(), motion_.scales.end());
-        char text[400];
-        std::snprintf(text, sizeof text,
-                      "dynamic resolution: %zu frames while the view changed, median %.1f ms (%.1f FPS) at scale "
-                      "%.2f, the last at %dx%d, %d sample(s) per pixel; target %s",
-                      motion_.frame_ms.size(), ms, ms > 0.0 ? 1000.0 / ms : 0.0, median_of(scales),
-                      motion_.last_moving.width, motion_.last_moving.height, motion_.last_moving.samples,
-                      controls_.dynamic_resolution.enabled
-                          ? (std::to_string(int(std::lround(controls_.dynamic_resolution.target_ms))) + " ms").c_str()
-                          : "off");
-        std::string line = text;
-        if (motion_.full_again) {
-            std::snprintf(text, sizeof text, "; full size again %.2f s after it stopped", *motion_.full_again);
-            line += text;
-        } else {
-            line += "; not back at full size when the run ended";
-        }
-        std::snprintf(text, sizeof text, "; while it changed: the renderer %.1f ms a frame (median), %d atlas passes",
-                      median_of(motion_.render_ms), motion_.atlas_passes);
-        line += text;
-        for (const std::string& pass : motion_.pass_order) {
-            std::snprintf(text, sizeof text, ", %s %.1f", pass.c_str(), median_of(motion_.pass_ms.at(pass)));
-            line += text;
-        }
-        if (!motion_.pass_order.empty()) line += " ms (medians of the frames that had the pass)";
-        log::info(line);
+        if (!motion_.frame_ms.empty()) log::info(motion_.summary(controls_.dynamic_resolution));
     }
 
     // --- lights sampled on the GPU ---------------------------------------------------------------
@@ -600,44 +511,10 @@ private:
     // The frame without the UI: linear EXR, tone-mapped PNG, and the settings beside them.
     void save_screenshot() {
         controls_.screenshot_requested = false;
-        const render::RenderSettings& s = controls_.settings;
         try {
-            fs::create_directories("screenshots");
-            const std::string stem = "screenshots/view_" + scene_.file.stem().string() + "_" + method_name() + "_N" +
-                                     std::to_string(controls_.lights) + "_" + timestamp();
-            const Image linear = renderer_->read_back();
-            write_exr(stem + ".exr", linear);
-            write_png(stem + ".png", tonemap_to_srgb8(linear, controls_.exposure, controls_.tone_map));
-            const Camera camera = orbit_.camera();
-            nlohmann::json settings = {
-                {"scene", scene_.file.string()},
-                {"environment", environment_ ? environment_->map->source : ""},
-                {"method", method_name()},
-                {"lights", controls_.lights},
-                {"seed", controls_.seed},
-                {"time", controls_.time},
-                {"exposure", controls_.exposure},
-                {"tonemap", to_string(controls_.tone_map)},
-                {"rotation_degrees", controls_.rotation},
-                {"camera",
-                 {{"position", {camera.position.x, camera.position.y, camera.position.z}},
-                  {"target", {camera.target.x, camera.target.y, camera.target.z}},
-                  {"fov_y_degrees", camera.fov_y_degrees}}},
-                {"tile", s.tile_size},
-                {"tile_sizes", render::to_string(s.tile_sizing)},
-                {"depth_bits", s.depth_bits},
-                {"pcf", render::to_string(s.pcf)},
-                {"specular", render::to_string(s.specular)},
-                {"cap", render::to_string(s.cap)},
-                {"diffuse", render::to_string(s.diffuse)},
-                {"shading", render::to_string(s.shading)},
-                {"msaa", s.msaa},
-                {"shadows", render::to_string(s.shadows)},
-                {"slope_bias", s.slope_bias},
-                {"depth_bias", s.depth_bias},
-                {"normal_offset", s.normal_offset},
-            };
-            write_file_atomically(stem + ".json", settings.dump(2) + "\n");
+            const std::string stem = write_screenshot(
+                renderer_->read_back(), {scene_, controls_, orbit_.camera(),
+                                         environment_ ? environment_->map->source : std::string(), method_name()});
             last_screenshot_ = stem + ".png";
             log::info("wrote " + stem + ".{png,exr,json}");
         } catch (const std::exception& e) {

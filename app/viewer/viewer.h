@@ -17,12 +17,8 @@ struct ViewerOptions {
     double target_ms = 100.0;          // --target-ms: dynamic resolution's frame time (0: off)
     int orbit_frames = 0;              // --orbit-frames: a synthetic drag over the first frames
     std::string pass_timing = "auto";  // pass_timing()
-    std::string shading = "cells";     // --shading: cells or ratio (shading_mode())
-    std::string tile_sizes = "share";  // --tile-sizes: tile_sizing()
-    int msaa = kDefaultMsaa;           // --msaa: samples per pixel
+    SettingOptions settings;           // --shading, --msaa, ... (render::setting_table()), --baseline
     std::string tonemap = "aces";      // --tonemap: the window's and the screenshot PNG's (tone_map_option())
-    // --shadows: hard or soft (shadow_mode())
-    std::string shadows = kDefaultShadows;
 };
 
 int run_viewer(const ViewerOptions& options);

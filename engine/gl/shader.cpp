@@ -146,6 +146,7 @@ Program ShaderLibrary::build(const std::vector<ShaderStage>& stages, const std::
         throw PlatformError(names + ": link error\n" + log);
     }
     for (const Shader& s : shaders) glDetachShader(program.id(), s.id());
+    ++programs_built_;
     return program;
 }
 

@@ -37,11 +37,14 @@ public:
     // `transform_feedback` names varyings captured (interleaved) when non-empty.
     Program build(const std::vector<ShaderStage>& stages, const std::vector<std::string>& defines = {},
                   const std::vector<std::string>& transform_feedback = {}) const;
+    // Programs build() has linked so far.
+    std::size_t programs_built() const { return programs_built_; }
 
 private:
     void append(const std::string& name, AssembledSource& out, std::vector<std::string>& stack) const;
     std::map<std::string, std::string> sources_;
     std::vector<std::string> defines_;
+    mutable std::size_t programs_built_ = 0;  // a count, not state: build() stays const
 };
 
 // Rewrites a driver's info log ("0:12(3): error: x" from Mesa, "0(12) : error C0000: x" from NVIDIA)

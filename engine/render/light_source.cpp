@@ -83,7 +83,7 @@ void LightSource::update(Renderer& renderer) {
                      FsSampleRequest{.samples = requested_, .upper_hemisphere = hemisphere_ == Hemisphere::upper});
     sampled_ = sampler_->read_lights();  // waits for the sampler
     folded_ = fold_to_max_lights(sampled_);
-    renderer.set_lights(sampled_, Renderer::CellSpace::map, true);  // in map space, as cells are
+    renderer.set_lights(sampled_, Renderer::CellSpace::map, Renderer::LightLifetime::every_frame);
     sampling_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 

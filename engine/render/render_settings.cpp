@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
-#include <cstdio>
+#include <limits>
 #include <string>
-#include <utility>
 
 #include "core/error.h"
 #include "render/shadow_atlas_layout.h"
@@ -13,188 +13,226 @@
 namespace envshadow::render {
 
 namespace {
-template <typename Enum, std::size_t N>
-Enum parse(const std::array<std::pair<Enum, std::string_view>, N>& names, std::string_view name) {
-    std::string allowed;
-    for (const auto& [value, text] : names) {
-        if (text == name) return value;
-        allowed += (allowed.empty() ? "" : ", ") + std::string(text);
-    }
-    throw UsageError("'" + std::string(name) + "' is not one of " + allowed);
-}
-template <typename Enum, std::size_t N>
-std::string_view name_of(const std::array<std::pair<Enum, std::string_view>, N>& names, Enum value) {
-    for (const auto& [v, text] : names)
-        if (v == value) return text;
-    return "?";
-}
-template <typename Enum, std::size_t N>
-std::vector<std::string> names_in(const std::array<std::pair<Enum, std::string_view>, N>& names) {
-    std::vector<std::string> out;
-    for (const auto& [value, text] : names) out.emplace_back(text);
-    return out;
-}
-
-constexpr std::array<std::pair<AtlasMode, std::string_view>, 3> kAtlasModes{
-    {{AtlasMode::clip_distances, "clip-distances"},
-     {AtlasMode::viewport_array, "viewport-array"},
-     {AtlasMode::per_tile, "per-tile"}}};
-constexpr std::array<std::pair<PcfKernel, std::string_view>, 2> kPcfKernels{
-    {{PcfKernel::hardware_2x2, "2x2"}, {PcfKernel::wide, "wide"}}};
-constexpr std::array<std::pair<SpecularMode, std::string_view>, 2> kSpecularModes{
-    {{SpecularMode::blended, "blended"}, {SpecularMode::single, "single"}}};
-constexpr std::array<std::pair<CapKind, std::string_view>, 2> kCapKinds{
-    {{CapKind::solid_angle, "solid-angle"}, {CapKind::weighted, "weighted"}}};
-constexpr std::array<std::pair<DiffuseMode, std::string_view>, 2> kDiffuseModes{
-    {{DiffuseMode::center, "center"}, {DiffuseMode::cap, "cap"}}};
-constexpr std::array<std::pair<ShadingMode, std::string_view>, 2> kShadingModes{
-    {{ShadingMode::cells, "cells"}, {ShadingMode::ratio, "ratio"}}};
-constexpr std::array<std::pair<TileSizing, std::string_view>, 3> kTileSizings{
-    {{TileSizing::uniform, "uniform"}, {TileSizing::share, "share"}, {TileSizing::sqrt_share, "sqrt"}}};
 
 constexpr std::array<int, 4> kMsaaSampleCounts{1, 2, 4, 8};
-constexpr std::array<std::pair<ShadowMode, std::string_view>, 2> kShadowModes{
-    {{ShadowMode::hard, "hard"}, {ShadowMode::soft, "soft"}}};
-constexpr std::array<std::pair<ShadowFit, std::string_view>, 2> kShadowFits{
-    {{ShadowFit::frame, "frame"}, {ShadowFit::animation, "animation"}}};
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
-constexpr std::array<OptimisationSwitch, 6> kSwitches = {{
-    {"prepass", &RenderSettings::depth_prepass},
-    {"ubo", &RenderSettings::lights_uniform_block},
-    {"cull", &RenderSettings::cull_back_faces},
-    {"specialise", &RenderSettings::specialise_shaders},
-    {"tiles", &RenderSettings::shadow_tile_lists},
-    {"flat", &RenderSettings::flat_receivers},
-}};
+// Shortest text that reads back to the same value: "0.3", "256".
+template <typename Number>
+std::string shortest(Number value) {
+    std::array<char, 32> text{};
+    const auto [end, error] = std::to_chars(text.data(), text.data() + text.size(), value);
+    return std::string(text.data(), end);
+}
+
+// "a, b or c".
+std::string either(const std::vector<std::string>& values) {
+    std::string text;
+    for (std::size_t i = 0; i < values.size(); ++i)
+        text += (i == 0 ? "" : i + 1 == values.size() ? " or " : ", ") + values[i];
+    return text;
+}
+
+template <typename Number>
+Number parse_number(std::string_view text) {
+    Number value{};
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || end != text.data() + text.size() || !std::isfinite(double(value)))
+        throw UsageError("'" + std::string(text) + "' is not a number");
+    return value;
+}
+
+template <NamedEnum Enum>
+SettingInfo choice(std::string_view name, Enum RenderSettings::*member, SettingEffect effect, std::string_view help) {
+    return {.name = name,
+            .help = help,
+            .kind = SettingKind::choice,
+            .effect = effect,
+            .choices = enum_value_names<Enum>(),
+            .parse = [member](RenderSettings& s, std::string_view text) { s.*member = parse_enum<Enum>(text); },
+            .format = [member](const RenderSettings& s) { return std::string(to_string(s.*member)); },
+            .check = [](const RenderSettings&) {}};
+}
+
+SettingInfo on_off(std::string_view name, bool RenderSettings::*member, SettingEffect effect, std::string_view help) {
+    return {.name = name,
+            .help = help,
+            .kind = SettingKind::on_off,
+            .effect = effect,
+            .choices = {"on", "off"},
+            .parse =
+                [member](RenderSettings& s, std::string_view text) {
+                    if (text != "on" && text != "off") throw UsageError("'" + std::string(text) + "' is not on or off");
+                    s.*member = text == "on";
+                },
+            .format = [member](const RenderSettings& s) { return std::string(s.*member ? "on" : "off"); },
+            .check = [](const RenderSettings&) {}};
+}
+
+// An integer that is one of `allowed`; `what` names it in messages ("shadow depth bits").
+SettingInfo integer_of(std::string_view name, int RenderSettings::*member, std::span<const int> allowed,
+                       std::string_view what, SettingEffect effect, std::string_view help) {
+    std::vector<std::string> choices;
+    for (int value : allowed) choices.push_back(std::to_string(value));
+    return {.name = name,
+            .help = help,
+            .kind = SettingKind::integer,
+            .effect = effect,
+            .choices = choices,
+            .parse = [member](RenderSettings& s, std::string_view text) { s.*member = parse_number<int>(text); },
+            .format = [member](const RenderSettings& s) { return std::to_string(s.*member); },
+            .check =
+                [member, choices, what = std::string(what)](const RenderSettings& s) {
+                    const std::string value = std::to_string(s.*member);
+                    if (std::find(choices.begin(), choices.end(), value) == choices.end())
+                        throw UsageError(what + " " + value + " is not " + either(choices));
+                }};
+}
+
+SettingInfo integer_in(std::string_view name, int RenderSettings::*member, int min, int max, std::string_view what,
+                       SettingEffect effect, std::string_view help) {
+    return {.name = name,
+            .help = help,
+            .kind = SettingKind::integer,
+            .effect = effect,
+            .choices = {},
+            .min = double(min),
+            .max = double(max),
+            .parse = [member](RenderSettings& s, std::string_view text) { s.*member = parse_number<int>(text); },
+            .format = [member](const RenderSettings& s) { return std::to_string(s.*member); },
+            .check =
+                [member, min, max, what = std::string(what)](const RenderSettings& s) {
+                    if (s.*member < min || s.*member > max)
+                        throw UsageError(what + " " + std::to_string(s.*member) + " is outside " + std::to_string(min) +
+                                         ".." + std::to_string(max));
+                }};
+}
+
+// A finite number within min..max (max may be kUnbounded); `unit` ends the range message.
+SettingInfo number_in(std::string_view name, float RenderSettings::*member, double min, double max,
+                      std::string_view what, std::string_view unit, SettingEffect effect, std::string_view help) {
+    return {.name = name,
+            .help = help,
+            .kind = SettingKind::number,
+            .effect = effect,
+            .choices = {},
+            .min = min,
+            .max = max,
+            .parse = [member](RenderSettings& s, std::string_view text) { s.*member = parse_number<float>(text); },
+            .format = [member](const RenderSettings& s) { return shortest(s.*member); },
+            .check =
+                [member, min, max, what = std::string(what), unit = std::string(unit)](const RenderSettings& s) {
+                    const double value = double(s.*member);
+                    if (std::isfinite(value) && value >= min && value <= max) return;
+                    const std::string range = max == kUnbounded ? "below " + shortest(min)
+                                                                : "outside " + shortest(min) + ".." + shortest(max);
+                    throw UsageError(what + " " + shortest(s.*member) + " is " +
+                                     (std::isfinite(value) ? range : "not finite") + unit);
+                }};
+}
+
+// `row`, reading "off" as 0 too.
+SettingInfo off_is_zero(SettingInfo row) {
+    row.parse = [parse = row.parse](RenderSettings& s, std::string_view text) { parse(s, text == "off" ? "0" : text); };
+    return row;
+}
+
+std::vector<SettingInfo> make_setting_table() {
+    using enum SettingEffect;
+    return {
+        integer_in("tile", &RenderSettings::tile_size, kMinTileSize, kMaxTileSize, "shadow tile size", frame,
+                   "Shadow map tile size (texels per side)"),
+        choice("tile-sizes", &RenderSettings::tile_sizing, frame,
+               "Shadow tile sizes: share (power-of-two tiles from 128^2 to 1024^2 with areas following each light's "
+               "luminance share), sqrt (following its square root), both within the budget of N x tile^2 texels, or "
+               "uniform (every tile tile^2); lights sampled every frame keep uniform tiles"),
+        integer_of("depth-bits", &RenderSettings::depth_bits, std::array{16, 32}, "shadow depth bits", frame,
+                   "Shadow depth bits: 16 or 32 (float)"),
+        choice("pcf", &RenderSettings::pcf, programs, "Shadow filter: 2x2 (hardware) or wide (3x3 taps)"),
+        number_in("slope-bias", &RenderSettings::slope_bias, 0.0, kUnbounded, "slope bias", "", frame,
+                  "Receiver-plane depth bias: the depth change of the receiver's plane over the filter, times this"),
+        number_in("normal-offset", &RenderSettings::normal_offset, 0.0, kUnbounded, "normal offset", "", frame,
+                  "Receiver moved along its normal by this many shadow texels"),
+        number_in("depth-bias", &RenderSettings::depth_bias, 0.0, kUnbounded, "depth bias", "", frame,
+                  "Receiver depth lowered by this many shadow texels"),
+        choice("specular", &RenderSettings::specular, programs, "blended (Barsi et al.) or single (cos^n psi_c)"),
+        choice("cap", &RenderSettings::cap, frame, "Cell cap: solid-angle or weighted (radiance-weighted)"),
+        choice("diffuse", &RenderSettings::diffuse, programs,
+               "center (the paper's sample) or cap (exact clamped cosine)"),
+        choice("shading", &RenderSettings::shading, programs,
+               "cells (the paper's sum over the cells) or ratio (unshadowed light from the prefiltered map, "
+               "shadowed fraction from the cells)"),
+        choice("shadows", &RenderSettings::shadows, programs,
+               "Each cell's shadow: hard (one 2x2 lookup at its centre direction) or soft (a penumbra as wide as the "
+               "cell's cap, percentage-closer soft shadows)"),
+        on_off("background", &RenderSettings::background, frame, "Draw the environment behind the objects"),
+        on_off("base-color-texture", &RenderSettings::base_color_texture, frame,
+               "Base-colour textures multiply the objects' base colour (off: the material's factors alone)"),
+        integer_of("msaa", &RenderSettings::msaa, kMsaaSampleCounts, "MSAA samples", frame,
+                   "Multisample anti-aliasing: samples per pixel, averaged in linear HDR before tone mapping"),
+        choice("atlas", &RenderSettings::atlas, programs,
+               "How the shadow atlas is drawn: clip-distances (one draw per mesh), viewport-array, per-tile "
+               "(baseline)"),
+        on_off("skip-lights", &RenderSettings::skip_lights, lights,
+               "Skip the lights hidden by the ground or negligible"),
+        off_is_zero(number_in("caster-lod", &RenderSettings::caster_lod, 0.0, double(kMaxCasterLod), "caster LOD error",
+                              " shadow texels", frame,
+                              "Shadow-caster LOD error in shadow texels, or off (the full meshes)")),
+        on_off("prepass", &RenderSettings::depth_prepass, programs, "Depth pre-pass before shading"),
+        on_off("ubo", &RenderSettings::lights_uniform_block, programs,
+               "Light records in a uniform block (else a storage block)"),
+        on_off("cull", &RenderSettings::cull_back_faces, frame, "Closed casters drawn with back faces culled"),
+        on_off("specialise", &RenderSettings::specialise_shaders, frame,
+               "Objects without a specular part shaded by a shader without it"),
+        on_off("tiles", &RenderSettings::shadow_tile_lists, programs,
+               "With the pre-pass: per screen tile, only the lights whose shadow tile sees it"),
+        on_off("flat", &RenderSettings::flat_receivers, frame,
+               "With the tile lists: diffuse planes take the unshadowed sum from the CPU"),
+        on_off("shadow-cache", &RenderSettings::shadow_cache, frame,
+               "Keep the depths of the casters that do not move from frame to frame"),
+        choice("shadow-fit", &RenderSettings::shadow_fit, frame,
+               "Shadow projections fitted to this frame's casters (frame) or to the whole animation's"),
+    };
+}
+
 }  // namespace
+
+std::string SettingInfo::values() const {
+    if (!choices.empty()) {
+        std::string text;
+        for (const std::string& choice : choices) text += (text.empty() ? "" : "|") + choice;
+        return text;
+    }
+    return max == kUnbounded ? ">= " + shortest(min) : shortest(min) + ".." + shortest(max);
+}
+
+std::span<const SettingInfo> setting_table() {
+    static const std::vector<SettingInfo> table = make_setting_table();
+    return table;
+}
+
+const SettingInfo* find_setting(std::string_view name) {
+    for (const SettingInfo& setting : setting_table())
+        if (setting.name == name) return &setting;
+    return nullptr;
+}
 
 std::span<const int> msaa_sample_counts() {
     return kMsaaSampleCounts;
 }
 
-std::string_view to_string(AtlasMode mode) {
-    return name_of(kAtlasModes, mode);
-}
-std::string_view to_string(PcfKernel kernel) {
-    return name_of(kPcfKernels, kernel);
-}
-std::string_view to_string(SpecularMode mode) {
-    return name_of(kSpecularModes, mode);
-}
-std::string_view to_string(CapKind kind) {
-    return name_of(kCapKinds, kind);
-}
-std::string_view to_string(DiffuseMode mode) {
-    return name_of(kDiffuseModes, mode);
-}
-std::string_view to_string(ShadingMode mode) {
-    return name_of(kShadingModes, mode);
-}
-
-std::string_view to_string(TileSizing sizing) {
-    return name_of(kTileSizings, sizing);
-}
-
-std::string_view to_string(ShadowMode mode) {
-    return name_of(kShadowModes, mode);
-}
-
-AtlasMode parse_atlas_mode(std::string_view name) {
-    return parse(kAtlasModes, name);
-}
-PcfKernel parse_pcf_kernel(std::string_view name) {
-    return parse(kPcfKernels, name);
-}
-SpecularMode parse_specular_mode(std::string_view name) {
-    return parse(kSpecularModes, name);
-}
-CapKind parse_cap_kind(std::string_view name) {
-    return parse(kCapKinds, name);
-}
-DiffuseMode parse_diffuse_mode(std::string_view name) {
-    return parse(kDiffuseModes, name);
-}
-ShadingMode parse_shading_mode(std::string_view name) {
-    return parse(kShadingModes, name);
-}
-
-TileSizing parse_tile_sizing(std::string_view name) {
-    return parse(kTileSizings, name);
-}
-
-template <>
-std::vector<std::string> names<AtlasMode>() {
-    return names_in(kAtlasModes);
-}
-template <>
-std::vector<std::string> names<PcfKernel>() {
-    return names_in(kPcfKernels);
-}
-template <>
-std::vector<std::string> names<SpecularMode>() {
-    return names_in(kSpecularModes);
-}
-template <>
-std::vector<std::string> names<CapKind>() {
-    return names_in(kCapKinds);
-}
-template <>
-std::vector<std::string> names<DiffuseMode>() {
-    return names_in(kDiffuseModes);
-}
-template <>
-std::vector<std::string> names<ShadingMode>() {
-    return names_in(kShadingModes);
-}
-template <>
-std::vector<std::string> names<TileSizing>() {
-    return names_in(kTileSizings);
-}
-template <>
-std::vector<std::string> names<ShadowMode>() {
-    return names_in(kShadowModes);
-}
-
-ShadowMode parse_shadow_mode(std::string_view name) {
-    return parse(kShadowModes, name);
-}
-
-std::string_view to_string(ShadowFit fit) {
-    return name_of(kShadowFits, fit);
-}
-ShadowFit parse_shadow_fit(std::string_view name) {
-    return parse(kShadowFits, name);
-}
-template <>
-std::vector<std::string> names<ShadowFit>() {
-    return names_in(kShadowFits);
-}
-
 void validate(const RenderSettings& settings) {
-    if (settings.tile_size < kMinTileSize || settings.tile_size > kMaxTileSize)
-        throw UsageError("shadow tile size " + std::to_string(settings.tile_size) + " is outside " +
-                         std::to_string(kMinTileSize) + ".." + std::to_string(kMaxTileSize));
-    if (settings.depth_bits != 16 && settings.depth_bits != 32)
-        throw UsageError("shadow depth bits " + std::to_string(settings.depth_bits) + " is not 16 or 32");
-    if (std::find(kMsaaSampleCounts.begin(), kMsaaSampleCounts.end(), settings.msaa) == kMsaaSampleCounts.end())
-        throw UsageError("MSAA samples " + std::to_string(settings.msaa) + " is not 1, 2, 4 or 8");
-    for (float bias : {settings.slope_bias, settings.normal_offset, settings.depth_bias})
-        if (!std::isfinite(bias) || bias < 0.0f) throw UsageError("shadow biases must be finite and >= 0");
-    if (!std::isfinite(settings.caster_lod) || settings.caster_lod < 0.0f || settings.caster_lod > kMaxCasterLod) {
-        char text[96];
-        std::snprintf(text, sizeof text, "caster LOD error %g is outside 0..%g shadow texels",
-                      double(settings.caster_lod), double(kMaxCasterLod));
-        throw UsageError(text);
-    }
-}
-
-std::span<const OptimisationSwitch> optimisation_switches() {
-    return kSwitches;
+    for (const SettingInfo& setting : setting_table()) setting.check(settings);
 }
 
 RenderSettings baseline(RenderSettings settings) {
     settings.caster_lod = 0.0f;
-    for (const auto& [name, member] : kSwitches) settings.*member = false;
+    settings.depth_prepass = false;
+    settings.lights_uniform_block = false;
+    settings.cull_back_faces = false;
+    settings.specialise_shaders = false;
+    settings.shadow_tile_lists = false;
+    settings.flat_receivers = false;
     settings.shadow_cache = false;
     settings.shadow_fit = ShadowFit::frame;
     return settings;

@@ -1,12 +1,18 @@
 #pragma once
-// What the renderer can be asked to do differently; the viewer and `bench` change these between
-// frames, `envshadow render` maps its options onto them.
+// What the renderer can be asked to do differently, and the table that names, parses, formats and
+// checks each setting (setting_table()): the commands' options, `bench --variants`, the viewer's
+// screenshot JSON and validate() all read it.
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.h"
+
 namespace envshadow::render {
+
+using envshadow::to_string;  // of the enums below, through their enum_names()
 
 // How the tiles of the shadow atlas are kept apart while drawing (glsl/shadow_atlas.vert).
 enum class AtlasMode {
@@ -14,38 +20,85 @@ enum class AtlasMode {
     viewport_array,  // instanced draws in batches of GL_MAX_VIEWPORTS, instance -> viewport
     per_tile,        // baseline: one draw per mesh and tile, the viewport set to the tile
 };
+inline constexpr EnumName<AtlasMode> kAtlasModeNames[] = {{AtlasMode::clip_distances, "clip-distances"},
+                                                          {AtlasMode::viewport_array, "viewport-array"},
+                                                          {AtlasMode::per_tile, "per-tile"}};
+constexpr std::span<const EnumName<AtlasMode>> enum_names(AtlasMode) {
+    return kAtlasModeNames;
+}
+
 enum class PcfKernel { hardware_2x2, wide };
-enum class SpecularMode { blended, single };   // Barsi et al.'s blended average, or k_s cos^n psi_c
+inline constexpr EnumName<PcfKernel> kPcfKernelNames[] = {{PcfKernel::hardware_2x2, "2x2"}, {PcfKernel::wide, "wide"}};
+constexpr std::span<const EnumName<PcfKernel>> enum_names(PcfKernel) {
+    return kPcfKernelNames;
+}
+
+enum class SpecularMode { blended, single };  // Barsi et al.'s blended average, or k_s cos^n psi_c
+inline constexpr EnumName<SpecularMode> kSpecularModeNames[] = {{SpecularMode::blended, "blended"},
+                                                                {SpecularMode::single, "single"}};
+constexpr std::span<const EnumName<SpecularMode>> enum_names(SpecularMode) {
+    return kSpecularModeNames;
+}
+
 enum class CapKind { solid_angle, weighted };  // docs/DESIGN.md §3: cos_radius or cos_radius_weighted
-enum class DiffuseMode { center, cap };        // k_d cos theta_c, or its exact average over the cap
+inline constexpr EnumName<CapKind> kCapKindNames[] = {{CapKind::solid_angle, "solid-angle"},
+                                                      {CapKind::weighted, "weighted"}};
+constexpr std::span<const EnumName<CapKind>> enum_names(CapKind) {
+    return kCapKindNames;
+}
+
+enum class DiffuseMode { center, cap };  // k_d cos theta_c, or its exact average over the cap
+inline constexpr EnumName<DiffuseMode> kDiffuseModeNames[] = {{DiffuseMode::center, "center"},
+                                                              {DiffuseMode::cap, "cap"}};
+constexpr std::span<const EnumName<DiffuseMode>> enum_names(DiffuseMode) {
+    return kDiffuseModeNames;
+}
+
 // The paper's sum over the cells, or the ratio estimator (docs/DESIGN.md §4.1): the unshadowed reflection
 // from the prefiltered map (Renderer::set_prefiltered), the cells' estimate only for the shadowed fraction.
 enum class ShadingMode { cells, ratio };
+inline constexpr EnumName<ShadingMode> kShadingModeNames[] = {{ShadingMode::cells, "cells"},
+                                                              {ShadingMode::ratio, "ratio"}};
+constexpr std::span<const EnumName<ShadingMode>> enum_names(ShadingMode) {
+    return kShadingModeNames;
+}
+
 // Each cell's shadow lookup: the hard 2x2 comparison at the cell's centre direction, or a penumbra as
 // wide as the cell's cap sees it (percentage-closer soft shadows per tile, docs/DESIGN.md §5.9).
 enum class ShadowMode { hard, soft };
+inline constexpr EnumName<ShadowMode> kShadowModeNames[] = {{ShadowMode::hard, "hard"}, {ShadowMode::soft, "soft"}};
+constexpr std::span<const EnumName<ShadowMode>> enum_names(ShadowMode) {
+    return kShadowModeNames;
+}
 
 // How each light's orthographic projection is fitted to the shadow casters (docs/DESIGN.md §5.11): to
 // this frame's boxes (the sharpest fit, changed whenever anything moves), or to their boxes over the
 // whole animation (the same every frame, so the shadow cache keeps the casters that do not move while
 // others move; coarser texels: 0.37 of the density on flyover, docs/PERFORMANCE.md).
 enum class ShadowFit { frame, animation };
+inline constexpr EnumName<ShadowFit> kShadowFitNames[] = {{ShadowFit::frame, "frame"},
+                                                          {ShadowFit::animation, "animation"}};
+constexpr std::span<const EnumName<ShadowFit>> enum_names(ShadowFit) {
+    return kShadowFitNames;
+}
 
 // How big each light's shadow tile is (render/shadow_atlas_layout.h): all tile_size^2, or power-of-two
 // sizes whose areas follow the light's luminance share (share) or its square root (sqrt), within the
 // same budget of N tile_size^2 texels.
 enum class TileSizing { uniform, share, sqrt_share };
+inline constexpr EnumName<TileSizing> kTileSizingNames[] = {
+    {TileSizing::uniform, "uniform"}, {TileSizing::share, "share"}, {TileSizing::sqrt_share, "sqrt"}};
+constexpr std::span<const EnumName<TileSizing>> enum_names(TileSizing) {
+    return kTileSizingNames;
+}
 
 inline constexpr float kMaxCasterLod = 4.0f;  // shadow texels
-
-// Samples per pixel of the shading target that RenderSettings::msaa may ask for: 1, 2, 4, 8.
-std::span<const int> msaa_sample_counts();
 
 struct RenderSettings {
     int tile_size = 256;  // kMinTileSize..kMaxTileSize (render/shadow_atlas_layout.h)
     // Lights handed over every frame (the GPU sampler) keep uniform tiles whatever this says. share:
     // lower error than uniform and sqrt at the same budget on engine/courtyard, figure/city and
-    // figure/studio (docs/ACCURACY.md, issue 14 part 3).
+    // figure/studio (docs/ACCURACY.md).
     TileSizing tile_sizing = TileSizing::share;
     int depth_bits = 16;  // 16 or 32
     PcfKernel pcf = PcfKernel::hardware_2x2;
@@ -53,10 +106,8 @@ struct RenderSettings {
     // `slope_bias` times the depth its triangle's plane changes by out to the farthest texel centre the
     // filter reads (a receiver-plane depth bias: 1 is that bound exactly) and by `depth_bias` texels;
     // it may be moved along its normal by `normal_offset` texels too (scaled by sin theta, at least a
-    // fifth). The casters are drawn with glPolygonOffset(0, 1): one step of the map's depth precision.
-    // Before issue 14's engine study the casters took glPolygonOffset(2, 1) and the receivers 1 texel
-    // of each of the other two: light leaked into slots a few texels wide (engine/courtyard 5.1% against
-    // 2.1%; docs/accuracy/engine_by_hand.md).
+    // fifth). The casters are drawn with glPolygonOffset(0, 1): one step of the map's depth precision;
+    // a larger caster offset leaks light into slots a few texels wide (docs/accuracy/engine_by_hand.md).
     float slope_bias = 1.0f;
     float normal_offset = 0.0f;
     float depth_bias = 0.5f;
@@ -66,22 +117,24 @@ struct RenderSettings {
     ShadingMode shading = ShadingMode::cells;
     ShadowMode shadows = ShadowMode::hard;
     bool background = true;
+    // Objects' base-colour textures (glTF's baseColorTexture) multiply their base colour; off: the
+    // material's factors alone, as glTF viewers' debug views switch textures off one at a time.
+    bool base_color_texture = true;
     // Samples per pixel of the shading target (multisample anti-aliasing; one of msaa_sample_counts()),
     // resolved to one linear HDR colour per pixel (their mean) before tone mapping. The driver's maximum
     // caps it (Renderer::samples()). 1 here: the per-pixel values the engine's tests compare; the commands
-    // default to 4 (app/options.h).
+    // start from 4 (app/setting_options.h, command_defaults()).
     int msaa = 1;
     AtlasMode atlas = AtlasMode::clip_distances;
     bool skip_lights = true;  // drop lights hidden by the ground or negligible (render/lights.h)
-    // Optimisations of issue 10 (docs/PERFORMANCE.md); baseline() turns them all off.
+    // The optimisations below are on by default; baseline() turns them off (docs/PERFORMANCE.md).
     // Shadow casters drawn at the coarsest level of detail whose measured error is at most this many
     // of the frame's smallest atlas texels (render/caster_lod.h); 0: the full meshes. A surface moved
     // by d texels along its normal moves d / cos theta <= d (1 + tan theta) along the light, within the
     // receiver's bias of depth_bias + slope_bias tan theta (0.5 + tan theta texels, docs/DESIGN.md
     // §5.3) for d <= 0.5, so it cannot shadow itself; but thin parts a few texels across (the viruses'
-    // spikes at 128^2 tiles) change their shadows' speckle visibly already at 0.4 texel (golden fails:
-    // 0.22% of pixels differ, 0.2% allowed), so 0.3; flyover's figures take 1 texel invisibly
-    // (docs/PERFORMANCE.md).
+    // spikes at 128^2 tiles) change their shadows' speckle visibly from 0.4 texel on (the viruses'
+    // golden image), so 0.3; flyover's figures take 1 texel invisibly (docs/PERFORMANCE.md).
     float caster_lod = 0.3f;  // 0..kMaxCasterLod
     // Depth-only pass of the objects first, then the N-light shading once per visible pixel
     // (depth test EQUAL) instead of once per rasterised fragment.
@@ -101,7 +154,7 @@ struct RenderSettings {
     // With the tile lists: planes with a diffuse material (the ground) take the unshadowed sum of the
     // lights, the same for all their pixels, from the CPU instead of summing it per pixel.
     bool flat_receivers = true;
-    // Issue 18: the depths of the casters that do not move (Object::moves()) kept in a layer of their
+    // The depths of the casters that do not move (Object::moves()) kept in a layer of their
     // own, redrawn only when the lights, the scene, the fits or the atlas settings change; each frame
     // copies it into the atlas and draws only the moving casters over it, and a frame where nothing
     // moves draws no atlas pass at all (docs/DESIGN.md §5.11). The same atlas as drawing every caster
@@ -112,64 +165,57 @@ struct RenderSettings {
     ShadowFit shadow_fit = ShadowFit::frame;
 };
 
-// The on/off optimisations of issue 10, each by its short name (docs/PERFORMANCE.md's tables, bench's
-// variants); caster_lod, the eighth, is a number.
-struct OptimisationSwitch {
-    std::string_view name;
-    bool RenderSettings::*member;
-};
-std::span<const OptimisationSwitch> optimisation_switches();
-
-// The first working renderer's settings (issue 10's baseline): `settings` with every optimisation
-// of issue 10 off, and issue 18's shadow cache off with per-frame fits.
+// The first working renderer's settings: `settings` with every optimisation off (caster LOD, pre-pass,
+// uniform block, back-face culling, specialised shaders, tile lists, flat receivers), and the shadow
+// cache off with per-frame fits.
 RenderSettings baseline(RenderSettings settings);
 
-std::string_view to_string(AtlasMode mode);
-std::string_view to_string(PcfKernel kernel);
-std::string_view to_string(SpecularMode mode);
-std::string_view to_string(CapKind kind);
-std::string_view to_string(DiffuseMode mode);
-std::string_view to_string(ShadingMode mode);
-std::string_view to_string(TileSizing sizing);
-std::string_view to_string(ShadowMode mode);
-std::string_view to_string(ShadowFit fit);
-// Parse the names above ("2x2"/"wide", "blended"/"single", "solid-angle"/"weighted",
-// "center"/"cap", "cells"/"ratio", "clip-distances"/"viewport-array"/"per-tile",
-// "uniform"/"share"/"sqrt", "hard"/"soft", "frame"/"animation"); UsageError listing the names.
-AtlasMode parse_atlas_mode(std::string_view name);
-PcfKernel parse_pcf_kernel(std::string_view name);
-SpecularMode parse_specular_mode(std::string_view name);
-CapKind parse_cap_kind(std::string_view name);
-DiffuseMode parse_diffuse_mode(std::string_view name);
-ShadingMode parse_shading_mode(std::string_view name);
-TileSizing parse_tile_sizing(std::string_view name);
-ShadowMode parse_shadow_mode(std::string_view name);
-ShadowFit parse_shadow_fit(std::string_view name);
+// What a change of a setting makes Renderer::set_settings redo.
+enum class SettingEffect {
+    frame,     // nothing: render() reads it as it draws (what it sizes, it reallocates on demand)
+    lights,    // the lights are selected again
+    programs,  // it is part of the shader variant key (render/shader_variant.h)
+};
 
-// The names a setting accepts, in the order above: for the command line's validators, so that a
-// name added to a table is accepted everywhere at once.
-template <typename Enum>
-std::vector<std::string> names();
-template <>
-std::vector<std::string> names<AtlasMode>();
-template <>
-std::vector<std::string> names<PcfKernel>();
-template <>
-std::vector<std::string> names<SpecularMode>();
-template <>
-std::vector<std::string> names<CapKind>();
-template <>
-std::vector<std::string> names<DiffuseMode>();
-template <>
-std::vector<std::string> names<ShadingMode>();
-template <>
-std::vector<std::string> names<TileSizing>();
-template <>
-std::vector<std::string> names<ShadowMode>();
-template <>
-std::vector<std::string> names<ShadowFit>();
+// How a setting's value is written.
+enum class SettingKind {
+    choice,   // a name of an enum (core/enum_names.h)
+    on_off,   // "on" or "off"
+    integer,  // one of `choices`, or within min..max
+    number,   // finite, within min..max
+};
 
-// UsageError if a value is out of range (tile size, depth bits, MSAA samples, negative biases, caster LOD).
+// One row of the table of RenderSettings: one name per setting, as the command line (--name value),
+// `bench --variants` (name=value) and the viewer's screenshot JSON spell it; how to read, write and
+// check its value; what a change costs the renderer.
+struct SettingInfo {
+    std::string_view name;  // "tile-sizes"
+    std::string_view help;  // one sentence for --help, without the default
+    SettingKind kind = SettingKind::choice;
+    SettingEffect effect = SettingEffect::frame;
+    std::vector<std::string> choices;  // choice, on_off and integer sets: every value; empty: min..max
+    double min = 0.0, max = 0.0;       // integer and number without choices (max may be infinity)
+    // `text` into its member of `settings`; UsageError "'x' is not one of a, b" for text that is no value.
+    std::function<void(RenderSettings& settings, std::string_view text)> parse;
+    // Its member as text that parse() reads back to the same value.
+    std::function<std::string(const RenderSettings& settings)> format;
+    // UsageError in the engine's words if its member is out of range ("shadow tile size 64 is outside
+    // 128..2048").
+    std::function<void(const RenderSettings& settings)> check;
+
+    // "2x2|wide", "on|off", "128..2048": the values, for help texts and messages.
+    std::string values() const;
+};
+
+// Every member of RenderSettings, in the order --help lists them.
+std::span<const SettingInfo> setting_table();
+// The row named `name`, or nullptr.
+const SettingInfo* find_setting(std::string_view name);
+
+// Samples per pixel of the shading target that RenderSettings::msaa may ask for: 1, 2, 4, 8.
+std::span<const int> msaa_sample_counts();
+
+// UsageError if a value is out of range (every row's check()).
 void validate(const RenderSettings& settings);
 
 }  // namespace envshadow::render

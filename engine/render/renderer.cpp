@@ -26,6 +26,13 @@ namespace envshadow::render {
 using namespace shader;  // loc::, unit::, binding::, size::
 
 namespace {
+// Whether a setting whose change has `effect` differs between `a` and `b` (render::setting_table()).
+bool changes(SettingEffect effect, const RenderSettings& a, const RenderSettings& b) {
+    for (const SettingInfo& setting : setting_table())
+        if (setting.effect == effect && setting.format(a) != setting.format(b)) return true;
+    return false;
+}
+
 // Viewports used per batch in AtlasMode::viewport_array (GL_MAX_VIEWPORTS is 16 on most drivers).
 constexpr int kMaxViewports = 64;
 }  // namespace
@@ -35,8 +42,8 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings), librar
     glGetIntegerv(GL_MAX_VIEWPORTS, &max_viewports_);
     GLint max_block = 0;
     glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &max_block);
-    uniform_block_fits_ = std::size_t(max_block) >= std::size_t(size::max_lights) * sizeof(LightRecord);
-    use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
+    support_.uniform_block_fits = std::size_t(max_block) >= std::size_t(size::max_lights) * sizeof(LightRecord);
+    support_.viewport_layer_array = GLAD_GL_ARB_shader_viewport_layer_array;
     max_viewports_ = std::clamp(max_viewports_, 1, kMaxViewports);
     GLint color_samples = 1, depth_samples = 1, samples = 1;
     glGetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &color_samples);
@@ -58,56 +65,43 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings), librar
     // Room for every record the shaders may index: a uniform block's bound range must cover its
     // whole declared array (MAX_LIGHTS). Made once: set_lights() and render() only upload.
     light_buffer_ = gl::Buffer::create(std::size_t(size::max_lights) * sizeof(LightRecord));
-    build_programs();
+    // shade.vert's gl_Position is invariant: the shading pass's depths equal the pre-pass's.
+    prepass_program_ = library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
+    background_program_ =
+        library_.build({{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
+    select_programs();
 }
 
 Renderer::~Renderer() = default;
 
-void Renderer::build_programs() {
-    // Shared by the atlas, shading and screen-tile programs (MAX_LIGHTS and the other numbers of
-    // render/shader_interface.h are in every stage already).
-    std::vector<std::string> light_defines;
-    if (use_uniform_block_) light_defines.push_back("LIGHTS_UNIFORM_BLOCK");
-    tiles_programs_.clear();
-    std::vector<std::string> atlas_defines = light_defines;
-    if (settings_.atlas == AtlasMode::viewport_array && !GLAD_GL_ARB_shader_viewport_layer_array) {
-        log::warn("GL_ARB_shader_viewport_layer_array is missing: drawing the shadow atlas with clip distances");
-        settings_.atlas = AtlasMode::clip_distances;
+void Renderer::select_programs() {
+    variant_ = render::shader_variant(settings_, support_);
+    auto it = programs_.find(variant_);
+    if (it == programs_.end()) {
+        if (variant_.atlas != settings_.atlas)
+            log::warn("GL_ARB_shader_viewport_layer_array is missing: drawing the shadow atlas with clip distances");
+        VariantPrograms programs;
+        programs.atlas = library_.build({{GL_VERTEX_SHADER, "shadow_atlas.vert"}}, atlas_defines(variant_));
+        const std::vector<gl::ShaderStage> shade_stages = {{GL_VERTEX_SHADER, "shade.vert"},
+                                                           {GL_FRAGMENT_SHADER, "shade.frag"}};
+        std::vector<std::string> defines = shade_defines(variant_);
+        programs.shade = library_.build(shade_stages, defines);
+        defines.push_back("DIFFUSE_ONLY");
+        programs.shade_diffuse = library_.build(shade_stages, defines);
+        defines.push_back("FLAT_RECEIVER");
+        programs.shade_flat = library_.build(shade_stages, defines);
+        it = programs_.emplace(variant_, std::move(programs)).first;
     }
-    if (settings_.atlas == AtlasMode::clip_distances) atlas_defines.push_back("ATLAS_CLIP_DISTANCES");
-    if (settings_.atlas == AtlasMode::viewport_array) atlas_defines.push_back("ATLAS_VIEWPORT_ARRAY");
-    atlas_program_ = library_.build({{GL_VERTEX_SHADER, "shadow_atlas.vert"}}, atlas_defines);
-
-    std::vector<std::string> shade_defines = light_defines;
-    if (settings_.diffuse == DiffuseMode::cap) shade_defines.push_back("DIFFUSE_CAP");
-    if (settings_.specular == SpecularMode::single) shade_defines.push_back("SPECULAR_SINGLE");
-    if (settings_.pcf == PcfKernel::wide) shade_defines.push_back("PCF_WIDE");
-    if (uses_tile_lists(settings_)) shade_defines.push_back("SHADOW_TILE_LISTS");
-    if (settings_.shading == ShadingMode::ratio) shade_defines.push_back("SHADING_RATIO");
-    if (settings_.shadows == ShadowMode::soft) shade_defines.push_back("SOFT_SHADOWS");
-    shade_program_ =
-        library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
-    shade_defines.push_back("DIFFUSE_ONLY");
-    shade_diffuse_program_ =
-        library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
-    shade_defines.push_back("FLAT_RECEIVER");
-    shade_flat_program_ =
-        library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, shade_defines);
-    if (!prepass_program_)  // shade.vert's gl_Position is invariant: the shading pass's depths equal these
-        prepass_program_ =
-            library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
-    if (!background_program_)
-        background_program_ =
-            library_.build({{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
+    programs_now_ = &it->second;
 }
 
 // shadow_tiles.comp for the samples drawn now, built once per sample count: the viewer drops to one
 // sample while the view moves (docs/DESIGN.md §5.10) and changes back without a compile.
 const gl::Program& Renderer::tiles_program() {
-    auto [it, added] = tiles_programs_.try_emplace(samples_);
+    auto [it, added] = tiles_programs_.try_emplace(std::pair(variant_.lights_uniform_block, samples_));
     if (added) {
         std::vector<std::string> defines;
-        if (use_uniform_block_) defines.push_back("LIGHTS_UNIFORM_BLOCK");
+        if (variant_.lights_uniform_block) defines.push_back("LIGHTS_UNIFORM_BLOCK");
         if (samples_ > 1) defines.push_back("DEPTH_SAMPLES " + std::to_string(samples_));  // a sampler2DMS
         it->second = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, defines);
     }
@@ -118,14 +112,9 @@ void Renderer::set_settings(const RenderSettings& settings) {
     validate(settings);
     const RenderSettings old = settings_;
     settings_ = settings;
-    use_uniform_block_ = settings_.lights_uniform_block && uniform_block_fits_;
     samples_ = drawn_samples();  // only the screen-tile program depends on it: tiles_program()
-    if (old.atlas != settings.atlas || old.diffuse != settings.diffuse || old.specular != settings.specular ||
-        old.pcf != settings.pcf || old.lights_uniform_block != settings.lights_uniform_block ||
-        old.shadow_tile_lists != settings.shadow_tile_lists || old.depth_prepass != settings.depth_prepass ||
-        old.shading != settings.shading || old.shadows != settings.shadows)
-        build_programs();
-    if (old.skip_lights != settings.skip_lights) select_lights();
+    select_programs();
+    if (changes(SettingEffect::lights, old, settings_)) select_lights();
 }
 
 void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_t done, std::size_t total)>& progress) {
@@ -230,13 +219,13 @@ void Renderer::set_environment_rotation(float degrees) {
     select_lights();
 }
 
-void Renderer::set_lights(std::vector<Cell> cells, CellSpace space, bool every_frame) {
+void Renderer::set_lights(std::vector<Cell> cells, CellSpace space, LightLifetime lifetime) {
     if (cells.size() > std::size_t(kMaxLights))  // the light buffer, the atlas and MAX_LIGHTS hold that many
         throw std::invalid_argument("renderer: " + std::to_string(cells.size()) + " lights given, at most " +
                                     std::to_string(kMaxLights) + " fit");
     cells_ = std::move(cells);
     cell_space_ = space;
-    every_frame_lights_ = every_frame;
+    light_lifetime_ = lifetime;
     select_lights();
 }
 
@@ -250,7 +239,8 @@ void Renderer::select_lights() {
 void Renderer::ensure_atlas() {
     // Per-frame lights keep uniform tiles: sized ones would change size (and the atlas its shape)
     // from frame to frame.
-    const TileSizing sizing = every_frame_lights_ ? TileSizing::uniform : settings_.tile_sizing;
+    const TileSizing sizing =
+        light_lifetime_ == LightLifetime::every_frame ? TileSizing::uniform : settings_.tile_sizing;
     // Uniform tiles depend on the count alone; sized ones on every light's luminance.
     const bool same_lights =
         !layout_stale_ || (sizing == TileSizing::uniform && layout_.tile_count == std::max(light_count(), 1));
@@ -332,21 +322,21 @@ void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
     int moving = 0;
     for (std::size_t i = 0; i < plan.objects.size(); ++i) moving += plan.objects[i].casts_shadows && moves(i);
     const AtlasKey key{plan.fit_version, content_version_, settings_.caster_lod, settings_.cull_back_faces,
-                       settings_.atlas};
+                       variant_.atlas};
     const std::optional<AtlasKey> last = std::exchange(last_key_, key);
     if (!settings_.shadow_cache || plan.lights.empty()) {
         atlas_holds_static_.reset();
         static_layer_holds_.reset();
         static_depth_ = {};
         gl::ScopedPass pass(&timer_, "shadow atlas");
-        draw_casters(plan, every, true);
+        draw_casters(plan, every, AtlasStart::cleared);
         stats.atlas_passes = 1;
         return;
     }
     if (moving == 0) {
         if (atlas_holds_static_ == key) return;  // the depths of the last frame are this frame's
         gl::ScopedPass pass(&timer_, "shadow atlas");
-        draw_casters(plan, every, true);
+        draw_casters(plan, every, AtlasStart::cleared);
         atlas_holds_static_ = key;
         stats.atlas_passes = 1;
         return;
@@ -356,10 +346,10 @@ void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
     stats.atlas_passes = 1;
     if (static_layer_holds_ != key) {
         if (last != key) {  // fits that changed since the last frame may change again: no layer kept yet
-            draw_casters(plan, every, true);
+            draw_casters(plan, every, AtlasStart::cleared);
             return;
         }
-        draw_casters(plan, std::not_fn(moves), true);
+        draw_casters(plan, std::not_fn(moves), AtlasStart::cleared);
         if (!static_depth_ || static_depth_.width() != atlas_depth_.width() ||
             static_depth_.height() != atlas_depth_.height() || static_depth_.format() != atlas_depth_.format())
             static_depth_ = gl::Texture::create_2d(atlas_depth_.format(), atlas_depth_.width(), atlas_depth_.height());
@@ -371,22 +361,22 @@ void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
         glCopyImageSubData(static_depth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, atlas_depth_.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
                            atlas_depth_.width(), atlas_depth_.height(), 1);
     }
-    draw_casters(plan, moves, false);
+    draw_casters(plan, moves, AtlasStart::as_it_is);
     stats.moving_casters_drawn = moving;
 }
 
-void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, bool clear) {
+void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, AtlasStart start) {
     glBindFramebuffer(GL_FRAMEBUFFER, atlas_.id());
     glDepthMask(GL_TRUE);
     const float far_depth = 1.0f;
-    if (clear) glClearNamedFramebufferfv(atlas_.id(), GL_DEPTH, 0, &far_depth);
+    if (start == AtlasStart::cleared) glClearNamedFramebufferfv(atlas_.id(), GL_DEPTH, 0, &far_depth);
     if (plan.lights.empty()) return;
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDisable(GL_CULL_FACE);  // both faces cast: open meshes and thin parts stay in the map
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(0.0f, 1.0f);  // the map's depth precision; the rest of the bias is the receiver's (§5.3)
-    atlas_program_.use();
+    programs_now_->atlas.use();
     const int tiles = int(plan.lights.size());
 
     // Each caster at the coarsest level of detail within settings_.caster_lod of the smallest texel
@@ -401,7 +391,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
                 lod, caster_error_budget(object.world_from_object, plan.min_texel_world, settings_.caster_lod));
             atlas_triangles_ +=
                 std::size_t(lod.levels[std::size_t(level)].index_count / 3) * std::size_t(tiles_per_draw);
-            glProgramUniformMatrix4fv(atlas_program_.id(), loc::world_from_object, 1, GL_FALSE,
+            glProgramUniformMatrix4fv(programs_now_->atlas.id(), loc::world_from_object, 1, GL_FALSE,
                                       &object.world_from_object[0][0]);
             // Closed casters: front faces only (the light frame keeps the winding: right x up = toward,
             // so faces turned to the light are counter-clockwise in the tile; a mirroring transform
@@ -417,11 +407,11 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
             draw(mesh, level);
         }
     };
-    switch (settings_.atlas) {
+    switch (variant_.atlas) {
         case AtlasMode::clip_distances:
             for (GLenum plane = 0; plane < 4; ++plane) glEnable(GL_CLIP_DISTANCE0 + plane);
             glViewport(0, 0, layout_.width(), layout_.height());
-            glProgramUniform1i(atlas_program_.id(), loc::first_tile, 0);
+            glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, 0);
             for_each_caster(
                 tiles, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, tiles); });  // one draw per mesh
             for (GLenum plane = 0; plane < 4; ++plane) glDisable(GL_CLIP_DISTANCE0 + plane);
@@ -437,7 +427,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
                     rects[4 * i + 2] = rects[4 * i + 3] = float(tile.size);
                 }
                 glViewportArrayv(0, batch, rects.data());
-                glProgramUniform1i(atlas_program_.id(), loc::first_tile, first);
+                glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, first);
                 for_each_caster(batch, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, batch); });
             }
             break;
@@ -445,7 +435,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
             for (int k = 0; k < tiles; ++k) {
                 const TileRect& tile = layout_.tiles[std::size_t(k)];
                 glViewport(tile.x, tile.y, tile.size, tile.size);
-                glProgramUniform1i(atlas_program_.id(), loc::first_tile, k);
+                glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, k);
                 for_each_caster(1, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level); });
             }
             break;
@@ -498,7 +488,8 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (uses_tile_lists(settings_)) build_tile_lists(plan, view);
     gl::ScopedPass pass(&timer_, "shading");
     const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
-    for (const gl::Program* shade : {&shade_program_, &shade_diffuse_program_, &shade_flat_program_}) {
+    const VariantPrograms& programs = *programs_now_;
+    for (const gl::Program* shade : {&programs.shade, &programs.shade_diffuse, &programs.shade_flat}) {
         const GLuint program = shade->id();
         glProgramUniformMatrix4fv(program, loc::clip_from_world, 1, GL_FALSE, &clip_from_world[0][0]);
         glProgramUniform3f(program, loc::eye, view.eye.x, view.eye.y, view.eye.z);
@@ -516,7 +507,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     const bool ratio = settings_.shading == ShadingMode::ratio;
     if (ratio) {
         const glm::mat3 env_from_world = map_from_world(rotation_degrees_);
-        for (const gl::Program* shade : {&shade_program_, &shade_diffuse_program_, &shade_flat_program_})
+        for (const gl::Program* shade : {&programs.shade, &programs.shade_diffuse, &programs.shade_flat})
             glProgramUniformMatrix3fv(shade->id(), loc::env_from_world, 1, GL_FALSE, &env_from_world[0][0]);
         if (!prefiltered_.empty()) prefiltered_[0].bind(unit::irradiance);
     }
@@ -528,9 +519,9 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     glDisable(GL_CULL_FACE);  // two-sided: shade.frag turns the normal by gl_FrontFacing (docs/DESIGN.md §5.4)
     for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
         const ObjectFrame& object = plan.objects[i];
-        const gl::Program& shade = object.program == ShadeProgram::flat_receiver  ? shade_flat_program_
-                                   : object.program == ShadeProgram::diffuse_only ? shade_diffuse_program_
-                                                                                  : shade_program_;
+        const gl::Program& shade = object.program == ShadeProgram::flat_receiver  ? programs.shade_flat
+                                   : object.program == ShadeProgram::diffuse_only ? programs.shade_diffuse
+                                                                                  : programs.shade;
         const GLuint program = shade.id();
         shade.use();
         if (object.program == ShadeProgram::flat_receiver)
@@ -550,7 +541,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
             prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
             glProgramUniform1f(program, loc::specular_weight, pair.weight);
         }
-        instance_textures_[i]->bind(unit::base_color);
+        (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }
@@ -595,7 +586,7 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     }
     const FramePlan& plan = planner_.plan(time, view, layout_, settings_);
     upload(plan);
-    glBindBufferBase(use_uniform_block_ ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER, binding::lights,
+    glBindBufferBase(variant_.lights_uniform_block ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER, binding::lights,
                      light_buffer_.id());
     if (!timer_warmed_up_) {
         // Mesa's llvmpipe (22.3) gives the first GL_TIME_ELAPSED query of a context that draws

@@ -36,6 +36,7 @@
 #include "render/gpu_mesh.h"
 #include "render/lights.h"
 #include "render/render_settings.h"
+#include "render/shader_variant.h"
 #include "render/shadow_atlas_layout.h"
 #include "scene/scene.h"
 
@@ -64,9 +65,16 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Rebuilds only what the change needs (programs, atlas). Throws UsageError for bad values.
+    // Redoes only what the change needs (render::SettingEffect): programs of a shader variant not drawn
+    // with before are built, those of one seen before reused. Throws UsageError for bad values.
     void set_settings(const RenderSettings& settings);
     const RenderSettings& settings() const { return settings_; }
+    // The variant the settings draw with (render/shader_variant.h); the programs built so far: two for
+    // every variant (pre-pass, background), kProgramsPerVariant per variant drawn with, and
+    // shadow_tiles.comp once per sample count the tile lists were drawn at.
+    const ShaderVariant& shader_variant() const { return variant_; }
+    std::size_t programs_built() const { return library_.programs_built(); }
+    static constexpr std::size_t kProgramsPerVariant = 4;  // atlas; shading: full, diffuse-only, flat receiver
 
     // Uploads the meshes (each shared mesh once) and keeps the objects (materials, transforms,
     // animation) and the environment's rotation. The scene may be destroyed afterwards.
@@ -84,10 +92,12 @@ public:
     void set_environment_rotation(float degrees);
     // Cells of a decomposition, at most kMaxLights (std::invalid_argument otherwise); map-space ones
     // are rotated into the world by the environment's rotation, world-space ones are taken as they are.
-    // `every_frame`: lights handed over anew every frame (the GPU sampler), which keep uniform shadow
-    // tiles whatever settings().tile_sizing says.
+    // Lights handed over anew every frame (the GPU sampler) keep uniform shadow tiles whatever
+    // settings().tile_sizing says.
     enum class CellSpace { map, world };
-    void set_lights(std::vector<Cell> cells, CellSpace space = CellSpace::map, bool every_frame = false);
+    enum class LightLifetime { fixed, every_frame };
+    void set_lights(std::vector<Cell> cells, CellSpace space = CellSpace::map,
+                    LightLifetime lifetime = LightLifetime::fixed);
 
     // How render() times its passes (gl/timer.h): GL_TIME_ELAPSED queries by default.
     void set_pass_timing(gl::PassTiming timing) { timer_.set_mode(timing); }
@@ -112,7 +122,7 @@ public:
     int light_count() const { return int(lights_.kept.size()); }
 
 private:
-    void build_programs();
+    void select_programs();  // programs_now_ for settings_, its programs built on first use
     void select_lights();
     void ensure_atlas();
     void ensure_target(int width, int height);
@@ -122,7 +132,8 @@ private:
     void draw_atlas(const FramePlan& plan, FrameStats& stats);
     // Draws the casters `which` accepts (by ObjectFrame index) into every tile, over what the atlas holds or
     // after clearing it.
-    void draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, bool clear);
+    enum class AtlasStart { cleared, as_it_is };
+    void draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, AtlasStart start);
     void draw_objects(const FramePlan& plan, const CameraView& view);
     void draw_depth_prepass(const FramePlan& plan, const CameraView& view);
     void build_tile_lists(const FramePlan& plan, const CameraView& view);
@@ -130,10 +141,18 @@ private:
 
     RenderSettings settings_;
     gl::ShaderLibrary library_;
-    gl::Program atlas_program_, shade_program_, shade_diffuse_program_, shade_flat_program_, prepass_program_,
-        background_program_;
-    std::map<int, gl::Program> tiles_programs_;  // shadow_tiles.comp per sample count: tiles_program()
-    gl::VertexArray empty_vertex_array_;         // the background's vertices come from gl_VertexID
+    // The programs of one shader variant: the atlas's, and shade.frag's full, diffuse-only and flat-receiver ones.
+    struct VariantPrograms {
+        gl::Program atlas, shade, shade_diffuse, shade_flat;
+    };
+    ShaderSupport support_;
+    ShaderVariant variant_;
+    std::map<ShaderVariant, VariantPrograms> programs_;  // every variant drawn with so far
+    const VariantPrograms* programs_now_ = nullptr;      // programs_[variant_]
+    gl::Program prepass_program_, background_program_;   // the same for every variant
+    // shadow_tiles.comp per (lights in a uniform block, sample count): tiles_program()
+    std::map<std::pair<bool, int>, gl::Program> tiles_programs_;
+    gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
     gl::Sampler shadow_sampler_;
     gl::Sampler atlas_depth_sampler_;  // the atlas without comparison: SOFT_SHADOWS' blocker search
     gl::GpuTimer timer_;
@@ -165,9 +184,9 @@ private:
     gl::Buffer light_buffer_;  // room for shader::size::max_lights records, made once
 
     AtlasLayout layout_;
-    bool layout_stale_ = true;         // the lights changed since layout_ was planned
-    bool every_frame_lights_ = false;  // set_lights(..., every_frame)
-    std::vector<double> luminance_;    // of the kept lights, for plan_atlas
+    bool layout_stale_ = true;  // the lights changed since layout_ was planned
+    LightLifetime light_lifetime_ = LightLifetime::fixed;
+    std::vector<double> luminance_;  // of the kept lights, for plan_atlas
     int atlas_depth_bits_ = 0;
     gl::Texture atlas_depth_;
     gl::Framebuffer atlas_;
@@ -186,8 +205,6 @@ private:
     std::optional<AtlasKey> last_key_;            // the last frame's key
     gl::Texture static_depth_;                    // the static casters' depths, atlas_depth_'s size and format
     int max_viewports_ = 1;
-    bool uniform_block_fits_ = false;  // GL_MAX_UNIFORM_BLOCK_SIZE holds shader::size::max_lights records
-    bool use_uniform_block_ = false;
 
     gl::Texture environment_;
     PrefilteredEnvironment prefiltered_levels_;  // the levels' shininess and size (texels dropped)

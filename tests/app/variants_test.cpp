@@ -1,4 +1,7 @@
-// bench --variants and the optimisation flags' values (app/variants.h).
+// bench --variants (app/variants.h).
+#include <string>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "core/error.h"
@@ -37,7 +40,7 @@ TEST(Variants, ItemsApplyLeftToRight) {
         EXPECT_THROW(apply_variant(base, bad), UsageError) << bad;
 }
 
-// Issue 18's shadow cache: on by default, off in the baseline, as bench --variants writes it.
+// The shadow cache: on by default, off in the baseline, as bench --variants writes it.
 TEST(Variants, ShadowCacheAndFit) {
     const RenderSettings base;
     EXPECT_TRUE(base.shadow_cache);
@@ -79,13 +82,27 @@ TEST(Variants, SemicolonsSeparateVariantsAndErrorsNameTheFlag) {
     }
 }
 
-TEST(Variants, FlagValues) {
-    EXPECT_EQ(parse_caster_lod("off"), 0.0f);
-    EXPECT_EQ(parse_caster_lod("1.5"), 1.5f);
-    EXPECT_THROW(parse_caster_lod("1.5x"), UsageError);
-    EXPECT_TRUE(parse_on_off("on"));
-    EXPECT_FALSE(parse_on_off("off"));
-    EXPECT_THROW(parse_on_off("yes"), UsageError);
+// Every setting of the table is a key, by the same name, taking the values its option takes.
+TEST(Variants, EveryTableKeyTakesItsValuesAndRejectsOthers) {
+    const RenderSettings base;
+    for (const render::SettingInfo& setting : render::setting_table()) {
+        const std::string key(setting.name);
+        std::vector<std::string> values = setting.choices;
+        if (values.empty()) values = {setting.format(render::baseline(base)), setting.format(base)};
+        for (const std::string& value : values) {
+            const RenderSettings v = apply_variant(base, key + "=" + value);
+            EXPECT_EQ(setting.format(v), value) << key;
+        }
+        EXPECT_THROW(apply_variant(base, key + "=nonsense"), UsageError) << key;
+    }
+    try {
+        apply_variant(base, "colour=red");
+        ADD_FAILURE() << "no error";
+    } catch (const UsageError& e) {
+        const std::string message = e.what();
+        for (const render::SettingInfo& setting : render::setting_table())
+            EXPECT_NE(message.find(setting.name), std::string::npos) << setting.name << " missing from " << message;
+    }
 }
 
 }  // namespace

@@ -1,4 +1,7 @@
 // Option names and range checks of the renderer's settings.
+#include <cmath>
+#include <limits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -25,20 +28,41 @@ TEST(RenderSettings, DefaultsAreTheDocumentedOnes) {
     EXPECT_NO_THROW(validate(s));
 }
 
+template <typename Enum>
+void expect_names_round_trip() {
+    for (const auto& [value, name] : enum_names(Enum{})) {
+        EXPECT_EQ(to_string(value), name);
+        EXPECT_EQ(parse_enum<Enum>(name), value);
+    }
+}
+
 TEST(RenderSettings, NamesRoundTrip) {
-    for (auto m : {AtlasMode::clip_distances, AtlasMode::viewport_array, AtlasMode::per_tile})
-        EXPECT_EQ(parse_atlas_mode(to_string(m)), m);
-    for (auto k : {PcfKernel::hardware_2x2, PcfKernel::wide}) EXPECT_EQ(parse_pcf_kernel(to_string(k)), k);
-    for (auto m : {SpecularMode::blended, SpecularMode::single}) EXPECT_EQ(parse_specular_mode(to_string(m)), m);
-    for (auto c : {CapKind::solid_angle, CapKind::weighted}) EXPECT_EQ(parse_cap_kind(to_string(c)), c);
-    for (auto d : {DiffuseMode::center, DiffuseMode::cap}) EXPECT_EQ(parse_diffuse_mode(to_string(d)), d);
-    for (auto m : {ShadowMode::hard, ShadowMode::soft}) EXPECT_EQ(parse_shadow_mode(to_string(m)), m);
-    for (auto f : {ShadowFit::animation, ShadowFit::frame}) EXPECT_EQ(parse_shadow_fit(to_string(f)), f);
-    EXPECT_EQ(parse_shadow_fit("frame"), ShadowFit::frame);
-    EXPECT_EQ(names<ShadowFit>(), (std::vector<std::string>{"frame", "animation"}));
-    EXPECT_EQ(parse_shadow_mode("soft"), ShadowMode::soft);
-    EXPECT_EQ(parse_pcf_kernel("2x2"), PcfKernel::hardware_2x2);
-    EXPECT_EQ(parse_cap_kind("solid-angle"), CapKind::solid_angle);
+    expect_names_round_trip<AtlasMode>();
+    expect_names_round_trip<PcfKernel>();
+    expect_names_round_trip<SpecularMode>();
+    expect_names_round_trip<CapKind>();
+    expect_names_round_trip<DiffuseMode>();
+    expect_names_round_trip<ShadingMode>();
+    expect_names_round_trip<ShadowMode>();
+    expect_names_round_trip<ShadowFit>();
+    expect_names_round_trip<TileSizing>();
+    EXPECT_EQ(enum_value_names<ShadowFit>(), (std::vector<std::string>{"frame", "animation"}));
+    EXPECT_EQ(parse_enum<PcfKernel>("2x2"), PcfKernel::hardware_2x2);
+    EXPECT_EQ(parse_enum<CapKind>("solid-angle"), CapKind::solid_angle);
+    EXPECT_EQ(to_string(TileSizing::sqrt_share), "sqrt");
+}
+
+// Values a row accepts: its choices, or its range's ends.
+std::vector<std::string> valid_values(const SettingInfo& setting) {
+    if (!setting.choices.empty()) return setting.choices;
+    RenderSettings s;
+    std::vector<std::string> values;
+    for (double bound : {setting.min, setting.max}) {
+        if (!std::isfinite(bound)) continue;
+        setting.parse(s, setting.kind == SettingKind::integer ? std::to_string(int(bound)) : std::to_string(bound));
+        values.push_back(setting.format(s));
+    }
+    return values;
 }
 
 // The engine's messages say what is wrong in its own words; app/ adds the flag's name.
@@ -52,8 +76,8 @@ std::string usage_error_of(const auto& throwing) {
 }
 
 TEST(RenderSettings, BadValuesAreUsageErrorsSayingWhatIsAllowed) {
-    EXPECT_EQ(usage_error_of([] { parse_pcf_kernel("3x3"); }), "'3x3' is not one of 2x2, wide");
-    EXPECT_EQ(usage_error_of([] { parse_shadow_mode("pcss"); }), "'pcss' is not one of hard, soft");
+    EXPECT_EQ(usage_error_of([] { parse_enum<PcfKernel>("3x3"); }), "'3x3' is not one of 2x2, wide");
+    EXPECT_EQ(usage_error_of([] { parse_enum<ShadowMode>("pcss"); }), "'pcss' is not one of hard, soft");
     RenderSettings s;
     s.tile_size = 64;
     EXPECT_EQ(usage_error_of([&] { validate(s); }), "shadow tile size 64 is outside 128..2048");
@@ -74,7 +98,51 @@ TEST(RenderSettings, BadValuesAreUsageErrorsSayingWhatIsAllowed) {
     EXPECT_EQ(usage_error_of([&] { validate(s); }), "MSAA samples 3 is not 1, 2, 4 or 8");
     s = RenderSettings{};
     s.normal_offset = -1.0f;
-    EXPECT_THROW(validate(s), UsageError);
+    EXPECT_EQ(usage_error_of([&] { validate(s); }), "normal offset -1 is below 0");
+    s.normal_offset = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_EQ(usage_error_of([&] { validate(s); }), "normal offset nan is not finite");
+}
+
+// The table: one row per member, each name once, every value it lists reads back as itself, its
+// default within range; what it rejects.
+TEST(SettingTable, RowsRoundTripTheirValues) {
+    std::set<std::string_view> names;
+    for (const SettingInfo& setting : setting_table()) {
+        SCOPED_TRACE(std::string(setting.name));
+        EXPECT_TRUE(names.insert(setting.name).second) << "named twice";
+        EXPECT_EQ(find_setting(setting.name), &setting);
+        EXPECT_FALSE(setting.help.empty());
+        RenderSettings s;
+        const std::string default_text = setting.format(s);
+        setting.parse(s, default_text);
+        EXPECT_EQ(setting.format(s), default_text);
+        EXPECT_NO_THROW(setting.check(s));
+        for (const std::string& value : valid_values(setting)) {
+            setting.parse(s, value);
+            EXPECT_NO_THROW(setting.check(s)) << value;
+            EXPECT_EQ(setting.format(s), value);
+        }
+        EXPECT_THROW(setting.parse(s, "nonsense"), UsageError);
+    }
+    EXPECT_EQ(find_setting("no-such-setting"), nullptr);
+    EXPECT_EQ(names.size(), 26u);  // RenderSettings' members
+}
+
+TEST(SettingTable, ValuesAndRangesSayWhatIsAllowed) {
+    EXPECT_EQ(find_setting("pcf")->values(), "2x2|wide");
+    EXPECT_EQ(find_setting("prepass")->values(), "on|off");
+    EXPECT_EQ(find_setting("msaa")->values(), "1|2|4|8");
+    EXPECT_EQ(find_setting("tile")->values(), "128..2048");
+    EXPECT_EQ(find_setting("slope-bias")->values(), ">= 0");
+    RenderSettings s;
+    find_setting("caster-lod")->parse(s, "off");
+    EXPECT_EQ(s.caster_lod, 0.0f);
+    find_setting("caster-lod")->parse(s, "1.5");
+    EXPECT_EQ(s.caster_lod, 1.5f);
+    EXPECT_THROW(find_setting("caster-lod")->parse(s, "1.5x"), UsageError);
+    EXPECT_THROW(find_setting("tile")->parse(s, "128.5"), UsageError);
+    find_setting("tile")->parse(s, "64");  // a number, out of range: check() says so
+    EXPECT_EQ(usage_error_of([&] { find_setting("tile")->check(s); }), "shadow tile size 64 is outside 128..2048");
 }
 
 TEST(RenderSettings, BaselineTurnsEveryOptimisationOff) {
@@ -86,9 +154,12 @@ TEST(RenderSettings, BaselineTurnsEveryOptimisationOff) {
     EXPECT_FALSE(first.depth_prepass);
     EXPECT_EQ(first.tile_size, optimised.tile_size);  // everything else stays
     EXPECT_EQ(first.atlas, optimised.atlas);
-    for (const OptimisationSwitch& each : optimisation_switches()) {
-        EXPECT_TRUE(optimised.*each.member) << each.name;
-        EXPECT_FALSE(first.*each.member) << each.name;
+    for (bool RenderSettings::*each :
+         {&RenderSettings::depth_prepass, &RenderSettings::lights_uniform_block, &RenderSettings::cull_back_faces,
+          &RenderSettings::specialise_shaders, &RenderSettings::shadow_tile_lists, &RenderSettings::flat_receivers,
+          &RenderSettings::shadow_cache}) {
+        EXPECT_TRUE(optimised.*each);
+        EXPECT_FALSE(first.*each);
     }
 }
 

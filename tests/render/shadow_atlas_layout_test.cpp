@@ -186,9 +186,9 @@ TEST(SizedAtlas, ShrinksTheBudgetWhenTheAtlasExceedsTheLimit) {
 }
 
 TEST(SizedAtlas, TileSizingNames) {
-    EXPECT_EQ(parse_tile_sizing("sqrt"), TileSizing::sqrt_share);
+    EXPECT_EQ(parse_enum<TileSizing>("sqrt"), TileSizing::sqrt_share);
     EXPECT_EQ(to_string(TileSizing::share), "share");
-    EXPECT_THROW(parse_tile_sizing("square"), UsageError);
+    EXPECT_THROW(parse_enum<TileSizing>("square"), UsageError);
 }
 
 TEST(OrthographicFit, PointsLandInsideTheMarginAndTouchIt) {

@@ -3,7 +3,8 @@
 // colour in the quadrant glTF's uv convention puts it (v = 0 at the image's top) in both renderers, and
 // the two agree; a checkerboard finer than the pixels comes out as its mean in both (filtered, not
 // point-sampled); the real BoxTextured model shows its texture's blue sky and green hill on the box where
-// the untextured box is one colour.
+// the untextured box is one colour; with textures switched off (RenderSettings::base_color_texture) the
+// textured quad is the untextured one.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -70,9 +71,9 @@ void expect_four_colours(const Image& image) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(white[c], 1.0f / 3.0f, 0.01f);
 }
 
-Image render_scene(const Scene& scene, int width, int height) {
+Image render_scene(const Scene& scene, int width, int height, const render::RenderSettings& settings = {}) {
     const EnvironmentMap map = load_environment(scene.environment.source);
-    render::Renderer renderer(render::RenderSettings{});
+    render::Renderer renderer(settings);
     renderer.set_scene(scene);
     renderer.set_environment(map);
     renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = 16}).cells);
@@ -100,6 +101,19 @@ TEST_P(TextureRenderTest, EachTexelLandsInItsQuadrantAsInTheReference) {
                     << "quadrant " << qx << "," << qy << " channel " << c;
         }
     EXPECT_NEAR(raster.at(3 * kSize / 4, 3 * kSize / 4).g, 0.8f, 0.02f);
+}
+
+// RenderSettings::base_color_texture off: the textured quad is drawn as the same quad without its texture,
+// bit for bit; on, it is not.
+TEST_P(TextureRenderTest, TexturesSwitchedOffLeaveTheBaseColourFactor) {
+    const Scene textured = textured_quad();
+    Scene plain = textured;
+    plain.objects[0].material.base_color_texture.reset();
+    render::RenderSettings off;
+    off.base_color_texture = false;
+    const Image without = render_scene(plain, kSize, kSize);
+    EXPECT_EQ(render_scene(textured, kSize, kSize, off).pixels, without.pixels);
+    EXPECT_NE(render_scene(textured, kSize, kSize).pixels, without.pixels);
 }
 
 // Box pixels whose colour is clearly blue (the logo's sky) and clearly green (its hill).
