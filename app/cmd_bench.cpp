@@ -133,10 +133,6 @@ std::vector<Row> measure(const BenchOptions& o, const SweepPoint& point, const S
     return rows;
 }
 
-const char* pass_timing_name(gl::PassTiming timing) {
-    return timing == gl::PassTiming::synchronous ? "wait" : "queries";
-}
-
 void print_table(const std::vector<Row>& rows, const BenchOptions& o, const render::RenderSettings& settings,
                  const std::string& renderer_name, std::size_t triangles, gl::PassTiming timing,
                  Hemisphere hemisphere) {
@@ -197,7 +193,7 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchOptions& o, cons
                           {"triangles", triangles},
                           {"atlas_mode", to_string(settings.atlas)},
                           {"variants", o.variants},
-                          {"pass_timing", pass_timing_name(timing)},
+                          {"pass_timing", std::string(to_string(timing))},
                           {"rows", nlohmann::json::array()}};
     for (const Row& r : rows) {
         nlohmann::json passes = nlohmann::json::object();

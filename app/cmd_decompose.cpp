@@ -46,8 +46,8 @@ nlohmann::ordered_json to_json(const Decomposition& d) {
 
 int run_decompose(const DecomposeArguments& args) {
     const std::string& env = args.common.env;
-    DecomposeOptions options{parse_method(args.common.method), args.common.lights, args.common.seed};
-    options.hemisphere = parse_hemisphere(args.hemisphere);
+    DecomposeOptions options{parse_enum<Method>(args.common.method), args.common.lights, args.common.seed};
+    options.hemisphere = parse_enum<Hemisphere>(args.hemisphere);
 
     EnvironmentLoadReport report;
     const EnvironmentMap map = load_environment(env, {args.clamp_invalid}, &report);
@@ -90,7 +90,7 @@ Command add_decompose_command(CLI::App& parent) {
     add_common_options(app, &args->common, set);
     app->add_option("--hemisphere", args->hemisphere,
                     "full (default) or upper: only the directions above the horizon (a scene with a ground)")
-        ->check(CLI::IsMember({"full", "upper"}));
+        ->check(CLI::IsMember(enum_value_names<Hemisphere>()));
     app->add_option("--json", args->json, "Write the cells as JSON here");
     app->add_option("--png", args->png, "Write a picture of the cells over the map here");
     app->add_flag("--clamp-invalid", args->clamp_invalid, "Set NaN and infinite texels to 0 instead of failing");

@@ -6,6 +6,7 @@
 
 #include "core/image.h"
 #include "env/cells.h"
+#include "gl/context.h"
 #include "render/light_source.h"
 #include "render/shader_interface.h"
 #include "render/shadow_atlas_layout.h"
@@ -47,12 +48,17 @@ void add_common_options(CLI::App* app, CommonOptions* o, const CommonOptionSet& 
         app->add_option("--width", o->width, "Image width")->check(CLI::Range(kMinImageSize, kMaxImageWidth));
         app->add_option("--height", o->height, "Image height")->check(CLI::Range(kMinImageSize, kMaxImageHeight));
     }
-    if (set.backend) app->add_option("--backend", o->backend, "egl or osmesa")->check(CLI::IsMember({"egl", "osmesa"}));
-    if (set.hemisphere)
+    if (set.backend)
+        app->add_option("--backend", o->backend, "Headless OpenGL context")
+            ->check(CLI::IsMember(gl::headless_backend_names()));
+    if (set.hemisphere) {
+        std::vector<std::string> names = enum_value_names<Hemisphere>();
+        names.emplace_back(kAutoHemisphere);
         app->add_option("--hemisphere", o->hemisphere,
                         "Directions the lights come from: full (the whole sphere), upper (above the horizon), or "
                         "auto (default: upper where the scene has a ground, else full)")
-            ->check(CLI::IsMember({"full", "upper", "auto"}));
+            ->check(CLI::IsMember(names));
+    }
 }
 
 render::FsSamplerOptions parse_fs_importance(const std::string& text) {
@@ -112,7 +118,7 @@ void add_pass_timing_option(CLI::App* app, std::string* value) {
     app->add_option("--pass-timing", *value,
                     "auto (default: wait on a software rasteriser, queries on a GPU), queries (GL_TIME_ELAPSED) or "
                     "wait (glFinish around each pass)")
-        ->check(CLI::IsMember({"auto", "queries", "wait"}));
+        ->check(CLI::IsMember(gl::pass_timing_choices()));
 }
 
 gl::PassTiming pass_timing(const std::string& value, bool software_rasteriser) {
@@ -120,16 +126,14 @@ gl::PassTiming pass_timing(const std::string& value, bool software_rasteriser) {
 }
 
 void add_tonemap_option(CLI::App* app, std::string* value) {
-    std::vector<std::string> names;
-    for (std::string_view name : tone_map_names()) names.emplace_back(name);
     app->add_option("--tonemap", *value,
                     "Tone map of the PNG: aces (filmic, the default), agx, neutral (Khronos PBR Neutral) or "
                     "linear (a clamp); EXR stays linear")
-        ->check(CLI::IsMember(names));
+        ->check(CLI::IsMember(enum_value_names<ToneMap>()));
 }
 
 ToneMap tone_map_option(const std::string& value) {
-    return naming_flag("--tonemap", [&] { return parse_tone_map(value); });
+    return naming_flag("--tonemap", [&] { return parse_enum<ToneMap>(value); });
 }
 
 Hemisphere visible_hemisphere(const Scene& scene) {
@@ -137,8 +141,8 @@ Hemisphere visible_hemisphere(const Scene& scene) {
 }
 
 Hemisphere hemisphere_for(const std::string& choice, const Scene& scene) {
-    if (choice == "auto") return visible_hemisphere(scene);
-    return naming_flag("--hemisphere", [&] { return parse_hemisphere(choice); });
+    if (choice == kAutoHemisphere) return visible_hemisphere(scene);
+    return naming_flag("--hemisphere", [&] { return parse_enum<Hemisphere>(choice); });
 }
 
 const char* hemisphere_words(Hemisphere hemisphere) {

@@ -56,6 +56,7 @@ void add_common_options(CLI::App* app, CommonOptions* options, const CommonOptio
 
 // The directions to decompose for `scene` by --hemisphere: "auto" is the upper hemisphere where the
 // scene has a ground (which hides every direction below its horizon, docs/DESIGN.md §3.1).
+inline constexpr std::string_view kAutoHemisphere = "auto";
 Hemisphere hemisphere_for(const std::string& choice, const Scene& scene);
 // "full sphere" or "upper hemisphere", as the commands print it.
 const char* hemisphere_words(Hemisphere hemisphere);

@@ -5,6 +5,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <iterator>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <imgui.h>
@@ -23,6 +27,32 @@ ImTextureID texture_id(const gl::Texture& texture) {
 
 float radiance_sum(const Cell& c) {
     return c.radiance.r + c.radiance.g + c.radiance.b;
+}
+
+// A combo of `values`, `current` shown; the value picked (other than `current`), if any.
+std::optional<std::string> value_combo(const char* label, const std::string& current,
+                                       std::span<const std::string> values) {
+    std::optional<std::string> picked;
+    if (ImGui::BeginCombo(label, current.c_str())) {
+        for (const std::string& value : values)
+            if (ImGui::Selectable(value.c_str(), value == current) && value != current) picked = value;
+        ImGui::EndCombo();
+    }
+    return picked;
+}
+
+// A combo of the values of the setting called `name` in render::setting_table() (its choices, or for an
+// integer range the powers of two in it), as the command line spells them; true when one was picked.
+bool setting_combo(const char* label, std::string_view name, render::RenderSettings& settings) {
+    const render::SettingInfo* row = render::find_setting(name);
+    if (!row) throw std::logic_error("no setting " + std::string(name));
+    std::vector<std::string> values = row->choices;
+    if (values.empty())
+        for (double value = std::max(row->min, 1.0); value <= row->max; value *= 2.0)
+            values.push_back(std::to_string(int(value)));
+    const std::optional<std::string> picked = value_combo(label, row->format(settings), values);
+    if (picked) row->parse(settings, *picked);
+    return picked.has_value();
 }
 
 }  // namespace
@@ -117,35 +147,17 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
 
     if (ImGui::CollapsingHeader("Shadows")) {
         bool changed = false;
-        const int tiles[] = {128, 256, 512, 1024, 2048};
-        int tile_index = int(std::find(std::begin(tiles), std::end(tiles), settings.tile_size) - std::begin(tiles));
-        const char* tile_names[] = {"128", "256", "512", "1024", "2048"};
-        if (ImGui::Combo("tile size", &tile_index, tile_names, 5))
-            settings.tile_size = tiles[tile_index], changed = true;
-        int sizing = int(settings.tile_sizing);
-        if (ImGui::Combo("tile sizes", &sizing,
-                         "uniform\0"
-                         "by luminance share\0"
-                         "by sqrt of the share\0"))
-            settings.tile_sizing = render::TileSizing(sizing), changed = true;
+        changed |= setting_combo("tile size", "tile", settings);
+        changed |= setting_combo("tile sizes", "tile-sizes", settings);
         if (settings.tile_sizing != render::TileSizing::uniform)
             ImGui::TextDisabled("the same texels as uniform tiles of this size");
-        int depth = settings.depth_bits == 16 ? 0 : 1;
-        if (ImGui::Combo("depth", &depth,
-                         "16 bit\0"
-                         "32 bit float\0"))
-            settings.depth_bits = depth ? 32 : 16, changed = true;
-        int pcf = int(settings.pcf);
-        if (ImGui::Combo("PCF", &pcf, "2x2 hardware\0wide\0")) settings.pcf = render::PcfKernel(pcf), changed = true;
-        int shadows = int(settings.shadows);
-        if (ImGui::Combo("shadows", &shadows, "hard (2x2 per cell)\0soft (penumbra per cap)\0"))
-            settings.shadows = render::ShadowMode(shadows), changed = true;
+        changed |= setting_combo("depth bits", "depth-bits", settings);
+        changed |= setting_combo("PCF", "pcf", settings);
+        changed |= setting_combo("shadows", "shadows", settings);
         changed |= ImGui::SliderFloat("slope bias", &settings.slope_bias, 0.0f, 8.0f);
         changed |= ImGui::SliderFloat("depth bias", &settings.depth_bias, 0.0f, 8.0f);
         changed |= ImGui::SliderFloat("normal offset", &settings.normal_offset, 0.0f, 4.0f);
-        int atlas = int(settings.atlas);
-        if (ImGui::Combo("atlas draw", &atlas, "one draw (clip distances)\0viewport arrays\0per tile (baseline)\0"))
-            settings.atlas = render::AtlasMode(atlas), changed = true;
+        changed |= setting_combo("atlas draw", "atlas", settings);
         changed |= ImGui::Checkbox("skip hidden/negligible lights", &settings.skip_lights);
         changed |= ImGui::Checkbox("cache the shadows of what stands still", &settings.shadow_cache);
         changes.settings |= changed;
@@ -155,33 +167,17 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
 
     if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) {
         bool changed = false;
-        int shading = int(settings.shading);
-        if (ImGui::Combo("shading", &shading, "cells (Barsi)\0ratio (prefiltered map)\0"))
-            settings.shading = render::ShadingMode(shading), changed = true;
-        int specular = int(settings.specular);
-        if (ImGui::Combo("specular", &specular, "blended (Barsi)\0single sample\0"))
-            settings.specular = render::SpecularMode(specular), changed = true;
-        int cap = int(settings.cap);
-        if (ImGui::Combo("cap radius", &cap, "solid angle\0radiance weighted\0"))
-            settings.cap = render::CapKind(cap), changed = true;
-        int diffuse = int(settings.diffuse);
-        if (ImGui::Combo("diffuse", &diffuse, "centre sample\0cap integral\0"))
-            settings.diffuse = render::DiffuseMode(diffuse), changed = true;
+        changed |= setting_combo("shading", "shading", settings);
+        changed |= setting_combo("specular", "specular", settings);
+        changed |= setting_combo("cap radius", "cap", settings);
+        changed |= setting_combo("diffuse", "diffuse", settings);
         changed |= ImGui::Checkbox("background", &settings.background);
-        if (ImGui::BeginCombo("msaa", (std::to_string(settings.msaa) + "x").c_str())) {
-            for (int samples : render::msaa_sample_counts())
-                if (ImGui::Selectable((std::to_string(samples) + "x").c_str(), samples == settings.msaa))
-                    settings.msaa = samples, changed = true;
-            ImGui::EndCombo();
-        }
+        changed |= setting_combo("msaa samples", "msaa", settings);
         changes.settings |= changed;
         ImGui::SliderFloat("exposure", &controls.exposure, -6.0f, 6.0f, "%.2f stops");
-        if (ImGui::BeginCombo("tone map", std::string(to_string(controls.tone_map)).c_str())) {
-            for (std::size_t op = 0; op < kToneMapCount; ++op)
-                if (ImGui::Selectable(std::string(tone_map_names()[op]).c_str(), ToneMap(op) == controls.tone_map))
-                    controls.tone_map = ToneMap(op);
-            ImGui::EndCombo();
-        }
+        const std::vector<std::string> tone_maps = enum_value_names<ToneMap>();
+        if (const auto picked = value_combo("tone map", std::string(to_string(controls.tone_map)), tone_maps))
+            controls.tone_map = parse_enum<ToneMap>(*picked);
         changes.rotation = ImGui::SliderFloat("env rotation", &controls.rotation, -180.0f, 180.0f, "%.0f deg");
     }
 

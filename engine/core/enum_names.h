@@ -7,7 +7,8 @@
 //                                                             {PcfKernel::wide, "wide"}};
 //   constexpr std::span<const EnumName<PcfKernel>> enum_names(PcfKernel) { return kPcfKernelNames; }
 //
-//   to_string(PcfKernel::wide) == "wide";  parse_enum<PcfKernel>("2x2");  enum_value_names<PcfKernel>()
+//   to_string(PcfKernel::wide) == "wide";  parse_enum<PcfKernel>("2x2");  enum_value_names<PcfKernel>();
+//   enum_values<PcfKernel>()
 //
 // enum_names() is found by argument-dependent lookup, in the enum's own namespace.
 #include <concepts>
@@ -46,6 +47,14 @@ std::vector<std::string> enum_value_names() {
     std::vector<std::string> names;
     for (const auto& entry : enum_names(Enum{})) names.emplace_back(entry.name);
     return names;
+}
+
+// The values in the table's order: for loops over every value.
+template <NamedEnum Enum>
+std::vector<Enum> enum_values() {
+    std::vector<Enum> values;
+    for (const auto& entry : enum_names(Enum{})) values.push_back(entry.value);
+    return values;
 }
 
 // "a, b, c": the names as a message lists them.

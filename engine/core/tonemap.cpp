@@ -13,27 +13,6 @@
 
 namespace envshadow {
 
-namespace {
-constexpr std::array<std::string_view, kToneMapCount> kNames = {"aces", "agx", "neutral", "linear"};
-}  // namespace
-
-std::span<const std::string_view> tone_map_names() {
-    return kNames;
-}
-
-std::string_view to_string(ToneMap op) {
-    return kNames.at(std::size_t(op));
-}
-
-ToneMap parse_tone_map(std::string_view name) {
-    std::string allowed;
-    for (std::size_t i = 0; i < kNames.size(); ++i) {
-        if (kNames[i] == name) return ToneMap(i);
-        allowed += (allowed.empty() ? "" : ", ") + std::string(kNames[i]);
-    }
-    throw UsageError("'" + std::string(name) + "' is not one of " + allowed);
-}
-
 std::string tone_map_define(ToneMap op) {
     std::string define = "TONEMAP_";
     for (char c : to_string(op)) define += char(std::toupper(static_cast<unsigned char>(c)));

@@ -9,6 +9,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "core/enum_names.h"
+
 namespace envshadow {
 
 enum class ToneMap {
@@ -17,13 +19,13 @@ enum class ToneMap {
     neutral,  // Khronos PBR Neutral (KhronosGroup/ToneMapping, PBR_Neutral)
     linear,   // a clamp to [0, 1]
 };
-inline constexpr std::size_t kToneMapCount = 4;  // ToneMap's values are 0 .. kToneMapCount - 1
-
-// "aces", "agx", "neutral", "linear", in the enum's order.
-std::span<const std::string_view> tone_map_names();
-std::string_view to_string(ToneMap op);
-// Throws UsageError naming the allowed values.
-ToneMap parse_tone_map(std::string_view name);
+// In the enum's order: ToneMap(i) is named kToneMapNames[i].name.
+inline constexpr EnumName<ToneMap> kToneMapNames[] = {
+    {ToneMap::aces, "aces"}, {ToneMap::agx, "agx"}, {ToneMap::neutral, "neutral"}, {ToneMap::linear, "linear"}};
+constexpr std::span<const EnumName<ToneMap>> enum_names(ToneMap) {
+    return kToneMapNames;
+}
+inline constexpr std::size_t kToneMapCount = std::size(kToneMapNames);  // ToneMap's values are 0 .. count - 1
 // The define that selects `op` in glsl/tonemap.glsl: "TONEMAP_AGX".
 std::string tone_map_define(ToneMap op);
 

@@ -24,13 +24,14 @@ struct Cell {
 };
 
 enum class Method { lloyd, ccvt, mediancut, random, fs };
-inline constexpr std::array<Method, 5> kMethods = {Method::lloyd, Method::ccvt, Method::mediancut, Method::random,
-                                                   Method::fs};
-std::string_view to_string(Method method);
-Method parse_method(std::string_view name);  // throws UsageError
-
-std::string_view to_string(Hemisphere hemisphere);   // "full", "upper"
-Hemisphere parse_hemisphere(std::string_view name);  // throws UsageError
+inline constexpr EnumName<Method> kMethodNames[] = {{Method::lloyd, "lloyd"},
+                                                    {Method::ccvt, "ccvt"},
+                                                    {Method::mediancut, "mediancut"},
+                                                    {Method::random, "random"},
+                                                    {Method::fs, "fs"}};
+constexpr std::span<const EnumName<Method>> enum_names(Method) {
+    return kMethodNames;
+}
 
 inline constexpr int kMaxLights = 256;
 

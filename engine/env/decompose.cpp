@@ -14,41 +14,6 @@
 
 namespace envshadow {
 
-std::string_view to_string(Method method) {
-    switch (method) {
-        case Method::lloyd:
-            return "lloyd";
-        case Method::ccvt:
-            return "ccvt";
-        case Method::mediancut:
-            return "mediancut";
-        case Method::random:
-            return "random";
-        case Method::fs:
-            return "fs";
-    }
-    return "?";
-}
-
-Method parse_method(std::string_view name) {
-    std::string names;
-    for (Method m : kMethods) {
-        if (to_string(m) == name) return m;
-        names += (names.empty() ? "" : ", ") + std::string(to_string(m));
-    }
-    throw UsageError("unknown decomposition method '" + std::string(name) + "' (" + names + ")");
-}
-
-std::string_view to_string(Hemisphere hemisphere) {
-    return hemisphere == Hemisphere::upper ? "upper" : "full";
-}
-
-Hemisphere parse_hemisphere(std::string_view name) {
-    for (Hemisphere h : {Hemisphere::full, Hemisphere::upper})
-        if (to_string(h) == name) return h;
-    throw UsageError("unknown hemisphere '" + std::string(name) + "' (full or upper)");
-}
-
 std::vector<Cell> integrate_cells(const EnvironmentMap& map, const ImportanceMap& importance,
                                   std::span<const std::uint16_t> texel_cell, std::span<const glm::dvec3> sites) {
     const int count = int(sites.size());

@@ -5,6 +5,7 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "env/environment.h"
 
 namespace envshadow {
@@ -12,6 +13,10 @@ namespace envshadow {
 // Which directions a decomposition covers (docs/DESIGN.md §3.1): the whole sphere, or the hemisphere above
 // the horizon (y >= 0), all that reaches an object standing on a ground plane.
 enum class Hemisphere { full, upper };
+inline constexpr EnumName<Hemisphere> kHemisphereNames[] = {{Hemisphere::full, "full"}, {Hemisphere::upper, "upper"}};
+constexpr std::span<const EnumName<Hemisphere>> enum_names(Hemisphere) {
+    return kHemisphereNames;
+}
 
 // The rows of a lat-long map of `height` rows (row 0 the zenith) that hold the hemisphere: all of them,
 // or those above the horizon, ceil(H / 2). For H even the horizon lies between rows H/2 - 1 and H/2;

@@ -8,23 +8,18 @@
 
 namespace envshadow::gl {
 
-std::string_view to_string(Backend backend) {
-    switch (backend) {
-        case Backend::window:
-            return "window";
-        case Backend::egl:
-            return "egl";
-        case Backend::osmesa:
-            return "osmesa";
-    }
-    return "?";
+std::vector<std::string> headless_backend_names() {
+    std::vector<std::string> names;
+    for (const auto& [backend, name] : kBackendNames)
+        if (backend != Backend::window) names.emplace_back(name);
+    return names;
 }
 
 Backend parse_backend(std::string_view name) {
-    if (name == "window" || name == "glfw") return Backend::window;
-    if (name == "egl") return Backend::egl;
-    if (name == "osmesa") return Backend::osmesa;
-    throw UsageError("unknown backend '" + std::string(name) + "' (expected window, egl or osmesa)");
+    if (name == "glfw") return Backend::window;
+    for (const auto& [backend, text] : kBackendNames)
+        if (text == name) return backend;
+    throw UsageError("unknown backend '" + std::string(name) + "' (expected " + enum_names_list<Backend>() + ")");
 }
 
 bool display_available() {

@@ -10,12 +10,22 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.h"
+
 namespace envshadow::gl {
 
-enum class Backend { window, egl, osmesa };
+using envshadow::to_string;  // of the enums below, through their enum_names()
 
-std::string_view to_string(Backend backend);
-// "window", "egl", "osmesa" (and "glfw" for window). Throws UsageError on anything else.
+enum class Backend { window, egl, osmesa };
+inline constexpr EnumName<Backend> kBackendNames[] = {
+    {Backend::window, "window"}, {Backend::egl, "egl"}, {Backend::osmesa, "osmesa"}};
+constexpr std::span<const EnumName<Backend>> enum_names(Backend) {
+    return kBackendNames;
+}
+// The backends that need no display (all but window): the choices of the headless commands.
+std::vector<std::string> headless_backend_names();
+
+// A name of kBackendNames (or "glfw" for window). Throws UsageError listing the names on anything else.
 Backend parse_backend(std::string_view name);
 // True when an X11 or Wayland display is available for the window backend.
 bool display_available();

@@ -23,6 +23,17 @@ bool parse_include(const std::string& line, std::string& target) {
     target = m[1];
     return true;
 }
+// The info log of a shader or program: `get_iv` and `get_log` are glGetShaderiv and glGetShaderInfoLog,
+// or the program's pair.
+template <typename GetIv, typename GetLog>
+std::string info_log(GLuint id, GetIv get_iv, GetLog get_log) {
+    GLint length = 0;
+    get_iv(id, GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(std::max(length, 1)), '\0');
+    get_log(id, length, nullptr, log.data());
+    log.resize(std::char_traits<char>::length(log.c_str()));
+    return log;
+}
 }  // namespace
 
 void ShaderLibrary::append(const std::string& name, AssembledSource& out, std::vector<std::string>& stack) const {
@@ -118,14 +129,10 @@ Program ShaderLibrary::build(const std::vector<ShaderStage>& stages, const std::
         glCompileShader(shader.id());
         GLint ok = GL_FALSE;
         glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
-        if (!ok) {
-            GLint length = 0;
-            glGetShaderiv(shader.id(), GL_INFO_LOG_LENGTH, &length);
-            std::string log(size_t(std::max(length, 1)), '\0');
-            glGetShaderInfoLog(shader.id(), length, nullptr, log.data());
-            log.resize(std::char_traits<char>::length(log.c_str()));
-            throw PlatformError("shader compile error\n" + rewrite_info_log(log, source.files));
-        }
+        if (!ok)
+            throw PlatformError(
+                "shader compile error\n" +
+                rewrite_info_log(info_log(shader.id(), glGetShaderiv, glGetShaderInfoLog), source.files));
         glAttachShader(program.id(), shader.id());
         shaders.push_back(std::move(shader));
     }
@@ -137,14 +144,8 @@ Program ShaderLibrary::build(const std::vector<ShaderStage>& stages, const std::
     glLinkProgram(program.id());
     GLint ok = GL_FALSE;
     glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
-    if (!ok) {
-        GLint length = 0;
-        glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
-        std::string log(size_t(std::max(length, 1)), '\0');
-        glGetProgramInfoLog(program.id(), length, nullptr, log.data());
-        log.resize(std::char_traits<char>::length(log.c_str()));
-        throw PlatformError(names + ": link error\n" + log);
-    }
+    if (!ok)
+        throw PlatformError(names + ": link error\n" + info_log(program.id(), glGetProgramiv, glGetProgramInfoLog));
     for (const Shader& s : shaders) glDetachShader(program.id(), s.id());
     ++programs_built_;
     return program;

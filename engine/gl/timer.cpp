@@ -6,11 +6,18 @@
 
 namespace envshadow::gl {
 
+std::vector<std::string> pass_timing_choices() {
+    std::vector<std::string> choices{std::string(kAutoPassTiming)};
+    for (std::string& name : enum_value_names<PassTiming>()) choices.push_back(std::move(name));
+    return choices;
+}
+
 PassTiming parse_pass_timing(std::string_view name, bool software_rasteriser) {
-    if (name == "queries") return PassTiming::queries;
-    if (name == "wait") return PassTiming::synchronous;
-    if (name == "auto") return software_rasteriser ? PassTiming::synchronous : PassTiming::queries;
-    throw UsageError("pass timing '" + std::string(name) + "' is not one of auto, queries, wait");
+    if (name == kAutoPassTiming) return software_rasteriser ? PassTiming::synchronous : PassTiming::queries;
+    for (const auto& [timing, text] : kPassTimingNames)
+        if (text == name) return timing;
+    throw UsageError("pass timing '" + std::string(name) + "' is not one of " + std::string(kAutoPassTiming) + ", " +
+                     enum_names_list<PassTiming>());
 }
 
 void GpuTimer::begin(std::string_view pass) {

@@ -11,9 +11,12 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "gl/objects.h"
 
 namespace envshadow::gl {
+
+using envshadow::to_string;  // of PassTiming, through its enum_names()
 
 struct PassTime {
     std::string pass;
@@ -21,9 +24,17 @@ struct PassTime {
 };
 
 enum class PassTiming { queries, synchronous };
+inline constexpr EnumName<PassTiming> kPassTimingNames[] = {{PassTiming::queries, "queries"},
+                                                            {PassTiming::synchronous, "wait"}};
+constexpr std::span<const EnumName<PassTiming>> enum_names(PassTiming) {
+    return kPassTimingNames;
+}
+// The choice that picks by the rasteriser: wait on a software one, queries on a GPU.
+inline constexpr std::string_view kAutoPassTiming = "auto";
 
-// "queries", "wait" (synchronous), or "auto": wait on a software rasteriser, queries on a GPU.
-// Throws UsageError listing the names for anything else.
+// kAutoPassTiming, then the names of kPassTimingNames: the command line's choices.
+std::vector<std::string> pass_timing_choices();
+// One of pass_timing_choices(). Throws UsageError listing them for anything else.
 PassTiming parse_pass_timing(std::string_view name, bool software_rasteriser);
 
 class GpuTimer {

@@ -37,7 +37,7 @@ struct LightMethod {
     std::string_view name() const;         // to_string(decomposition), or "fs-gpu"
 };
 
-// Every method: the decompositions in env/cells.h kMethods order, then the GPU sampler.
+// Every method: the decompositions in env/cells.h kMethodNames order, then the GPU sampler.
 std::span<const LightMethod> light_methods();
 // The method called `name`; UsageError listing the names for anything else.
 const LightMethod& light_method(std::string_view name);

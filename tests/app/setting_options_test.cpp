@@ -1,5 +1,7 @@
 // The render settings' options (app/setting_options.h): every command that renders takes every setting of
 // render::setting_table() by its name, with its default, and reads it as the table does.
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -7,6 +9,11 @@
 
 #include "commands.h"
 #include "core/error.h"
+#include "core/tonemap.h"
+#include "env/cells.h"
+#include "gl/context.h"
+#include "gl/timer.h"
+#include "options.h"
 #include "setting_options.h"
 
 namespace envshadow::app {
@@ -82,6 +89,41 @@ TEST(SettingOptions, ScreenshotJsonNamesEverySettingAsTheCommandLineDoes) {
     EXPECT_EQ(json["msaa"], 4);
     EXPECT_EQ(json["depth-bias"], 0.5);
     EXPECT_FALSE(json.contains("tile_sizes"));
+}
+
+std::string readme() {
+    std::ifstream file(ENVSHADOW_SOURCE_DIR "/README.md");
+    std::stringstream text;
+    text << file.rdbuf();
+    return text.str();
+}
+
+std::string joined(const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& name : names) text += (text.empty() ? "" : "|") + name;
+    return text;
+}
+
+// README's command-line reference names every setting with its values, as --help does, and the other
+// named choices as their tables spell them.
+TEST(SettingOptions, ReadmeListsEverySettingAndEveryNamedChoice) {
+    const std::string text = readme();
+    ASSERT_FALSE(text.empty());
+    for (const render::SettingInfo& setting : render::setting_table()) {
+        const std::string entry = "`--" + std::string(setting.name) + " " + setting.values() + "`";
+        EXPECT_NE(text.find(entry), std::string::npos) << "README lacks " << entry;
+    }
+    EXPECT_NE(text.find("[--baseline]"), std::string::npos);
+    std::vector<std::string> hemispheres = enum_value_names<Hemisphere>();
+    const std::vector<std::string> choices[] = {enum_value_names<ToneMap>(), gl::headless_backend_names(),
+                                                gl::pass_timing_choices(), enum_value_names<Method>(), hemispheres};
+    const char* flags[] = {"--tonemap ", "--backend ", "--pass-timing ", "--method ", "--hemisphere "};
+    for (std::size_t i = 0; i < std::size(flags); ++i) {
+        const std::string entry = flags[i] + joined(choices[i]);
+        EXPECT_NE(text.find(entry), std::string::npos) << "README lacks " << entry;
+    }
+    hemispheres.emplace_back(kAutoHemisphere);
+    EXPECT_NE(text.find("--hemisphere " + joined(hemispheres)), std::string::npos);
 }
 
 }  // namespace

@@ -115,7 +115,7 @@ void use_cli_malloc_settings() {
 int run_cold(const char* map_name, const char* hemisphere) {
     use_cli_malloc_settings();
     const EnvironmentMap map = load_environment(std::string(kWorld) + map_name + ".exr");
-    std::printf("%.9f\n", decompose(map, cli_options(parse_hemisphere(hemisphere))).seconds);
+    std::printf("%.9f\n", decompose(map, cli_options(parse_enum<Hemisphere>(hemisphere))).seconds);
     return 0;
 }
 
@@ -151,7 +151,7 @@ void BM_cli_cold(benchmark::State& state, const char* map_name, const char* hemi
 void BM_cli_warm(benchmark::State& state, const char* map_name, const char* hemisphere) {
     use_cli_malloc_settings();
     const EnvironmentMap map = load_environment(std::string(kWorld) + map_name + ".exr");
-    const DecomposeOptions options = cli_options(parse_hemisphere(hemisphere));
+    const DecomposeOptions options = cli_options(parse_enum<Hemisphere>(hemisphere));
     Decomposition d;
     for (auto _ : state) {
         d = decompose(map, options);

@@ -73,7 +73,7 @@ class Conservation : public ::testing::TestWithParam<std::string> {};
 TEST_P(Conservation, EveryMethodAndLightCount) {
     const EnvironmentMap& map = test::world(GetParam());
     const glm::dvec3 integral = test::direct_integral(map);
-    for (Method method : kMethods)
+    for (Method method : enum_values<Method>())
         for (int lights : {1, 16, 64, 128, 256})
             expect_valid(map, run(map, method, lights), integral, method, lights,
                          GetParam() + " " + std::string(to_string(method)) + " N=" + std::to_string(lights));
@@ -90,7 +90,7 @@ INSTANTIATE_TEST_SUITE_P(Maps, Conservation,
 
 TEST(Decompose, WhiteFurnaceGivesFourPiPerChannel) {
     const EnvironmentMap map = load_environment("builtin:constant");
-    for (Method method : kMethods) {
+    for (Method method : enum_values<Method>()) {
         glm::dvec3 sum(0.0);
         for (const Cell& c : run(map, method, 64).cells) sum += glm::dvec3(c.radiance);
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], kFourPi, 1e-4 * kFourPi) << to_string(method);
@@ -126,7 +126,7 @@ TEST(Decompose, CellsAreIntegratedFromTheirTexels) {
 TEST(Decompose, CellsAreTheNearestSiteAssignment) {
     const EnvironmentMap& map = test::world("sunset");
     const ImportanceMap importance = build_importance(map);
-    for (Method method : kMethods) {
+    for (Method method : enum_values<Method>()) {
         const Decomposition d = run(map, method, 48);
         std::vector<std::uint16_t> brute(importance.texel_count());
         assign_nearest_brute_force(importance, d.sites, d.site_bias, brute);
@@ -472,7 +472,7 @@ TEST(Decompose, TinyAndBlackMapsGiveWellDefinedCells) {
     tiny.height = 1;
     tiny.texels = {glm::vec3(1.0f, 2.0f, 3.0f), glm::vec3(0.5f)};
     tiny.source = "tiny";
-    for (Method method : kMethods)
+    for (Method method : enum_values<Method>())
         for (int lights : {1, 2}) {
             const Decomposition d = run(tiny, method, lights);
             expect_valid(tiny, d, test::direct_integral(tiny), method, lights,
@@ -481,7 +481,7 @@ TEST(Decompose, TinyAndBlackMapsGiveWellDefinedCells) {
     EXPECT_THROW(run(tiny, Method::lloyd, 3), InputError);
 
     const EnvironmentMap black = load_environment("builtin:constant:0");
-    for (Method method : kMethods) {
+    for (Method method : enum_values<Method>()) {
         const Decomposition d = run(black, method, 16);
         EXPECT_TRUE(d.uniform_importance);
         expect_valid(black, d, glm::dvec3(0.0), method, 16, "black " + std::string(to_string(method)));
@@ -493,8 +493,8 @@ TEST(Decompose, RejectsLightCountsOutsideTheRange) {
     const EnvironmentMap map = load_environment("builtin:constant");
     EXPECT_THROW(run(map, Method::lloyd, 0), UsageError);
     EXPECT_THROW(run(map, Method::lloyd, 257), UsageError);
-    EXPECT_THROW(parse_method("kmeans"), UsageError);
-    for (Method method : kMethods) EXPECT_EQ(parse_method(to_string(method)), method);
+    EXPECT_THROW(parse_enum<Method>("kmeans"), UsageError);
+    for (Method method : enum_values<Method>()) EXPECT_EQ(parse_enum<Method>(to_string(method)), method);
 }
 
 TEST(CellOverlay, DrawsBordersAndCentresOverTheMap) {

@@ -181,9 +181,9 @@ TEST(EnvContractUpperHemisphere, FullSphereIsTheDefault) {
     const Decomposition full = decompose(map, {.lights = 16});
     EXPECT_EQ(full.hemisphere, Hemisphere::full);
     for (std::uint16_t k : full.texel_cell) ASSERT_LT(k, full.cells.size());
-    EXPECT_EQ(parse_hemisphere("upper"), Hemisphere::upper);
-    EXPECT_EQ(parse_hemisphere("full"), Hemisphere::full);
-    EXPECT_THROW(parse_hemisphere("lower"), UsageError);
+    EXPECT_EQ(parse_enum<Hemisphere>("upper"), Hemisphere::upper);
+    EXPECT_EQ(parse_enum<Hemisphere>("full"), Hemisphere::full);
+    EXPECT_THROW(parse_enum<Hemisphere>("lower"), UsageError);
 }
 
 // A map with fewer texels above the horizon than lights is refused.
