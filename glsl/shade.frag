@@ -143,16 +143,19 @@ float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard) {
     vec2 lo = light.tile.xy + 0.5 * u_atlas_texel, hi = light.tile.xy + light.tile.zw - 0.5 * u_atlas_texel;
     vec2 slope = receiver_depth_slope(light, n, 0.2);
     mat2 rotation = disc_rotation(light);
-    float blocker_sum = 0.0, blockers = 0.0;
+    float blockers = 0.0, nearest_blocker = 0.0;  // the blocker nearest the receiver: the largest depth
     for (int k = 0; k < kBlockerTaps; ++k) {
         vec2 offset = rotation * kBlockerDisc[k] * search;  // texels
         float z = textureLod(u_atlas_depth, clamp(uv + offset * u_atlas_texel, lo, hi), 0.0).r;
-        if (z < depth + dot(slope, offset)) blocker_sum += z, blockers += 1.0;
+        if (z < depth + dot(slope, offset)) blockers += 1.0, nearest_blocker = max(nearest_blocker, z);
     }
     if (blockers == 0.0) return hard;
     // Every tap of the widest region a blocker, and the centre too: the (smaller) filter region is umbra.
     if (blockers == float(kBlockerTaps) && hard == 0.0) return 0.0;
-    vec2 radius = per_depth * max(depth - blocker_sum / blockers, 0.0);
+    // The penumbra of the blocker nearest the receiver (not PCSS's mean depth): where a wall meets a roof
+    // or stands on the receiver, the mean takes in the blocker's far parts and widens the filter across
+    // the junction, whose open side it then reads as lit.
+    vec2 radius = per_depth * max(depth - nearest_blocker, 0.0);
     if (max(radius.x, radius.y) < 1.0) return hard;  // the penumbra is under a texel
     float sum = 0.0;
     for (int k = 0; k < kFilterTaps; ++k) {
