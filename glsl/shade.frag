@@ -28,7 +28,7 @@ layout(location = 2) centroid in vec2 v_texcoord;
 layout(location = LOC_EYE) uniform vec3 u_eye;
 layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
 layout(location = LOC_ATLAS_TEXEL) uniform vec2 u_atlas_texel;  // size of one atlas texel in uv
-layout(location = LOC_SLOPE_BIAS) uniform float u_slope_bias;   // of the receiver-plane depth bias
+layout(location = LOC_SLOPE_BIAS) uniform float u_slope_bias;   // extra depth bias, texels of the plane's slope
 vec3 plane_normal;  // the triangle's normal (either side) at this pixel: main() sets it first
 layout(location = LOC_K_D) uniform vec3 u_k_d;                  // rho_d / pi
 // The base-colour texture (linear: an sRGB texture), white without one; it scales k_d at each pixel.
@@ -40,7 +40,7 @@ layout(location = LOC_SHININESS) uniform float u_shininess;
 layout(location = LOC_TILES_X) uniform uint u_tiles_x;  // screen tiles per row (SHADOW_TILE_LISTS)
 layout(location = LOC_UNSHADOWED) uniform vec3 u_unshadowed;  // FLAT_RECEIVER: sum of L~_i a_i, the same for every pixel
 
-layout(binding = UNIT_ATLAS) uniform sampler2DShadow u_atlas;
+layout(binding = UNIT_ATLAS_DEPTH) uniform sampler2D u_atlas_depth;  // the atlas's depths (NEAREST)
 
 #if defined(SHADING_RATIO)
 // env/prefilter.h's levels: the normalised lobe S_n (n + 1) / (2 pi) on lat-long grids in map space.
@@ -109,12 +109,25 @@ vec2 receiver_depth_slope(Light light, vec3 n, float min_nz) {
     return -n_clip.xy / nz / tile_texels;  // d(0.5 z + 0.5) per texel: clip x spans 2 over tile_texels
 }
 
+// The hardware's 2x2 PCF (bilinear weights of the four texels around uv), but each texel compared with the
+// receiver's plane carried to that texel's centre, depth + slope . (centre - uv), rather than with one
+// depth for all four: no texel of the receiver's own plane shadows it, with no bias growing with the
+// slope, so a blocker a few texels away across a concave corner (a wall meeting a roof) still shadows.
+float plane_pcf(vec2 uv, float depth, vec2 slope) {
+    vec2 texel = uv / u_atlas_texel - 0.5;  // texel centres at integers
+    vec2 corner = floor(texel);
+    vec2 f = texel - corner;
+    // textureGather at the shared corner of the four: (0, 1), (1, 1), (1, 0), (0, 0).
+    vec4 stored = textureGather(u_atlas_depth, (corner + 1.0) * u_atlas_texel);
+    vec4 dx = vec4(-f.x, 1.0 - f.x, 1.0 - f.x, -f.x), dy = vec4(1.0 - f.y, 1.0 - f.y, -f.y, -f.y);
+    vec4 lit = vec4(lessThanEqual(min(depth + slope.x * dx + slope.y * dy, 1.0), stored));
+    return mix(mix(lit.w, lit.z, f.x), mix(lit.x, lit.y, f.x), f.y);
+}
+
 #if defined(SOFT_SHADOWS)
 // Percentage-closer soft shadows per cell (docs/DESIGN.md §5.9): a cap of radius r_i shadows a receiver
 // at depth d behind a blocker at depth d_b over a penumbra of (d - d_b) tan r_i; light.bias.zw turns a
 // depth difference into tile texels. Taps on Vogel discs (radius sqrt((k + 0.5) / K), golden angle).
-layout(binding = UNIT_ATLAS_DEPTH) uniform sampler2D u_atlas_depth;  // the atlas's depths (NEAREST)
-
 const int kBlockerTaps = 8;
 const vec2 kBlockerDisc[kBlockerTaps] = vec2[](vec2(0.2500, 0.0000), vec2(-0.3193, 0.2925), vec2(0.0489, -0.5569),
                                                vec2(0.4024, 0.5249), vec2(-0.7385, -0.1306), vec2(0.6996, -0.4450),
@@ -136,7 +149,8 @@ mat2 disc_rotation(Light light) {
 }
 
 // uv: the receiver's (unclamped) position in the atlas, depth: its biased depth, hard: the 2x2 lookup there.
-float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard) {
+// plane_slope: the triangle's, for plane_pcf.
+float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard, vec2 plane_slope) {
     vec2 per_depth = light.bias.zw;
     vec2 search = per_depth * depth;  // the widest penumbra: a blocker at depth 0
     if (max(search.x, search.y) < 1.0) return hard;
@@ -152,29 +166,25 @@ float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard) {
     if (blockers == 0.0) return hard;
     // Every tap of the widest region a blocker, and the centre too: the (smaller) filter region is umbra.
     if (blockers == float(kBlockerTaps) && hard == 0.0) return 0.0;
-    // The penumbra of the blocker nearest the receiver (not PCSS's mean depth): where a wall meets a roof
-    // or stands on the receiver, the mean takes in the blocker's far parts and widens the filter across
-    // the junction, whose open side it then reads as lit.
     vec2 radius = per_depth * max(depth - nearest_blocker, 0.0);
     if (max(radius.x, radius.y) < 1.0) return hard;  // the penumbra is under a texel
     float sum = 0.0;
     for (int k = 0; k < kFilterTaps; ++k) {
         vec2 offset = rotation * kFilterDisc[k] * radius;
-        sum += texture(u_atlas, vec3(clamp(uv + offset * u_atlas_texel, lo, hi), min(depth + dot(slope, offset), 1.0)));
+        sum += plane_pcf(clamp(uv + offset * u_atlas_texel, lo, hi), depth + dot(slope, offset), plane_slope);
     }
     return sum / float(kFilterTaps);
 }
 #endif
 
-// Fraction of the cell's shadow map that sees `p`. The receiver's depth is lowered by the receiver-plane
-// depth bias (docs/DESIGN.md §5.3): u_slope_bias times the depth its triangle's plane changes by out to
-// the farthest texel centre the filter reads, kKernelTexels + 0.5 texels away along each axis, so that
-// no texel of its own plane shadows it; and by the depth bias, which covers the casters' level of
-// detail (at most 0.3 texel off). It may also be moved along its normal by the light's normal offset
-// (more at grazing angles; 0 by default). Lookups are clamped to the tile's
-// interior so no tap reads a neighbouring tile; casters keep a margin from the tile's border, so a
-// receiver outside the tile reads cleared depth and is lit. Receivers beyond the far plane compare
-// at the far plane: shadowed where any caster is above them.
+// Fraction of the cell's shadow map that sees `p`. Each texel the filter reads is compared with the
+// receiver's triangle's plane carried to that texel (plane_pcf, docs/DESIGN.md §5.3), so no texel of its
+// own plane shadows it; the receiver's depth is lowered by the depth bias, which covers the casters' level
+// of detail (at most 0.3 texel off), and by u_slope_bias texels of its plane's slope (0 by default). It may
+// also be moved along its normal by the light's normal offset (more at grazing angles; 0 by default).
+// Lookups are clamped to the tile's interior so no tap reads a neighbouring tile; casters keep a margin
+// from the tile's border, so a receiver outside the tile reads cleared depth and is lit. Receivers beyond
+// the far plane compare at the far plane: shadowed where any caster is above them.
 float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
     float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     vec3 q = p + n * (light.bias.y * max(sin_theta, 0.2));
@@ -183,17 +193,26 @@ float visibility(Light light, vec3 p, vec3 n, float cos_theta) {
     vec2 unclamped = light.tile.xy + (0.5 * clip.xy + 0.5) * light.tile.zw;
     vec2 uv = clamp(unclamped, light.tile.xy + margin, light.tile.xy + light.tile.zw - margin);
     vec2 slope = receiver_depth_slope(light, plane_normal, kPlaneBiasMinNormalZ);
-    float plane_bias = u_slope_bias * (kKernelTexels + 0.5) * (abs(slope.x) + abs(slope.y));
+    float plane_bias = u_slope_bias * (abs(slope.x) + abs(slope.y));
+    // A triangle turned away from the light while its shading normal is not (a coarse sphere's
+    // terminator) is not itself in the atlas, and one within the slope clamp of grazing has a plane steeper
+    // than the carried one: there the four texels are compared with one depth lowered by the plane's bound
+    // over the footprint, as a convex neighbour nearer the light would otherwise shadow it.
+    if (dot(plane_normal, n) * dot(plane_normal, light.direction.xyz) <= kPlaneBiasMinNormalZ) {
+        plane_bias += (kKernelTexels + 0.5) * (abs(slope.x) + abs(slope.y));
+        slope = vec2(0.0);
+    }
     float depth = min(0.5 * clip.z + 0.5 - light.bias.x - plane_bias, 1.0);
 #if defined(SOFT_SHADOWS)
-    return soft_visibility(light, n, unclamped, depth, texture(u_atlas, vec3(uv, depth)));
+    return soft_visibility(light, n, unclamped, depth, plane_pcf(uv, depth, slope), slope);
 #elif defined(PCF_WIDE)
     float sum = 0.0;
     for (int y = -1; y <= 1; ++y)
-        for (int x = -1; x <= 1; ++x) sum += texture(u_atlas, vec3(uv + vec2(x, y) * u_atlas_texel, depth));
+        for (int x = -1; x <= 1; ++x)
+            sum += plane_pcf(uv + vec2(x, y) * u_atlas_texel, depth + dot(slope, vec2(x, y)), slope);
     return sum / 9.0;
 #else
-    return texture(u_atlas, vec3(uv, depth));  // 2x2 PCF by the hardware's filtered comparison
+    return plane_pcf(uv, depth, slope);
 #endif
 }
 

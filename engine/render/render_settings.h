@@ -49,15 +49,16 @@ struct RenderSettings {
     TileSizing tile_sizing = TileSizing::share;
     int depth_bits = 16;  // 16 or 32
     PcfKernel pcf = PcfKernel::hardware_2x2;
-    // Bias against shadow acne (docs/DESIGN.md §5.3), all at the receiver: its depth is lowered by
-    // `slope_bias` times the depth its triangle's plane changes by out to the farthest texel centre the
-    // filter reads (a receiver-plane depth bias: 1 is that bound exactly) and by `depth_bias` texels;
+    // Bias against shadow acne (docs/DESIGN.md §5.3), all at the receiver: each texel the filter reads
+    // is compared with the receiver's plane carried to that texel, so its own plane needs no bias; its
+    // depth is lowered by `depth_bias` texels and by `slope_bias` texels of its plane's depth slope
+    // (0: more lets light through a concave corner, a wall under a roof, docs/accuracy/interiors_by_hand.md);
     // it may be moved along its normal by `normal_offset` texels too (scaled by sin theta, at least a
     // fifth). The casters are drawn with glPolygonOffset(0, 1): one step of the map's depth precision.
     // Before issue 14's engine study the casters took glPolygonOffset(2, 1) and the receivers 1 texel
     // of each of the other two: light leaked into slots a few texels wide (engine/courtyard 5.1% against
     // 2.1%; docs/accuracy/engine_by_hand.md).
-    float slope_bias = 1.0f;
+    float slope_bias = 0.0f;
     float normal_offset = 0.0f;
     float depth_bias = 0.5f;
     SpecularMode specular = SpecularMode::blended;

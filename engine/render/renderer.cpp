@@ -509,10 +509,8 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     }
     atlas_depth_.bind(unit::atlas);
     shadow_sampler_.bind(unit::atlas);
-    if (settings_.shadows == ShadowMode::soft) {
-        atlas_depth_.bind(unit::atlas_depth);
-        atlas_depth_sampler_.bind(unit::atlas_depth);
-    }
+    atlas_depth_.bind(unit::atlas_depth);
+    atlas_depth_sampler_.bind(unit::atlas_depth);
     const bool ratio = settings_.shading == ShadingMode::ratio;
     if (ratio) {
         const glm::mat3 env_from_world = map_from_world(rotation_degrees_);
