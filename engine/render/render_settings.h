@@ -77,9 +77,10 @@ struct RenderSettings {
     // Optimisations of issue 10 (docs/PERFORMANCE.md); baseline() turns them all off.
     // Shadow casters drawn at the coarsest level of detail whose measured error is at most this many
     // of the frame's smallest atlas texels (render/caster_lod.h); 0: the full meshes. A surface moved
-    // by d texels along its normal moves d / cos theta <= d (1 + tan theta) along the light, within the
-    // receiver's bias of depth_bias + slope_bias tan theta (0.5 + tan theta texels, docs/DESIGN.md
-    // §5.3) for d <= 0.5, so it cannot shadow itself; but thin parts a few texels across (the viruses'
+    // by d texels along its normal moves d / cos theta <= d (1 + tan theta) along the light: depth_bias
+    // covers the d (0.5 texel), slope_bias (default 0) the d tan theta, which at grazing light may shadow
+    // a receiver by its own simplified surface (not seen on engine or viruses at 0.3, docs/DESIGN.md
+    // §5.3); thin parts a few texels across (the viruses'
     // spikes at 128^2 tiles) change their shadows' speckle visibly already at 0.4 texel (golden fails:
     // 0.22% of pixels differ, 0.2% allowed), so 0.3; flyover's figures take 1 texel invisibly
     // (docs/PERFORMANCE.md).
