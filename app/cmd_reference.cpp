@@ -18,7 +18,7 @@ namespace {
 
 struct ReferenceCommandOptions {
     CommonOptions common;  // --scene, --env, --seed, --width, --height
-    std::string exr, png, error_exr, tonemap = "aces";
+    std::string exr, png, error_exr, tonemap = "aces", pixel_filter = "box";
     reference::ReferenceOptions render;
 };
 
@@ -48,7 +48,13 @@ Command add_reference_command(CLI::App& parent) {
     set.backend = false;
     add_common_options(app, &o->common, set);
     add_time_option(app, &o->render.time);
-    app->add_option("--exr", o->exr, "Linear EXR to write (alpha 1 on objects, 0 on the background)")->required();
+    app->add_option("--exr", o->exr,
+                    "Linear EXR to write (alpha: the share of each pixel that objects cover; the rest shows the map)")
+        ->required();
+    app->add_option("--pixel-filter", o->pixel_filter,
+                    "box (default): each pixel's mean over its square, as render's --msaa resolve; point: the "
+                    "value at each pixel's centre, as render --msaa 1")
+        ->check(CLI::IsMember({"box", "point"}));
     app->add_option("--png", o->png, "Tone-mapped PNG to write (the scene's exposure, --tonemap)");
     add_tonemap_option(app, &o->tonemap);
     app->add_option("--samples", o->render.max_samples, "Most samples per pixel (a pixel stops earlier at --error)")
@@ -62,6 +68,8 @@ Command add_reference_command(CLI::App& parent) {
                 o->render.width = o->common.width;
                 o->render.height = o->common.height;
                 o->render.seed = o->common.seed;
+                o->render.pixel_filter =
+                    o->pixel_filter == "point" ? reference::PixelFilter::point : reference::PixelFilter::box;
                 // The map at --time, as `render` lights it: builtin:sky's sun moves with the animation.
                 const Inputs inputs = load_inputs(o->common.scene, o->common.env, o->render.time);
                 const Scene& scene = inputs.scene;

@@ -2,8 +2,8 @@
 // the light record's clip_from_world maps the world into.
 #include "cells.glsl"
 
-layout(binding = UNIT_ATLAS) uniform sampler2DShadow u_atlas;   // hardware depth comparison, linear
-layout(location = LOC_ATLAS_TEXEL) uniform vec2 u_atlas_texel;  // size of one atlas texel in uv
+layout(binding = UNIT_ATLAS_DEPTH) uniform sampler2D u_atlas_depth;  // the atlas's depths (NEAREST)
+layout(location = LOC_ATLAS_TEXEL) uniform vec2 u_atlas_texel;       // size of one atlas texel in uv
 
 // Depth change per tile texel (x, y) along the receiver's tangent plane with normal n: what a lookup
 // that far from the receiver's own point must allow for (docs/DESIGN.md §5.3), and what the soft
@@ -19,4 +19,20 @@ vec2 receiver_depth_slope(Light light, vec3 n, float min_nz) {
     float nz = n_clip.z < 0.0 ? min(n_clip.z, -min_nz) : max(n_clip.z, min_nz);
     float tile_texels = light.tile.z / u_atlas_texel.x;
     return -n_clip.xy / nz / tile_texels;  // d(0.5 z + 0.5) per texel: clip x spans 2 over tile_texels
+}
+
+// The hardware's 2x2 percentage-closer filter (bilinear weights of the four texels around uv), but each
+// texel compared with the receiver's plane carried to that texel's centre, depth + slope . (centre - uv),
+// rather than with one depth for all four: no texel of the receiver's own plane shadows it, with no bias
+// growing with the slope, so a blocker a few texels away across a concave corner (a wall meeting a roof)
+// still shadows (docs/DESIGN.md §5.3).
+float plane_pcf(vec2 uv, float depth, vec2 slope) {
+    vec2 texel = uv / u_atlas_texel - 0.5;  // texel centres at integers
+    vec2 corner = floor(texel);
+    vec2 f = texel - corner;
+    // textureGather at the shared corner of the four: (0, 1), (1, 1), (1, 0), (0, 0).
+    vec4 stored = textureGather(u_atlas_depth, (corner + 1.0) * u_atlas_texel);
+    vec4 dx = vec4(-f.x, 1.0 - f.x, 1.0 - f.x, -f.x), dy = vec4(1.0 - f.y, 1.0 - f.y, -f.y, -f.y);
+    vec4 lit = vec4(lessThanEqual(min(depth + slope.x * dx + slope.y * dy, 1.0), stored));
+    return mix(mix(lit.w, lit.z, f.x), mix(lit.x, lit.y, f.x), f.y);
 }

@@ -4,8 +4,6 @@
 // sqrt((k + 0.5) / K), golden angle).
 #include "shade_atlas.glsl"
 
-layout(binding = UNIT_ATLAS_DEPTH) uniform sampler2D u_atlas_depth;  // the atlas's depths (NEAREST)
-
 const int kBlockerTaps = 8;
 const vec2 kBlockerDisc[kBlockerTaps] = vec2[](vec2(0.2500, 0.0000), vec2(-0.3193, 0.2925), vec2(0.0489, -0.5569),
                                                vec2(0.4024, 0.5249), vec2(-0.7385, -0.1306), vec2(0.6996, -0.4450),
@@ -25,29 +23,33 @@ mat2 disc_rotation(Light light) {
     return mat2(c, s, -s, c);
 }
 
-// uv: the receiver's (unclamped) position in the atlas, depth: its biased depth, hard: the 2x2 lookup there.
-float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard) {
+// uv: the receiver's (unclamped) position in the atlas, depth: its biased depth, hard: the 2x2 lookup
+// there, plane_slope: its triangle's depth slope per texel, for plane_pcf. The penumbra is sized by the
+// blocker nearest the receiver (the largest depth among the taps that block), not their mean: a roof
+// far above and a wall foot beside the receiver would otherwise average to a penumbra wider than the
+// wall's, which lets light through a concave corner.
+float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard, vec2 plane_slope) {
     vec2 per_depth = light.bias.zw;
     vec2 search = per_depth * depth;  // the widest penumbra: a blocker at depth 0
     if (max(search.x, search.y) < 1.0) return hard;
     vec2 lo = light.tile.xy + 0.5 * u_atlas_texel, hi = light.tile.xy + light.tile.zw - 0.5 * u_atlas_texel;
     vec2 slope = receiver_depth_slope(light, n, 0.2);
     mat2 rotation = disc_rotation(light);
-    float blocker_sum = 0.0, blockers = 0.0;
+    float blockers = 0.0, nearest_blocker = 0.0;
     for (int k = 0; k < kBlockerTaps; ++k) {
         vec2 offset = rotation * kBlockerDisc[k] * search;  // texels
         float z = textureLod(u_atlas_depth, clamp(uv + offset * u_atlas_texel, lo, hi), 0.0).r;
-        if (z < depth + dot(slope, offset)) blocker_sum += z, blockers += 1.0;
+        if (z < depth + dot(slope, offset)) blockers += 1.0, nearest_blocker = max(nearest_blocker, z);
     }
     if (blockers == 0.0) return hard;
     // Every tap of the widest region a blocker, and the centre too: the (smaller) filter region is umbra.
     if (blockers == float(kBlockerTaps) && hard == 0.0) return 0.0;
-    vec2 radius = per_depth * max(depth - blocker_sum / blockers, 0.0);
+    vec2 radius = per_depth * max(depth - nearest_blocker, 0.0);
     if (max(radius.x, radius.y) < 1.0) return hard;  // the penumbra is under a texel
     float sum = 0.0;
     for (int k = 0; k < kFilterTaps; ++k) {
         vec2 offset = rotation * kFilterDisc[k] * radius;
-        sum += texture(u_atlas, vec3(clamp(uv + offset * u_atlas_texel, lo, hi), min(depth + dot(slope, offset), 1.0)));
+        sum += plane_pcf(clamp(uv + offset * u_atlas_texel, lo, hi), depth + dot(slope, offset), plane_slope);
     }
     return sum / float(kFilterTaps);
 }

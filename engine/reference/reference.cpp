@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -141,8 +142,25 @@ public:
         return weighted;
     }
 
-    // One round: an unbiased estimate of the pixel's radiance, independent of the other rounds. Each
-    // strategy draws from a jittered a.grid x a.grid grid on the unit square.
+    // The direction a strategy draws from (xi1, xi2) in the unit square.
+    glm::dvec3 direction(const SurfacePoint& s, Strategy strategy, double xi1, double xi2) const {
+        if (strategy == Strategy::light) return environment_.sample(xi1, xi2).direction;
+        if (strategy == Strategy::cosine) {  // cosine-weighted about the normal (Malley)
+            const double r = std::sqrt(xi1), phi = 2.0 * kPi * xi2;
+            const glm::dvec3 w = r * std::cos(phi) * s.normal_b1 + r * std::sin(phi) * s.normal_b2 +
+                                 std::sqrt(std::max(0.0, 1.0 - xi1)) * s.normal;
+            return glm::normalize(w);
+        }
+        // density (n + 1)/(2 pi) cos^n psi about the mirror direction
+        const double cos_psi = std::pow(1.0 - xi1, 1.0 / (s.shininess + 1.0));
+        const double sin_psi = std::sqrt(std::max(0.0, 1.0 - cos_psi * cos_psi)), phi = 2.0 * kPi * xi2;
+        const glm::dvec3 w =
+            sin_psi * std::cos(phi) * s.mirror_b1 + sin_psi * std::sin(phi) * s.mirror_b2 + cos_psi * s.mirror;
+        return glm::normalize(w);
+    }
+
+    // One round at one surface point: an unbiased estimate of its radiance, independent of the other
+    // rounds. Each strategy draws from a jittered a.grid x a.grid grid on the unit square.
     glm::dvec3 round(const SurfacePoint& s, const Allocation& a, Random& random, long long& rays) const {
         glm::dvec3 sum(0.0);
         const auto jittered = [&](int k, double& xi1, double& xi2) {
@@ -150,24 +168,12 @@ public:
             xi2 = (k / a.grid + random.uniform()) / a.grid;
         };
         double xi1, xi2;
-        for (int k = 0; k < a.light; ++k) {
-            jittered(k, xi1, xi2);
-            sum += contribution(s, a, Strategy::light, environment_.sample(xi1, xi2).direction, rays);
-        }
-        for (int k = 0; k < a.cosine; ++k) {  // cosine-weighted about the normal (Malley)
-            jittered(k, xi1, xi2);
-            const double r = std::sqrt(xi1), phi = 2.0 * kPi * xi2;
-            const glm::dvec3 w = r * std::cos(phi) * s.normal_b1 + r * std::sin(phi) * s.normal_b2 +
-                                 std::sqrt(std::max(0.0, 1.0 - xi1)) * s.normal;
-            sum += contribution(s, a, Strategy::cosine, glm::normalize(w), rays);
-        }
-        for (int k = 0; k < a.phong; ++k) {  // density (n + 1)/(2 pi) cos^n psi about the mirror direction
-            jittered(k, xi1, xi2);
-            const double cos_psi = std::pow(1.0 - xi1, 1.0 / (s.shininess + 1.0));
-            const double sin_psi = std::sqrt(std::max(0.0, 1.0 - cos_psi * cos_psi)), phi = 2.0 * kPi * xi2;
-            const glm::dvec3 w =
-                sin_psi * std::cos(phi) * s.mirror_b1 + sin_psi * std::sin(phi) * s.mirror_b2 + cos_psi * s.mirror;
-            sum += contribution(s, a, Strategy::phong, glm::normalize(w), rays);
+        for (const auto& [strategy, count] :
+             {std::pair{Strategy::light, a.light}, {Strategy::cosine, a.cosine}, {Strategy::phong, a.phong}}) {
+            for (int k = 0; k < count; ++k) {
+                jittered(k, xi1, xi2);
+                sum += contribution(s, a, strategy, direction(s, strategy, xi1, xi2), rays);
+            }
         }
         return sum;
     }
@@ -257,8 +263,16 @@ struct PixelResult {
     glm::dvec3 value{0.0}, standard_error{0.0};
     long long samples = 0;
     double relative_error = 0.0;
+    double coverage = 0.0;  // the share of the pixel that objects cover (0 or 1 at a point)
     bool object = false, dark = false;
 };
+
+// Camera rays at the centres of a kProbeGrid x kProbeGrid grid over a pixel decide, under the box filter,
+// whether any object covers it; a pixel they all miss shows the map, averaged over them.
+constexpr int kProbeGrid = 4;
+
+// Each position of a round over a pixel's area takes about one sample of each strategy.
+constexpr int kStrategies = 3;
 
 }  // namespace
 
@@ -268,8 +282,10 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
     const RayTracer tracer(scene, options.time);
     const PixelIntegrator integrator(scene, environment, tracer);
     const int width = options.width, height = options.height;
+    const bool box = options.pixel_filter == PixelFilter::box;
 
-    // Camera rays through pixel centres, row 0 at the top, as OpenGL rasterises with Camera's matrices.
+    // Camera rays through points of the image plane, row 0 at the top, as OpenGL rasterises with Camera's
+    // matrices.
     const glm::dmat4 world_from_view = glm::inverse(glm::dmat4(scene.camera.view_from_world()));
     const glm::dmat3 world_from_view_rotation(world_from_view);
     const glm::dvec3 eye(world_from_view[3]);
@@ -285,57 +301,156 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
         return glm::normalize(world_from_view_rotation * v);
     };
 
+    // The surface point that the camera ray through (px, py) in `direction` meets at `hit`.
+    // `footprint`: the width, in pixels, of the part of the image this ray stands for (a pixel; at a
+    // point of a round over the pixel's area, its stratum), over which the base-colour texture is averaged.
+    const auto surface_at = [&](const Hit& hit, const glm::dvec3& direction, double px, double py, double footprint) {
+        const Material& material = scene.objects[hit.object].material;
+        SurfacePoint s;
+        s.position = hit.position;
+        s.geometric_normal = hit.geometric_normal;
+        const glm::dvec3 view = -direction;
+        s.normal = shading_normal(hit, view);
+        s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
+        basis(s.normal, s.normal_b1, s.normal_b2);
+        basis(s.mirror, s.mirror_b1, s.mirror_b2);
+        // The base-colour texture scales rho_d at the hit, as shade.frag's k_d, averaged over the ray's
+        // footprint (as the GPU's mip level does over a pixel; docs/DESIGN.md §5.12).
+        glm::vec3 rho_d = material.rho_d;
+        if (material.base_color_texture && !scene.objects[hit.object].mesh->texcoords.empty()) {
+            rho_d *= footprint_mean(*material.base_color_texture, hit,
+                                    tracer.texcoord_on_plane(hit, eye, ray(px + footprint, py)),
+                                    tracer.texcoord_on_plane(hit, eye, ray(px, py + footprint)));
+        }
+        s.k_d = glm::dvec3(brdf::diffuse_coefficient(rho_d.r), brdf::diffuse_coefficient(rho_d.g),
+                           brdf::diffuse_coefficient(rho_d.b));
+        s.shininess = std::max(0.0, double(material.shininess));
+        s.k_s = material.rho_s > 0.0f ? brdf::specular_coefficient(material.rho_s, material.shininess) : 0.0;
+        s.offset = 1e-5 * (tracer.extent() + glm::length(s.position));
+        return s;
+    };
+    // The strategies in use at a surface point, grid x grid samples each.
+    const auto allocation_at = [&](const SurfacePoint& s, int grid) {
+        Allocation a;
+        a.grid = grid;
+        a.light = environment.can_sample() ? grid * grid : 0;
+        a.cosine = (s.k_d.r > 0.0 || s.k_d.g > 0.0 || s.k_d.b > 0.0) ? grid * grid : 0;
+        a.phong = s.k_s > 0.0 ? grid * grid : 0;
+        return a;
+    };
+
     std::vector<PixelResult> pixels(std::size_t(width) * std::size_t(height));
     std::vector<long long> rays_per_row(std::size_t(height), 0);
     std::atomic<int> rows_done{0};
     const auto stopping = [&] { return options.stop && options.stop->load(std::memory_order_relaxed); };
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<int> strata[kStrategies];  // a round's pairing of direction strata with positions
         for (int y = rows.begin(); y < rows.end(); ++y) {
             if (stopping()) return;  // the rows left stay black; the result is thrown away below
             long long rays = 0;
             for (int x = 0; x < width; ++x) {
                 PixelResult& out = pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)];
-                const glm::dvec3 direction = ray(x + 0.5, y + 0.5);
-                const std::optional<Hit> hit = camera_hit(tracer, eye, ray, x + 0.5, y + 0.5);
-                if (!hit) {
-                    out.value = environment.radiance_filtered(direction);
-                    continue;
-                }
-                out.object = true;
-                const Material& material = scene.objects[hit->object].material;
-                SurfacePoint s;
-                s.position = hit->position;
-                s.geometric_normal = hit->geometric_normal;
-                const glm::dvec3 view = -direction;
-                s.normal = shading_normal(*hit, view);
-                s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
-                basis(s.normal, s.normal_b1, s.normal_b2);
-                basis(s.mirror, s.mirror_b1, s.mirror_b2);
-                // The base-colour texture scales rho_d at the hit, as shade.frag's k_d, averaged over the
-                // pixel's footprint (as the GPU's mip level does; docs/DESIGN.md §5.12).
-                glm::vec3 rho_d = material.rho_d;
-                if (material.base_color_texture && !scene.objects[hit->object].mesh->texcoords.empty()) {
-                    rho_d *= footprint_mean(*material.base_color_texture, *hit,
-                                            tracer.texcoord_on_plane(*hit, eye, ray(x + 1.5, y + 0.5)),
-                                            tracer.texcoord_on_plane(*hit, eye, ray(x + 0.5, y + 1.5)));
-                }
-                s.k_d = glm::dvec3(brdf::diffuse_coefficient(rho_d.r), brdf::diffuse_coefficient(rho_d.g),
-                                   brdf::diffuse_coefficient(rho_d.b));
-                s.shininess = std::max(0.0, double(material.shininess));
-                s.k_s = material.rho_s > 0.0f ? brdf::specular_coefficient(material.rho_s, material.shininess) : 0.0;
-                s.offset = 1e-5 * (tracer.extent() + glm::length(s.position));
-
-                Allocation allocation;
-                allocation.light = environment.can_sample() ? kGrid * kGrid : 0;
-                allocation.cosine = (s.k_d.r > 0.0 || s.k_d.g > 0.0 || s.k_d.b > 0.0) ? kGrid * kGrid : 0;
-                allocation.phong = s.k_s > 0.0 ? kGrid * kGrid : 0;
-                if (environment.luminance_integral() <= 0.0 || allocation.cosine + allocation.phong == 0) {
-                    out.dark = true;  // a black map or a black material: 0 exactly
-                    continue;
-                }
-
                 Random random(options.seed * 0x9e3779b97f4a7c15ull + std::uint64_t(y) * std::uint64_t(width) +
                               std::uint64_t(x));
+                // round(grid, samples): one independent, unbiased estimate of the pixel's value, adding the
+                // samples it took; per_round(grid): about how many samples a round takes.
+                std::function<glm::dvec3(int, long long&)> round;
+                std::function<long long(int)> per_round;
+                SurfacePoint s;                        // at the pixel's centre (point filter)
+                long long positions = 0, covered = 0;  // of the rounds over the pixel's area (box filter)
+
+                if (!box) {
+                    const glm::dvec3 direction = ray(x + 0.5, y + 0.5);
+                    const std::optional<Hit> hit = camera_hit(tracer, eye, ray, x + 0.5, y + 0.5);
+                    if (!hit) {
+                        out.value = environment.radiance_filtered(direction);
+                        continue;
+                    }
+                    out.object = true;
+                    out.coverage = 1.0;
+                    s = surface_at(*hit, direction, x + 0.5, y + 0.5, 1.0);
+                    const Allocation allocation = allocation_at(s, kGrid);
+                    if (environment.luminance_integral() <= 0.0 || allocation.cosine + allocation.phong == 0) {
+                        out.dark = true;  // a black map or a black material: 0 exactly
+                        continue;
+                    }
+                    round = [&, allocation](int grid, long long& samples) {
+                        const Allocation a = allocation.with_grid(grid);
+                        samples += a.total();
+                        return integrator.round(s, a, random, rays);
+                    };
+                    per_round = [allocation](int grid) { return (long long)allocation.with_grid(grid).total(); };
+                } else {
+                    // Under the box filter the value is the mean over the pixel's square, as the renderer's
+                    // multisample resolve averages its samples with equal weights.
+                    bool any = false;
+                    glm::dvec3 map_sum(0.0);
+                    for (int k = 0; k < kProbeGrid * kProbeGrid; ++k) {
+                        const glm::dvec3 direction =
+                            ray(x + (k % kProbeGrid + 0.5) / kProbeGrid, y + (k / kProbeGrid + 0.5) / kProbeGrid);
+                        if (tracer.intersect(eye, direction)) {
+                            any = true;
+                            break;
+                        }
+                        map_sum += environment.radiance_filtered(direction);
+                    }
+                    if (!any) {
+                        out.value = map_sum / double(kProbeGrid * kProbeGrid);
+                        continue;
+                    }
+                    out.object = true;
+                    // A round: grid x grid positions jittered in the pixel's strata; at each, the first hit
+                    // of the camera ray takes one sample of each of its strategies (the map shows where the
+                    // ray hits nothing). Each strategy's direction strata are shuffled against the positions
+                    // every round, so that any pairing is as likely (no bias) and both stay stratified.
+                    // Camera rays are not closed over cracks here (camera_hit): a crack narrower than the
+                    // rasteriser resolves covers that share of the pixel, and a share of samples as small.
+                    round = [&](int grid, long long& samples) {
+                        const int n = grid * grid;
+                        for (std::vector<int>& order : strata) {
+                            if (int(order.size()) != n) {
+                                order.resize(std::size_t(n));
+                                for (int k = 0; k < n; ++k) order[std::size_t(k)] = k;
+                            }
+                            for (int k = n - 1; k > 0; --k)
+                                std::swap(order[std::size_t(k)],
+                                          order[std::size_t(std::min(k, int(random.uniform() * (k + 1))))]);
+                        }
+                        glm::dvec3 sum(0.0);
+                        for (int k = 0; k < n; ++k) {
+                            const double px = x + (k % grid + random.uniform()) / grid;
+                            const double py = y + (k / grid + random.uniform()) / grid;
+                            const glm::dvec3 direction = ray(px, py);
+                            ++positions;
+                            const std::optional<Hit> hit = tracer.intersect(eye, direction);
+                            if (!hit) {
+                                sum += environment.radiance_filtered(direction) / double(n);
+                                ++samples;
+                                continue;
+                            }
+                            ++covered;
+                            const SurfacePoint p = surface_at(*hit, direction, px, py, 1.0 / grid);
+                            const Allocation a = allocation_at(p, grid);
+                            if (a.cosine + a.phong == 0) continue;  // a black material: 0 exactly
+                            const std::pair<PixelIntegrator::Strategy, int> in_use[] = {
+                                {PixelIntegrator::Strategy::light, a.light},
+                                {PixelIntegrator::Strategy::cosine, a.cosine},
+                                {PixelIntegrator::Strategy::phong, a.phong}};
+                            for (int i = 0; i < kStrategies; ++i) {
+                                if (in_use[i].second == 0) continue;
+                                const int stratum = strata[i][std::size_t(k)];
+                                const double xi1 = (stratum % grid + random.uniform()) / grid;
+                                const double xi2 = (stratum / grid + random.uniform()) / grid;
+                                sum += integrator.contribution(
+                                    p, a, in_use[i].first, integrator.direction(p, in_use[i].first, xi1, xi2), rays);
+                                ++samples;
+                            }
+                        }
+                        return sum;
+                    };
+                    per_round = [](int grid) { return (long long)kStrategies * grid * grid; };
+                }
+
                 // A pilot plans the rounds; fresh rounds, independent of that decision, give the value and
                 // its error (stopping on the rounds that are reported would favour runs whose spread happened
                 // to look small). A pixel that needs many rounds takes larger ones (grid 12 or 24): a finer
@@ -343,41 +458,43 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                 // pilot at that size plans them.
                 const double target = options.target_error;
                 long long samples = 0;
-                const auto run = [&](const Allocation& a, long long count, RoundStatistics& into) {
-                    for (long long k = 0; k < count; ++k) into.add(integrator.round(s, a, random, rays));
-                    samples += count * a.total();
+                const auto run = [&](int grid, long long count, RoundStatistics& into) {
+                    long long taken = 0;
+                    for (long long k = 0; k < count; ++k) into.add(round(grid, taken));
+                    samples += taken;
+                    return taken;
                 };
                 // Rounds for every channel's standard error to reach target * max(value, dark floor).
-                const auto rounds_for = [&](const RoundStatistics& r, const Allocation& a) {
-                    const long long cap = std::max<long long>(kMinRounds, options.max_samples / a.total());
+                const auto rounds_for = [&](const RoundStatistics& r, int grid) {
+                    const long long cap = std::max<long long>(kMinRounds, options.max_samples / per_round(grid));
                     const glm::dvec3 goal = target * glm::max(r.mean(), glm::dvec3(dark_floor));
                     const glm::dvec3 rounds = kPlanMargin * r.variance() / (goal * goal);
                     const double most = std::max({rounds.r, rounds.g, rounds.b});
                     return most < double(cap) ? std::max<long long>(kMinRounds, (long long)std::ceil(most)) : cap;
                 };
                 RoundStatistics pilot;
-                run(allocation, kPilotRounds, pilot);
-                long long planned = rounds_for(pilot, allocation);
+                run(kGrid, kPilotRounds, pilot);
+                long long planned = rounds_for(pilot, kGrid);
                 // At least as good as independent samples, a round g times finer needs at most 1/g^2 the rounds.
                 int grid = kGrid;
                 while (grid < kLargestGrid &&
                        double(planned) * double(kGrid * kGrid) / double(4 * grid * grid) >= kMinRounds)
                     grid *= 2;
                 if (grid != kGrid) {
-                    allocation = allocation.with_grid(grid);
                     RoundStatistics second_pilot;
-                    run(allocation, kPilotRounds, second_pilot);
-                    planned = rounds_for(second_pilot, allocation);
+                    run(grid, kPilotRounds, second_pilot);
+                    planned = rounds_for(second_pilot, grid);
                 }
                 RoundStatistics rounds;
-                run(allocation, planned, rounds);
+                long long fresh_samples = run(grid, planned, rounds);
                 // The pilot misjudged (its variance is a 7-degree-of-freedom estimate): one top-up.
-                run(allocation, std::max<long long>(0, rounds_for(rounds, allocation) - rounds.count()), rounds);
+                fresh_samples += run(grid, std::max<long long>(0, rounds_for(rounds, grid) - rounds.count()), rounds);
 
                 out.value = rounds.mean();
+                if (box) out.coverage = double(covered) / double(positions);
                 // The rounds' spread cannot show what no sample met (a small occluder all samples passed by):
                 // add value / N, about the weight of a feature N samples are likely to miss (rule of three).
-                const glm::dvec3 resolution = out.value / double(rounds.count() * allocation.total());
+                const glm::dvec3 resolution = out.value / double(std::max<long long>(1, fresh_samples));
                 out.standard_error =
                     glm::sqrt(rounds.standard_error() * rounds.standard_error() + resolution * resolution);
                 out.samples = samples;
@@ -404,7 +521,7 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             const PixelResult& p = pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)];
-            result.image.at(x, y) = glm::vec4(glm::vec3(p.value), p.object ? 1.0f : 0.0f);
+            result.image.at(x, y) = glm::vec4(glm::vec3(p.value), float(p.coverage));
             result.standard_error.at(x, y) = glm::vec4(glm::vec3(p.standard_error), float(p.samples));
             if (!p.object) continue;
             ++stats.object_pixels;

@@ -102,13 +102,14 @@ struct RenderSettings {
     TileSizing tile_sizing = TileSizing::share;
     int depth_bits = 16;  // 16 or 32
     PcfKernel pcf = PcfKernel::hardware_2x2;
-    // Bias against shadow acne (docs/DESIGN.md §5.3), all at the receiver: its depth is lowered by
-    // `slope_bias` times the depth its triangle's plane changes by out to the farthest texel centre the
-    // filter reads (a receiver-plane depth bias: 1 is that bound exactly) and by `depth_bias` texels;
+    // Bias against shadow acne (docs/DESIGN.md §5.3), all at the receiver: each texel the filter reads
+    // is compared with the receiver's plane carried to that texel, so its own plane needs no bias; its
+    // depth is lowered by `depth_bias` texels and by `slope_bias` texels of its plane's depth slope
+    // (0: more lets light through a concave corner, a wall under a roof, docs/accuracy/interiors_by_hand.md);
     // it may be moved along its normal by `normal_offset` texels too (scaled by sin theta, at least a
     // fifth). The casters are drawn with glPolygonOffset(0, 1): one step of the map's depth precision;
     // a larger caster offset leaks light into slots a few texels wide (docs/accuracy/engine_by_hand.md).
-    float slope_bias = 1.0f;
+    float slope_bias = 0.0f;
     float normal_offset = 0.0f;
     float depth_bias = 0.5f;
     SpecularMode specular = SpecularMode::blended;
@@ -130,11 +131,12 @@ struct RenderSettings {
     // The optimisations below are on by default; baseline() turns them off (docs/PERFORMANCE.md).
     // Shadow casters drawn at the coarsest level of detail whose measured error is at most this many
     // of the frame's smallest atlas texels (render/caster_lod.h); 0: the full meshes. A surface moved
-    // by d texels along its normal moves d / cos theta <= d (1 + tan theta) along the light, within the
-    // receiver's bias of depth_bias + slope_bias tan theta (0.5 + tan theta texels, docs/DESIGN.md
-    // §5.3) for d <= 0.5, so it cannot shadow itself; but thin parts a few texels across (the viruses'
-    // spikes at 128^2 tiles) change their shadows' speckle visibly from 0.4 texel on (the viruses'
-    // golden image), so 0.3; flyover's figures take 1 texel invisibly (docs/PERFORMANCE.md).
+    // by d texels along its normal moves d / cos theta <= d (1 + tan theta) along the light: depth_bias
+    // covers the d (0.5 texel), slope_bias (default 0) the d tan theta, which at grazing light may shadow
+    // a receiver by its own simplified surface (not seen on engine or viruses at 0.3, docs/DESIGN.md
+    // §5.3); thin parts a few texels across (the viruses' spikes at 128^2 tiles) change their shadows'
+    // speckle visibly from 0.4 texel on (the viruses' golden image), so 0.3; flyover's figures take 1
+    // texel invisibly (docs/PERFORMANCE.md).
     float caster_lod = 0.3f;  // 0..kMaxCasterLod
     // Depth-only pass of the objects first, then the N-light shading once per visible pixel
     // (depth test EQUAL) instead of once per rasterised fragment.

@@ -52,14 +52,8 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings), librar
     max_samples_ = std::max(1, std::min({color_samples, depth_samples, samples}));
     samples_ = drawn_samples();
     empty_vertex_array_ = gl::VertexArray::create();
-    // Hardware depth comparison with bilinear filtering of the results: 2x2 PCF per lookup.
-    shadow_sampler_ = gl::Sampler::create({.min_filter = GL_LINEAR,
-                                           .mag_filter = GL_LINEAR,
-                                           .wrap_s = GL_CLAMP_TO_EDGE,
-                                           .wrap_t = GL_CLAMP_TO_EDGE,
-                                           .compare_mode = GL_COMPARE_REF_TO_TEXTURE,
-                                           .compare_func = GL_LEQUAL});
-    // The same atlas read as depths, for the soft shadows' blocker search (docs/DESIGN.md §5.9).
+    // The atlas read as depths: the shading compares them with the receiver's plane itself (plane_pcf,
+    // docs/DESIGN.md §5.3) and the soft shadows search them for blockers (§5.9).
     atlas_depth_sampler_ = gl::Sampler::create(
         {.min_filter = GL_NEAREST, .mag_filter = GL_NEAREST, .wrap_s = GL_CLAMP_TO_EDGE, .wrap_t = GL_CLAMP_TO_EDGE});
     // Room for every record the shaders may index: a uniform block's bound range must cover its
@@ -498,12 +492,8 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         glProgramUniform1f(program, loc::slope_bias, settings_.slope_bias);
         glProgramUniform1ui(program, loc::tiles_x, GLuint(screen_tiles_.x));
     }
-    atlas_depth_.bind(unit::atlas);
-    shadow_sampler_.bind(unit::atlas);
-    if (settings_.shadows == ShadowMode::soft) {
-        atlas_depth_.bind(unit::atlas_depth);
-        atlas_depth_sampler_.bind(unit::atlas_depth);
-    }
+    atlas_depth_.bind(unit::atlas_depth);
+    atlas_depth_sampler_.bind(unit::atlas_depth);
     const bool ratio = settings_.shading == ShadingMode::ratio;
     if (ratio) {
         const glm::mat3 env_from_world = map_from_world(rotation_degrees_);
@@ -545,7 +535,6 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }
-    glBindSampler(unit::atlas, 0);
     glFrontFace(GL_CCW);
     glBindSampler(unit::atlas_depth, 0);
     glDepthMask(GL_TRUE);

@@ -165,11 +165,11 @@ def fig7_three_ways(args, study, outdir):
     """Issue 15's Fig. 7 three ways: the spheres of shininess 1 ... 1000 in cells and ratio shading at N = 32 and the
     reference, as PNGs, with each mode's relative RMSE over every object pixel. Returns {mode: rel_rmse}."""
     w, h = map(str, FIG7_SIZE)
-    ref = f"{study.cache}/ref/fig7_shininess__{w}x{h}__e{FIG7_ERROR}.exr"
+    ref = f"{study.cache}/ref/fig7_shininess__{w}x{h}__e{FIG7_ERROR}__point.exr"
     if not os.path.exists(ref) or not os.path.exists(f"{outdir}/fig7_reference.png"):
         log(f"reference fig7_shininess {w}x{h} error {FIG7_ERROR} ...")
         run([args.bin, "reference", "--scene", FIG7_SCENE, "--width", w, "--height", h, "--error", str(FIG7_ERROR),
-             "--exr", ref + ".tmp.exr", "--png", f"{outdir}/fig7_reference.png"])
+             "--pixel-filter", "point", "--exr", ref + ".tmp.exr", "--png", f"{outdir}/fig7_reference.png"])
         os.replace(ref + ".tmp.exr", ref)
     errors = {}
     for mode in ("cells", "ratio"):

@@ -75,7 +75,7 @@ class Study:
 
     def ref_path(self, scene, map_):
         _, w, h, _ = SCENES[scene]
-        return f"{self.cache}/ref/{scene}__{map_}__{w}x{h}__e{self.a.error}.exr"
+        return f"{self.cache}/ref/{scene}__{map_}__{w}x{h}__e{self.a.error}__point.exr"
 
     def make_references(self, pairs):
         """Runs in its own thread: one reference at a time, in the order given; renders wait per pair."""
@@ -90,7 +90,7 @@ class Study:
                 t = time.time()
                 try:
                     run([self.a.bin, "reference", "--scene", f, "--env", MAPS[map_], "--width", str(w), "--height",
-                         str(h), "--error", str(self.a.error), "--exr", out + ".tmp.exr"])
+                         str(h), "--error", str(self.a.error), "--pixel-filter", "point", "--exr", out + ".tmp.exr"])
                     os.replace(out + ".tmp.exr", out)
                     log(f"reference {scene} {map_} took {time.time() - t:.0f} s")
                     self.record_ref_seconds(os.path.basename(out), time.time() - t)

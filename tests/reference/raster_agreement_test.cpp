@@ -1,7 +1,8 @@
 // The rasteriser against the ground truth on 64 x 64 pictures, both through the `envshadow` executable
 // (the same scene file, loader, camera and conventions): the white furnace and a diffuse plane under
 // builtin:sky's sun must agree within 2% (relative RMSE over the pixels both call object pixels), and
-// so must the sky at a --time, and a glTF model of two materials must show both colours in both.
+// so must the sky at a --time, and a glTF model of two materials must show both colours in both. With
+// their default settings (multisampling, the box-filtered reference) alpha is the coverage in both.
 // The error here is computed from the two EXRs directly, not by `envshadow compare`.
 #include <cmath>
 #include <cstdlib>
@@ -42,7 +43,8 @@ fs::path write_scene(const std::string& name, const std::string& scene_json) {
     return scene;
 }
 
-// `envshadow render` (rasteriser) or `envshadow reference` of `scene` at 64 x 64 with `flags`, to OUTPUT.exr.
+// `envshadow render` (rasteriser) or `envshadow reference` of `scene` at 64 x 64 with `flags`, to OUTPUT.exr,
+// both sampling each pixel at its centre.
 fs::path render_with(const std::string& command, const fs::path& scene, const std::string& output,
                      const std::string& flags = "") {
     const fs::path exr = kOutput / (output + ".exr");
@@ -52,7 +54,8 @@ fs::path render_with(const std::string& command, const fs::path& scene, const st
         run("render " + common + " --lights 64 --tile 128 --msaa 1 --backend egl --exr '" + exr.string() + "'",
             kOutput / (output + ".log"));
     else
-        run("reference " + common + " --seed 7 --exr '" + exr.string() + "'", kOutput / (output + ".log"));
+        run("reference " + common + " --seed 7 --pixel-filter point --exr '" + exr.string() + "'",
+            kOutput / (output + ".log"));
     return exr;
 }
 
@@ -182,6 +185,39 @@ TEST(RasterAgreesWithReference, AModelOfTwoMaterialsShowsBothColours) {
     }
     const Agreement agreement = compare(raster, reference);
     EXPECT_LT(agreement.relative_rmse, 0.02);
+}
+
+// `render` at its default multisampling against `reference` at its default pixel filter (the mean over each
+// pixel's square), nothing else passed but the scene, the size, N and the reference's error target, on a
+// sphere against builtin:constant: alpha is the sphere's coverage of each pixel in both, the resolve's
+// mean of 4 samples (a quarter apart) and the reference's estimate, so they agree within that quantisation
+// everywhere, silhouette included; the point-sampled reference's alpha (0 or 1) does not.
+TEST(RasterAgreesWithReference, DefaultSettingsAgreeOnCoverage) {
+    const fs::path scene = write_scene("silhouette", R"({"environment": "builtin:constant",
+        "camera": {"position": [0, 0.5, 3], "target": [0, 0, 0], "fov": 45},
+        "objects": [{"name": "ball", "mesh": {"type": "sphere", "radius": 0.6, "segments": 64},
+                     "material": {"diffuse": 0.7}}]})");
+    const std::string size = " --width 64 --height 48";
+    const auto output = [&](const std::string& name) { return kOutput / (name + ".exr"); };
+    run("render --scene '" + scene.string() + "'" + size + " --lights 32 --backend egl --exr '" +
+            output("silhouette_raster").string() + "'",
+        kOutput / "silhouette_raster.log");
+    for (const std::string filter : {"box", "point"})
+        run("reference --scene '" + scene.string() + "'" + size + " --error 0.01 --pixel-filter " + filter +
+                " --exr '" + output("silhouette_" + filter).string() + "'",
+            kOutput / ("silhouette_" + filter + ".log"));
+    ASSERT_FALSE(HasFatalFailure());
+    const Image raster = read_exr(output("silhouette_raster")).image;
+    const Image box = read_exr(output("silhouette_box")).image, point = read_exr(output("silhouette_point")).image;
+    int partly_covered = 0, box_off = 0, point_off = 0;
+    for (std::size_t i = 0; i < raster.pixels.size(); ++i) {
+        partly_covered += raster.pixels[i].a > 0.0f && raster.pixels[i].a < 1.0f ? 1 : 0;
+        box_off += std::abs(box.pixels[i].a - raster.pixels[i].a) > 0.3f ? 1 : 0;
+        point_off += std::abs(point.pixels[i].a - raster.pixels[i].a) > 0.3f ? 1 : 0;
+    }
+    EXPECT_GT(partly_covered, 40);
+    EXPECT_EQ(box_off, 0);
+    EXPECT_GT(point_off, partly_covered / 4);
 }
 
 }  // namespace

@@ -22,9 +22,11 @@ constexpr double kPi = std::numbers::pi;
 using reference::ReferenceImage;
 using reference::ReferenceOptions;
 
+// Point-sampled pixels: the closed forms below are the radiance at each pixel's centre.
 ReferenceOptions small(int size = 64) {
     ReferenceOptions options;
     options.width = options.height = size;
+    options.pixel_filter = reference::PixelFilter::point;
     return options;
 }
 
@@ -311,6 +313,65 @@ TEST(Reference, CameraRaysDoNotSlipThroughCracksNarrowerThanTheRasterisersPrecis
         EXPECT_EQ(slot.image.at(16, y).a, 0.0f) << "row " << y;
         EXPECT_EQ(slot.image.at(15, y).a, 1.0f) << "row " << y;
     }
+    // Under the box filter the slot uncovers half of the middle column's pixels, the crack none of them.
+    options.pixel_filter = reference::PixelFilter::box;
+    options.target_error = 0.01;
+    const ReferenceImage crack_box =
+        reference::render_reference(plate_with_a_gap(float(1e-4 * pixel)), uniform_map(), options);
+    const ReferenceImage slot_box =
+        reference::render_reference(plate_with_a_gap(float(0.5 * pixel)), uniform_map(), options);
+    for (int y = 8; y <= 24; y += 4) {
+        EXPECT_GT(crack_box.image.at(16, y).a, 0.999f) << "row " << y;
+        EXPECT_NEAR(slot_box.image.at(16, y).a, 0.5f, 0.05f) << "row " << y;
+    }
+}
+
+// A plate in the plane z = 0 facing the camera on +Z, x from -1 to `right`, y from -1 to 1.
+Scene plate_to(float right, glm::vec3 rho_d) {
+    Scene scene = scene_looking_at({0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f});
+    auto mesh = std::make_shared<Mesh>();
+    mesh->positions = {{-1, -1, 0}, {right, -1, 0}, {right, 1, 0}, {-1, 1, 0}};
+    mesh->normals.assign(mesh->positions.size(), glm::vec3(0, 0, 1));
+    mesh->indices = {0, 1, 2, 0, 2, 3};
+    mesh->compute_bounds();
+    Material material;
+    material.rho_d = rho_d;
+    scene.objects.push_back(object(mesh, glm::mat4(1.0f), material));
+    return scene;
+}
+
+// The plate's right edge runs down column 20 of a 33 x 33 picture, 0.3 of the way across: under the box
+// filter that column's pixels are the coverage-weighted mix of the plate (rho_d = 0.5 under a uniform 2:
+// radiance 1) and the map (2), 0.3 x 1 + 0.7 x 2 = 1.7, with alpha 0.3; the columns either side are the
+// plate (alpha 1) and the map (alpha 0). The point filter sees the map at those pixels' centres.
+TEST(Reference, BoxFilterMixesAPixelAcrossAnEdgeByItsCoverage) {
+    constexpr int kSize = 33, kColumn = 20;
+    constexpr double kCovered = 0.3;
+    const double tan_half_fov = std::tan(0.5 * glm::radians(45.0));
+    const float edge = float((2.0 * (kColumn + kCovered) / kSize - 1.0) * 3.0 * tan_half_fov);
+    const Scene scene = plate_to(edge, glm::vec3(0.5f));
+    ReferenceOptions options = small(kSize);
+    options.pixel_filter = reference::PixelFilter::box;
+    const ReferenceImage box = reference::render_reference(scene, uniform_map(2.0f), options);
+    for (int y = 10; y <= 22; y += 3) {
+        const glm::vec4 mixed = box.image.at(kColumn, y);
+        const glm::vec4 error = box.standard_error.at(kColumn, y);
+        EXPECT_NEAR(mixed.a, kCovered, 0.01) << "row " << y;
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(mixed[c], kCovered * 1.0 + (1.0 - kCovered) * 2.0, 5.0 * error[c]) << "row " << y;
+            EXPECT_LT(error[c], 0.005 * mixed[c]) << "row " << y;
+        }
+        EXPECT_EQ(box.image.at(kColumn - 1, y).a, 1.0f) << "row " << y;
+        EXPECT_NEAR(box.image.at(kColumn - 1, y).r, 1.0f, 0.01f) << "row " << y;
+        EXPECT_EQ(box.image.at(kColumn + 1, y).a, 0.0f) << "row " << y;
+        EXPECT_FLOAT_EQ(box.image.at(kColumn + 1, y).r, 2.0f) << "row " << y;
+    }
+    const ReferenceImage point = reference::render_reference(scene, uniform_map(2.0f), small(kSize));
+    for (int y = 10; y <= 22; y += 3) {
+        EXPECT_EQ(point.image.at(kColumn, y).a, 0.0f) << "row " << y;
+        EXPECT_FLOAT_EQ(point.image.at(kColumn, y).r, 2.0f) << "row " << y;
+        EXPECT_EQ(point.image.at(kColumn - 1, y).a, 1.0f) << "row " << y;
+    }
 }
 
 TEST(Reference, SameSeedSameImage) {
@@ -320,9 +381,16 @@ TEST(Reference, SameSeedSameImage) {
         object(square(6.0f), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, -0.7f, 0.0f)), Material{}));
     ReferenceOptions options = small(24);
     options.max_samples = 4096;
-    const ReferenceImage a = reference::render_reference(scene, uniform_map(), options);
-    const ReferenceImage b = reference::render_reference(scene, uniform_map(), options);
-    EXPECT_EQ(a.image.pixels, b.image.pixels);  // deterministic whatever the thread schedule
+    for (const auto filter : {reference::PixelFilter::point, reference::PixelFilter::box}) {
+        options.pixel_filter = filter;
+        options.seed = 1;
+        const ReferenceImage a = reference::render_reference(scene, uniform_map(), options);
+        const ReferenceImage b = reference::render_reference(scene, uniform_map(), options);
+        EXPECT_EQ(a.image.pixels, b.image.pixels);  // deterministic whatever the thread schedule
+        options.seed = 2;
+        const ReferenceImage c = reference::render_reference(scene, uniform_map(), options);
+        EXPECT_NE(a.image.pixels, c.image.pixels);  // and the seed chooses the samples
+    }
 }
 
 // The progress callback sees every row once, ending at the row count; a stop request, whenever it

@@ -39,6 +39,7 @@ Image traced(const Scene& scene, const EnvironmentMap& map, double time) {
     options.height = kHeight;
     options.time = time;
     options.target_error = 0.03;
+    options.pixel_filter = reference::PixelFilter::point;
     return reference::render_reference(scene, map, options).image;
 }
 

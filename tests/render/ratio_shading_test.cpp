@@ -85,6 +85,7 @@ const Image& reference_of(const Scene& scene, const EnvironmentMap& map, float s
         reference::ReferenceOptions options;
         options.width = options.height = kSize;
         options.target_error = 0.002;
+        options.pixel_filter = reference::PixelFilter::point;  // as the render, one sample per pixel
         it = cache.emplace(key, reference::render_reference(scene, map, options).image).first;
     }
     return it->second;

@@ -89,6 +89,7 @@ TEST_P(TextureRenderTest, EachTexelLandsInItsQuadrantAsInTheReference) {
     reference::ReferenceOptions options;
     options.width = options.height = kSize;
     options.target_error = 0.02;
+    options.pixel_filter = reference::PixelFilter::point;  // as the render, one sample per pixel
     const Image truth = reference::render_reference(scene, load_environment(scene.environment.source), options).image;
     expect_four_colours(truth);
     // Quadrant centres (away from the texel edges, where the GPU's mip chain and MSAA blend): equal within
@@ -200,6 +201,7 @@ TEST(TextureReferenceTest, AMinifiedCheckerboardTracesToItsMean) {
     reference::ReferenceOptions options;
     options.width = options.height = kMinifiedSize;
     options.target_error = 0.01;
+    options.pixel_filter = reference::PixelFilter::point;  // as the render, one sample per pixel
     const auto [mean, spread] = centre_mean_and_spread(
         reference::render_reference(scene, load_environment(scene.environment.source), options).image);
     EXPECT_NEAR(mean, kBoardMean, 0.03 * kBoardMean);
