@@ -18,11 +18,13 @@
 layout(location = 0) centroid in vec3 v_world_position;
 layout(location = 1) centroid in vec3 v_world_normal;
 layout(location = 2) centroid in vec2 v_texcoord;
+// Not centroid: at the pixel centre, for the triangle's plane (shade_surface.glsl).
+layout(location = 3) in vec3 v_world_position_at_centre;
 
 layout(location = 0) out vec4 o_color;
 
 void main() {
-    Surface s = surface(v_world_position, v_world_normal, v_texcoord);
+    Surface s = surface(v_world_position, v_world_position_at_centre, v_world_normal, v_texcoord);
     CellSums sums = sums_before_lookups(s);
     LookedUpCells cells = looked_up_cells();
     for (uint k = 0u; k < cells.count; ++k) add_cell(sums, s, cell_index(cells, k));

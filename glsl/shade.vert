@@ -14,10 +14,12 @@ invariant gl_Position;  // the depth pre-pass and the shading pass must give equ
 layout(location = 0) out vec3 v_world_position;
 layout(location = 1) out vec3 v_world_normal;
 layout(location = 2) out vec2 v_texcoord;
+layout(location = 3) out vec3 v_world_position_at_centre;  // the same, read at the pixel centre
 
 void main() {
     vec4 world = u_world_from_object * vec4(a_position, 1.0);
     v_world_position = world.xyz;
+    v_world_position_at_centre = world.xyz;
     v_world_normal = u_world_normal_from_object * a_normal;
     v_texcoord = a_texcoord;
     gl_Position = u_clip_from_world * world;

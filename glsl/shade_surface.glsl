@@ -31,19 +31,28 @@ vec3 shading_normal(vec3 interpolated, vec3 view) {
     return n;
 }
 
-// The surface at the fragment's interpolated world position, normal and texture coordinates.
-Surface surface(vec3 position, vec3 interpolated_normal, vec2 texcoord) {
+// The surface at the fragment's interpolated world position, normal and texture coordinates;
+// position_at_centre is the position interpolated at the pixel centre (not centroid: it may lie beyond
+// the triangle's edge, on its plane).
+Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal, vec2 texcoord) {
     Surface s;
-    s.position = position;
     s.base_color = texture(u_base_color, texcoord).rgb;
     s.k_d = u_k_d * s.base_color;
     vec3 view = normalize(u_eye - position);
     s.normal = shading_normal(normalize(interpolated_normal), view);
-    // The plane of the triangle, from the position's screen derivatives (helper invocations interpolate
-    // the same triangle): the surface the atlas holds, which the interpolated normal only approximates.
+    // The plane of the triangle, from the pixel-centre position's screen derivatives (helper invocations
+    // interpolate the same triangle): the surface the atlas holds, which the interpolated normal only
+    // approximates. Centroid positions would not do: a 2x2 quad's lie at different sub-pixel offsets.
     // A triangle seen edge on has none: its shading normal stands in.
-    vec3 across = cross(dFdx(position), dFdy(position));
-    s.plane_normal = dot(across, across) > 0.0 ? normalize(across) : s.normal;
+    vec3 across = cross(dFdx(position_at_centre), dFdy(position_at_centre));
+    bool has_plane = dot(across, across) > 0.0;
+    s.plane_normal = has_plane ? normalize(across) : s.normal;
+    // The shaded point is the centroid position put onto that plane: with MSAA the centroid sample lies
+    // inside the triangle, but the position interpolated there need not lie on the triangle's plane
+    // (llvmpipe's does not), and a point below it is shadowed by its own triangle. At one sample per
+    // pixel both positions are the pixel centre's.
+    s.position = has_plane ? position - s.plane_normal * dot(position - position_at_centre, s.plane_normal)
+                           : position;
     s.mirror = reflect(-view, s.normal);
     return s;
 }

@@ -6,6 +6,9 @@
 // the normal turned into the surface they were near 0). The sphere mirrored (negative determinant) must
 // give the same picture (it is the same set of triangles in the world but for the quads' diagonals):
 // facing follows the object's winding through the mirror, not its screen winding.
+// With MSAA, a fine diffuse sphere under the same sky must be exactly rho_d everywhere it covers a pixel
+// wholly: nothing can shadow it but itself, and every triangle of it must see its own plane in the
+// shadow atlas, whichever of its pixel's samples it covers (its receiver-plane bias included).
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -15,6 +18,7 @@
 #include "env/cells.h"
 #include "env/environment.h"
 #include "env/latlong.h"
+#include "env/prefilter.h"
 #include "gl_fixture.h"
 #include "reference/reference.h"
 #include "render/frame_plan.h"
@@ -99,6 +103,50 @@ TEST_P(SilhouetteTest, RasteriserShowsNoDarkSilhouettePixels) {
                                  << " pixels, darkest " << found.darkest << ", median " << found.median;
     }
     EXPECT_LT(mean_difference(images[0], images[1], 1.0), kMirrorDifference);
+}
+
+TEST_P(SilhouetteTest, MultisampledConvexSphereShadowsNoPixelItCovers) {
+    constexpr float kRhoD = 0.7f, kTolerance = 0.01f;  // relative
+    Scene scene;
+    scene.environment.source = "builtin:constant";
+    scene.camera.position = {0.0f, 0.5f, 3.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.camera.fov_y_degrees = 45.0f;
+    Object object;
+    object.mesh = std::make_shared<Mesh>(make_mesh(SphereShape{0.6f, 64}));
+    object.material = Material{glm::vec3(kRhoD), 0.0f, 1.0f};
+    scene.objects.push_back(std::move(object));
+    const EnvironmentMap map = load_environment("builtin:constant");
+    for (int samples : {1, 4}) {
+        render::RenderSettings settings;
+        settings.msaa = samples;
+        settings.shading = render::ShadingMode::ratio;  // exact where nothing is shadowed; cells are a quadrature
+        render::Renderer renderer(settings);
+        ASSERT_EQ(renderer.samples(), samples);
+        renderer.set_scene(scene);
+        renderer.set_environment(map);
+        renderer.set_prefiltered(prefilter_environment(map, Hemisphere::full));
+        renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = 32}).cells);
+        renderer.render(0.0, render::camera_view(scene, 64, 48));
+        const Image image = renderer.read_back();
+        int covered = 0, off = 0;
+        float worst = kRhoD;
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                const glm::vec4 p = image.at(x, y);
+                if (p.a < 1.0f) continue;
+                ++covered;
+                for (int c = 0; c < 3; ++c) {
+                    if (std::abs(p[c] - kRhoD) <= kTolerance * kRhoD) continue;
+                    if (std::abs(p[c] - kRhoD) > std::abs(worst - kRhoD)) worst = p[c];
+                    ++off;
+                    break;
+                }
+            }
+        EXPECT_GT(covered, 64 * 48 / 8);
+        EXPECT_EQ(off, 0) << samples << " samples: " << off << " of " << covered
+                          << " covered pixels off rho_d, the worst " << worst;
+    }
 }
 
 // The reference needs no GL context.
