@@ -141,7 +141,10 @@ def write_accuracy(ctx, path):
     w("")
     w("- **Error**: `envshadow compare REF.exr TEST.exr` (relative RMSE over object pixels, docs/DESIGN.md §6) of the")
     w("  real-time image (`envshadow render`, OpenGL through llvmpipe) against `envshadow reference` (Embree,")
-    w(f"  importance sampling with MIS, every pixel stopped at a relative standard error of {a.error * 100:g}%).")
+    w(f"  importance sampling with MIS, every pixel stopped at a relative standard error of {a.error * 100:g}%). The reference's")
+    w("  pixel is the mean over its square by default (`--pixel-filter box`: each Monte Carlo round spreads its")
+    w("  camera rays over the pixel, the box filter of `render`'s MSAA resolve, docs/DESIGN.md §5.8), or the value")
+    w("  at its centre (`--pixel-filter point`, for renders at `--msaa 1`, one sample at each pixel's centre).")
     w("  The reference noise alone contributes roughly that much to every number (it is a floor, not an error of")
     w("  the method): differences below about 0.5% are not meaningful.")
     w("- **Scenes** (`docs/accuracy/scenes/`, kept out of `assets/scenes/` so the regression suite does not render them):")
@@ -331,6 +334,8 @@ def write_accuracy(ctx, path):
     w("")
     w(soft_shadows_section())
     w("")
+    w(pixel_filter_section())
+    w("")
     w(weaknesses(ctx))
     w("")
     w("All results, including render times, are in [`accuracy/results.csv`](accuracy/results.csv).")
@@ -464,6 +469,16 @@ reference: [accuracy/soft_shadows_by_hand.md](accuracy/soft_shadows_by_hand.md))
 
 No worse anywhere, better where a shadow falls on another surface; `hard` stays the default for its cost
 (2.3× the frame on flyover, [PERFORMANCE.md](PERFORMANCE.md)). Not yet part of this script's runs."""
+
+
+def pixel_filter_section():
+    """render and reference at their defaults, measured by hand (docs/accuracy/pixel_filter_by_hand.md)."""
+    return """## Pixel filter: `render` and `reference` at their defaults (measured by hand)
+
+`render` at its default `--msaa 4` against `reference` at its default `--pixel-filter box`, and `--msaa 1`
+against `--pixel-filter point`, nothing else passed but scene, map, size, N (references at `--error 0.005`);
+figures, commands and what is left: [accuracy/pixel_filter_by_hand.md](accuracy/pixel_filter_by_hand.md).
+Not yet part of this script's runs."""
 
 
 def weaknesses(ctx):
