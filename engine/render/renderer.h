@@ -153,7 +153,7 @@ private:
     // shadow_tiles.comp per (lights in a uniform block, sample count): tiles_program()
     std::map<std::pair<bool, int>, gl::Program> tiles_programs_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
-    gl::Sampler atlas_depth_sampler_;  // the atlas's depths, NEAREST, no comparison: the shading's lookups
+    gl::Sampler atlas_depth_sampler_;     // the atlas's depths, NEAREST, no comparison: the shading's lookups
     gl::GpuTimer timer_;
     bool timer_warmed_up_ = false;
 
