@@ -19,11 +19,7 @@
 namespace envshadow {
 namespace {
 
-using relaxation::angle_between;
-using relaxation::at_resolution;
-using relaxation::coarsens;
-using relaxation::reseed_empty_cells;
-using relaxation::Resolution;
+using namespace relaxation;  // what Lloyd and CCVT share (env/relaxation.h)
 
 // Cells' adjacency, weighted by how much importance crosses each border per unit of bias: the integral
 // of the importance density along the border over |s_a - s_b|, measured on the texel pairs (p, q) that

@@ -19,11 +19,7 @@
 namespace envshadow {
 namespace {
 
-using relaxation::angle_between;
-using relaxation::at_resolution;
-using relaxation::coarsens;
-using relaxation::reseed_empty_cells;
-using relaxation::Resolution;
+using namespace relaxation;  // what Lloyd and CCVT share (env/relaxation.h)
 
 // Moves every site along the great circle towards its cell's centroid, `reach` times the angle to it
 // (1: onto the centroid, Lloyd's step; above 1: over-relaxed, past it); returns the largest movement
