@@ -34,18 +34,26 @@ constexpr int kSize = 64;
 constexpr double kDarkFraction = 0.4;
 constexpr double kMirrorDifference = 0.02;  // mean luminance difference, mirrored or not (about rho_d = 0.7)
 
-Scene low_poly_sphere(bool mirrored) {
+// A sphere at the origin under builtin:constant, seen from (0, 0.5, 3).
+Scene sphere_under_constant_sky(SphereShape shape, Material material, float fov_y_degrees,
+                                glm::mat4 transform = glm::mat4(1.0f)) {
     Scene scene;
     scene.environment.source = "builtin:constant";
     scene.camera.position = {0.0f, 0.5f, 3.0f};
     scene.camera.target = {0.0f, 0.0f, 0.0f};
-    scene.camera.fov_y_degrees = 40.0f;
+    scene.camera.fov_y_degrees = fov_y_degrees;
     Object object;
-    object.mesh = std::make_shared<Mesh>(make_mesh(SphereShape{0.8f, 10}));  // 10 segments, 5 bands
-    object.transform = mirrored ? glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f)) : glm::mat4(1.0f);
-    object.material = Material{glm::vec3(0.7f), 0.2f, 10.0f};
+    object.mesh = std::make_shared<Mesh>(make_mesh(shape));
+    object.transform = transform;
+    object.material = material;
     scene.objects.push_back(std::move(object));
     return scene;
+}
+
+Scene low_poly_sphere(bool mirrored) {
+    const glm::mat4 transform = mirrored ? glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f)) : glm::mat4(1.0f);
+    return sphere_under_constant_sky(SphereShape{0.8f, 10}, Material{glm::vec3(0.7f), 0.2f, 10.0f}, 40.0f,
+                                     transform);  // 10 segments, 5 bands
 }
 
 // Fully covered object pixels (alpha 1) darker than kDarkFraction of their median luminance.
@@ -107,15 +115,7 @@ TEST_P(SilhouetteTest, RasteriserShowsNoDarkSilhouettePixels) {
 
 TEST_P(SilhouetteTest, MultisampledConvexSphereShadowsNoPixelItCovers) {
     constexpr float kRhoD = 0.7f, kTolerance = 0.01f;  // relative
-    Scene scene;
-    scene.environment.source = "builtin:constant";
-    scene.camera.position = {0.0f, 0.5f, 3.0f};
-    scene.camera.target = {0.0f, 0.0f, 0.0f};
-    scene.camera.fov_y_degrees = 45.0f;
-    Object object;
-    object.mesh = std::make_shared<Mesh>(make_mesh(SphereShape{0.6f, 64}));
-    object.material = Material{glm::vec3(kRhoD), 0.0f, 1.0f};
-    scene.objects.push_back(std::move(object));
+    const Scene scene = sphere_under_constant_sky(SphereShape{0.6f, 64}, Material{glm::vec3(kRhoD), 0.0f, 1.0f}, 45.0f);
     const EnvironmentMap map = load_environment("builtin:constant");
     for (int samples : {1, 4}) {
         render::RenderSettings settings;
