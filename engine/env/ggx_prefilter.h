@@ -40,6 +40,7 @@ struct GgxPrefilteredEnvironment {
     glm::vec3 radiance(const glm::dvec3& r, float roughness) const;
 };
 
+// Level k's roughness: kGgxPrefilterMinRoughness * 2^(k / 5).
 double ggx_prefilter_level_roughness(int k);
 
 // Parallel (TBB). `hemisphere` upper: the directions below the horizon contribute nothing.

@@ -16,7 +16,7 @@ inline constexpr double kDielectricF0 = 0.04;  // ior 1.5
 // GGX is a delta at alpha = 0; below this the distribution's peak overflows a float (the GLSL side).
 inline constexpr double kMinAlpha = 1e-3;
 
-struct MetallicRoughness {
+struct MetallicRoughness {  // the defaults are glTF's
     glm::dvec3 base_color{1.0};
     double metallic = 1.0;
     double roughness = 1.0;  // perceptual, as in the file
