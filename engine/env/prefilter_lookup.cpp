@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "env/latlong.h"
+#include "env/lobe_convolution.h"
 #include "env/prefilter.h"
 #include "env/prefilter_levels.h"
 
@@ -25,18 +25,7 @@ LevelPair PrefilteredEnvironment::level_pair(float shininess) const {
 
 glm::vec3 PrefilteredEnvironment::sample(int level, const glm::dvec3& direction) const {
     const PrefilteredLevel& g = levels[std::size_t(level)];
-    const glm::dvec2 uv = latlong::uv(direction);
-    const double x = uv.x * g.width - 0.5, y = uv.y * (g.height - 1);
-    const double fx = std::floor(x), fy = std::floor(y);
-    const double ax = x - fx, ay = y - fy;
-    const int i0 = (int(fx) % g.width + g.width) % g.width, i1 = (i0 + 1) % g.width;
-    const int j0 = int(fy), j1 = std::min(j0 + 1, g.height - 1);
-    auto at = [&](int i, int j) {
-        return glm::dvec3(g.texels[std::size_t(j) * std::size_t(g.width) + std::size_t(i)]);
-    };
-    const glm::dvec3 top = at(i0, j0) * (1.0 - ax) + at(i1, j0) * ax;
-    const glm::dvec3 bottom = at(i0, j1) * (1.0 - ax) + at(i1, j1) * ax;
-    return glm::vec3(top * (1.0 - ay) + bottom * ay);
+    return prefiltering::sample_grid(g.width, g.height, g.texels.data(), direction);
 }
 
 glm::vec3 PrefilteredEnvironment::irradiance(const glm::dvec3& n) const {
