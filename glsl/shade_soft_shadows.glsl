@@ -28,7 +28,8 @@ mat2 disc_rotation(Light light) {
 // plane) is reached by light around the blocker's outline, else 0: the outline is found by bisection
 // between the two, and the penumbra the outline casts, reach x its gap above the plane, must cover the
 // tap. At a blocker's foot on the receiver's plane (a wall on a floor) the gap is ~0: taps beyond the
-// foot read the lit ground outside but no light reaches them past the wall.
+// foot read the lit ground outside but no light reaches them past the wall. A tap whose own texel blocks
+// is lit through its 2x2 neighbours, within a texel past the outline.
 float edge_reaches(vec2 uv, float depth, vec2 slope, vec2 offset, float centre_gap, float reach, vec2 lo, vec2 hi) {
     float z = textureLod(u_atlas_depth, clamp(uv + offset * u_atlas_texel, lo, hi), 0.0).r;
     float gap = depth + dot(slope, offset) - z;
@@ -78,7 +79,8 @@ float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard, vec
     for (int k = 0; k < kFilterTaps; ++k) {
         vec2 offset = rotation * kFilterDisc[k] * radius;
         float lit = plane_pcf(clamp(uv + offset * u_atlas_texel, lo, hi), depth + dot(slope, offset), plane_slope);
-        if (lit > 0.0 && centre_blocker > 0.0) lit *= edge_reaches(uv, depth, slope, offset, depth - centre_blocker, reach, lo, hi);
+        if (lit > 0.0 && centre_blocker > 0.0)
+            lit *= edge_reaches(uv, depth, slope, offset, depth - centre_blocker, reach, lo, hi);
         sum += lit;
     }
     return sum / float(kFilterTaps);
