@@ -36,15 +36,3 @@ float plane_pcf(vec2 uv, float depth, vec2 slope) {
     vec4 lit = vec4(lessThanEqual(min(depth + slope.x * dx + slope.y * dy, 1.0), stored));
     return mix(mix(lit.w, lit.z, f.x), mix(lit.x, lit.y, f.x), f.y);
 }
-
-// The largest depth among the four texels of plane_pcf's footprint that block the receiver's plane there,
-// 0 where none does: the blocker nearest the receiver at its own point.
-float plane_pcf_nearest_blocker(vec2 uv, float depth, vec2 slope) {
-    vec2 texel = uv / u_atlas_texel - 0.5;
-    vec2 corner = floor(texel);
-    vec2 f = texel - corner;
-    vec4 stored = textureGather(u_atlas_depth, (corner + 1.0) * u_atlas_texel);
-    vec4 dx = vec4(-f.x, 1.0 - f.x, 1.0 - f.x, -f.x), dy = vec4(1.0 - f.y, 1.0 - f.y, -f.y, -f.y);
-    vec4 blocking = stored * vec4(greaterThan(min(depth + slope.x * dx + slope.y * dy, 1.0), stored));
-    return max(max(blocking.x, blocking.y), max(blocking.z, blocking.w));
-}

@@ -9,7 +9,6 @@ const vec2 kBlockerDisc[kBlockerTaps] = vec2[](vec2(0.2500, 0.0000), vec2(-0.319
                                                vec2(0.4024, 0.5249), vec2(-0.7385, -0.1306), vec2(0.6996, -0.4450),
                                                vec2(-0.2340, 0.8705), vec2(-0.4463, -0.8593));
 const int kFilterTaps = 12;
-const int kOutlineSteps = 3;
 const vec2 kFilterDisc[kFilterTaps] = vec2[](
     vec2(0.2041, 0.0000), vec2(-0.2607, 0.2388), vec2(0.0399, -0.4547), vec2(0.3286, 0.4286), vec2(-0.6030, -0.1067),
     vec2(0.5712, -0.3634), vec2(-0.1911, 0.7107), vec2(-0.3644, -0.7016), vec2(0.7906, 0.2887), vec2(-0.8224, 0.3395),
@@ -22,28 +21,6 @@ mat2 disc_rotation(Light light) {
     float angle = 6.2831853 * fract(noise + dot(light.tile.xy, vec2(7.1313, 3.7171)));
     float c = cos(angle), s = sin(angle);
     return mat2(c, s, -s, c);
-}
-
-// 1 where a tap `offset` texels from the blocked centre (a blocker `centre_gap` above the receiver's
-// plane) is reached by light around the blocker's outline, else 0: the outline is found by bisection
-// between the two, and the penumbra the outline casts, reach x its gap above the plane, must cover the
-// tap. At a blocker's foot on the receiver's plane (a wall on a floor) the gap is ~0: taps beyond the
-// foot read the lit ground outside but no light reaches them past the wall. A tap whose own texel blocks
-// is lit through its 2x2 neighbours, within a texel past the outline.
-float edge_reaches(vec2 uv, float depth, vec2 slope, vec2 offset, float centre_gap, float reach, vec2 lo, vec2 hi) {
-    float z = textureLod(u_atlas_depth, clamp(uv + offset * u_atlas_texel, lo, hi), 0.0).r;
-    float gap = depth + dot(slope, offset) - z;
-    if (gap > 0.0) return reach * gap >= 1.0 ? 1.0 : 0.0;
-    float blocked = 0.0, open = 1.0, edge_gap = centre_gap;
-    for (int i = 0; i < kOutlineSteps; ++i) {
-        float t = 0.5 * (blocked + open);
-        z = textureLod(u_atlas_depth, clamp(uv + t * offset * u_atlas_texel, lo, hi), 0.0).r;
-        gap = depth + t * dot(slope, offset) - z;
-        if (gap > 0.0) blocked = t, edge_gap = gap;
-        else open = t;
-    }
-    float beyond = (1.0 - 0.5 * (blocked + open)) * length(offset);
-    return reach * edge_gap >= beyond ? 1.0 : 0.0;
 }
 
 // uv: the receiver's (unclamped) position in the atlas, depth: its biased depth, hard: the 2x2 lookup
@@ -64,24 +41,15 @@ float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard, vec
         float z = textureLod(u_atlas_depth, clamp(uv + offset * u_atlas_texel, lo, hi), 0.0).r;
         if (z < depth + dot(slope, offset)) blockers += 1.0, nearest_blocker = max(nearest_blocker, z);
     }
-    // The receiver's own footprint too: a wall standing on the receiver's plane (a floor's junction) is a
-    // blocker at nearly its depth, whose penumbra is as narrow; the taps' disc would otherwise reach along
-    // the plane under the wall's foot to the lit ground beyond it.
-    float centre_blocker = plane_pcf_nearest_blocker(clamp(uv, lo, hi), depth, plane_slope);
-    nearest_blocker = max(nearest_blocker, centre_blocker);
     if (blockers == 0.0) return hard;
     // Every tap of the widest region a blocker, and the centre too: the (smaller) filter region is umbra.
     if (blockers == float(kBlockerTaps) && hard == 0.0) return 0.0;
     vec2 radius = per_depth * max(depth - nearest_blocker, 0.0);
-    float reach = max(per_depth.x, per_depth.y);
     if (max(radius.x, radius.y) < 1.0) return hard;  // the penumbra is under a texel
     float sum = 0.0;
     for (int k = 0; k < kFilterTaps; ++k) {
         vec2 offset = rotation * kFilterDisc[k] * radius;
-        float lit = plane_pcf(clamp(uv + offset * u_atlas_texel, lo, hi), depth + dot(slope, offset), plane_slope);
-        if (lit > 0.0 && centre_blocker > 0.0)
-            lit *= edge_reaches(uv, depth, slope, offset, depth - centre_blocker, reach, lo, hi);
-        sum += lit;
+        sum += plane_pcf(clamp(uv + offset * u_atlas_texel, lo, hi), depth + dot(slope, offset), plane_slope);
     }
     return sum / float(kFilterTaps);
 }
