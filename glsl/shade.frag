@@ -9,8 +9,11 @@
 //   shade_cell_sums.glsl     the sums and the cells the loop visits (SHADOW_TILE_LISTS, FLAT_RECEIVER)
 //   shade_ratio.glsl         the radiance from the sums (SHADING_RATIO: the ratio estimator; its clipping
 //                            at the tangent plane is the reflectivity's and the visibility's)
+//   shade_shadowed_fraction.glsl  the ratio split in two passes (docs/DESIGN.md §5.14): SHADOWED_FRACTION_OUT
+//                            writes the fraction, SHADOWED_FRACTION_IN shades with it instead of the loop
 #include "shade_cell_sums.glsl"
 #include "shade_ratio.glsl"
+#include "shade_shadowed_fraction.glsl"
 #include "shade_surface.glsl"
 
 // centroid: with MSAA, interpolated inside the triangle (at a covered sample) rather than at the pixel
@@ -25,9 +28,17 @@ layout(location = 0) out vec4 o_color;
 
 void main() {
     Surface s = surface(v_world_position, v_world_position_at_centre, v_world_normal, v_texcoord);
+#if defined(SHADOWED_FRACTION_IN)
+    o_color = vec4(unshadowed_radiance(s) * fraction_at_fragment(s.normal), 1.0);
+#else
     CellSums sums = sums_before_lookups(s);
     LookedUpCells cells = looked_up_cells();
     for (uint k = 0u; k < cells.count; ++k) add_cell(sums, s, cell_index(cells, k));
+#if defined(SHADOWED_FRACTION_OUT)
+    o_color = fraction_texel(shadowed_fraction(shadowed_sum(sums), sums.whole_lobe), s.normal);
+#else
     vec3 radiance = reflected_radiance(s, shadowed_sum(sums), sums.whole_lobe);
     o_color = vec4(radiance, 1.0);  // alpha 1 marks object pixels (the accuracy comparison masks by it)
+#endif
+#endif
 }

@@ -71,6 +71,17 @@ constexpr std::span<const EnumName<ShadowMode>> enum_names(ShadowMode) {
     return kShadowModeNames;
 }
 
+// Where ratio shading evaluates the cells' shadowed fraction (docs/DESIGN.md §5.14): in every shaded
+// fragment with its unshadowed part (fragment), or in a pass of its own at one sample per pixel (pixel) or
+// per 2x2 pixels (half), which the shading then looks up beside its surface with depth-aware weights, so
+// that the N-cell loop no longer runs per MSAA sample. The paper's sum (ShadingMode::cells) does not split.
+enum class ShadowRate { fragment, pixel, half };
+inline constexpr EnumName<ShadowRate> kShadowRateNames[] = {
+    {ShadowRate::fragment, "fragment"}, {ShadowRate::pixel, "pixel"}, {ShadowRate::half, "half"}};
+constexpr std::span<const EnumName<ShadowRate>> enum_names(ShadowRate) {
+    return kShadowRateNames;
+}
+
 // How each light's orthographic projection is fitted to the shadow casters (docs/DESIGN.md §5.11): to
 // this frame's boxes (the sharpest fit, changed whenever anything moves), or to their boxes over the
 // whole animation (the same every frame, so the shadow cache keeps the casters that do not move while
@@ -117,6 +128,7 @@ struct RenderSettings {
     DiffuseMode diffuse = DiffuseMode::center;
     ShadingMode shading = ShadingMode::cells;
     ShadowMode shadows = ShadowMode::hard;
+    ShadowRate shadow_rate = ShadowRate::fragment;  // ShadingMode::ratio only
     bool background = true;
     // Objects' base-colour textures (glTF's baseColorTexture) multiply their base colour; off: the
     // material's factors alone, as glTF viewers' debug views switch textures off one at a time.

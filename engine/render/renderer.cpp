@@ -91,15 +91,23 @@ void Renderer::select_programs() {
 
 // shadow_tiles.comp for the samples drawn now, built once per sample count: the viewer drops to one
 // sample while the view moves (docs/DESIGN.md §5.10) and changes back without a compile.
-const gl::Program& Renderer::tiles_program() {
-    auto [it, added] = tiles_programs_.try_emplace(std::pair(variant_.lights_uniform_block, samples_));
+const gl::Program& Renderer::tiles_program(int samples) {
+    auto [it, added] = tiles_programs_.try_emplace(std::pair(variant_.lights_uniform_block, samples));
     if (added) {
         std::vector<std::string> defines;
         if (variant_.lights_uniform_block) defines.push_back("LIGHTS_UNIFORM_BLOCK");
-        if (samples_ > 1) defines.push_back("DEPTH_SAMPLES " + std::to_string(samples_));  // a sampler2DMS
+        if (samples > 1) defines.push_back("DEPTH_SAMPLES " + std::to_string(samples));  // a sampler2DMS
         it->second = library_.build({{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, defines);
     }
     return it->second;
+}
+
+// The shading with the fraction pass's output: no cells, so nothing of the variant's key matters to it.
+const gl::Program& Renderer::fraction_shading_program() {
+    if (!fraction_shading_program_)
+        fraction_shading_program_ = library_.build(
+            {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, {"SHADOWED_FRACTION_IN"});
+    return fraction_shading_program_;
 }
 
 void Renderer::set_settings(const RenderSettings& settings) {
@@ -304,6 +312,30 @@ void Renderer::ensure_target(int width, int height) {
     target_.check_complete("render target");
 }
 
+void Renderer::ensure_fraction_target(int width, int height) {
+    const int divisor = settings_.shadow_rate == ShadowRate::half ? 2 : 1;
+    width = (width + divisor - 1) / divisor;
+    height = (height + divisor - 1) / divisor;
+    if (fraction_ && fraction_.width() == width && fraction_.height() == height) return;
+    fraction_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
+    fraction_.set_filter(GL_NEAREST, GL_NEAREST);
+    fraction_normal_ = gl::Texture::create_2d(GL_RGBA16F, width, height);
+    fraction_normal_.set_filter(GL_NEAREST, GL_NEAREST);
+    fraction_depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
+    fraction_depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
+    fraction_target_ = gl::Framebuffer::create();
+    fraction_target_.attach(GL_COLOR_ATTACHMENT0, fraction_);
+    fraction_target_.attach(GL_COLOR_ATTACHMENT1, fraction_normal_);
+    const GLenum draw_buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(fraction_target_.id(), 2, draw_buffers);
+    fraction_target_.attach(GL_DEPTH_ATTACHMENT, fraction_depth_);
+    fraction_target_.check_complete("shadowed-fraction target");
+    fraction_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
+                                 (height + size::screen_tile - 1) / size::screen_tile);
+    fraction_tile_lists_ = gl::Buffer::create(std::size_t(fraction_tiles_.x) * std::size_t(fraction_tiles_.y) *
+                                              std::size_t(size::max_lights + 1) * sizeof(std::uint32_t));
+}
+
 void Renderer::upload(const FramePlan& plan) {
     caster_rect_buffer_.upload_resizing(plan.caster_rects.data(), plan.caster_rects.size() * sizeof(glm::vec4));
     light_buffer_.upload(plan.lights.data(), plan.lights.size() * sizeof(LightRecord));
@@ -439,8 +471,8 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
     glFrontFace(GL_CCW);
 }
 
-void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view) {
-    gl::ScopedPass pass(&timer_, "depth pre-pass");
+void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view, const char* pass_name) {
+    gl::ScopedPass pass(&timer_, pass_name);
     const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
     const GLuint program = prepass_program_.id();
     prepass_program_.use();
@@ -459,10 +491,11 @@ void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view)
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
-void Renderer::build_tile_lists(const FramePlan& plan, const CameraView& view) {
-    gl::ScopedPass pass(&timer_, "shadow tile lists");
+void Renderer::build_tile_lists(const FramePlan& plan, const CameraView& view, const gl::Texture& depth, int samples,
+                                const gl::Buffer& lists, glm::ivec2 tiles_xy, const char* pass_name) {
+    gl::ScopedPass pass(&timer_, pass_name);
     const glm::mat4 world_from_clip = glm::inverse(view.clip_from_view * view.view_from_world);
-    const gl::Program& tiles = tiles_program();
+    const gl::Program& tiles = tiles_program(samples);
     const GLuint program = tiles.id();
     tiles.use();
     glProgramUniformMatrix4fv(program, loc::world_from_clip, 1, GL_FALSE, &world_from_clip[0][0]);
@@ -470,34 +503,77 @@ void Renderer::build_tile_lists(const FramePlan& plan, const CameraView& view) {
     glProgramUniform1f(program, loc::pad, plan.receiver_pad);
     glProgramUniform1i(program, loc::caster_count, plan.caster_rects_per_light);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::caster_rects, caster_rect_buffer_.id());
-    depth_.bind(unit::depth);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::tile_lists, tile_lists_.id());
-    glDispatchCompute(GLuint(screen_tiles_.x), GLuint(screen_tiles_.y), 1);
+    depth.bind(unit::depth);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::tile_lists, lists.id());
+    glDispatchCompute(GLuint(tiles_xy.x), GLuint(tiles_xy.y), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glBindTextureUnit(unit::depth, 0);
 }
 
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
-    if (settings_.depth_prepass) draw_depth_prepass(plan, view);
-    if (uses_tile_lists(settings_)) build_tile_lists(plan, view);
+    if (variant_.fraction_pass) draw_shadowed_fraction(plan, view);
+    if (settings_.depth_prepass) draw_depth_prepass(plan, view, "depth pre-pass");
+    if (variant_.fraction_pass) {
+        gl::ScopedPass pass(&timer_, "shading");
+        const gl::Program& shade = fraction_shading_program();
+        glProgramUniform2f(shade.id(), loc::fraction_scale, float(fraction_.width()) / float(view.width),
+                           float(fraction_.height()) / float(view.height));
+        fraction_.bind(unit::fraction);
+        fraction_normal_.bind(unit::fraction_normal);
+        shade_objects(plan, view, {&shade, &shade, &shade}, screen_tiles_.x);
+        glBindTextureUnit(unit::fraction, 0);
+        glBindTextureUnit(unit::fraction_normal, 0);
+        return;
+    }
+    if (uses_tile_lists(settings_))
+        build_tile_lists(plan, view, depth_, samples_, tile_lists_, screen_tiles_, "shadow tile lists");
     gl::ScopedPass pass(&timer_, "shading");
-    const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
     const VariantPrograms& programs = *programs_now_;
-    for (const gl::Program* shade : {&programs.shade, &programs.shade_diffuse, &programs.shade_flat}) {
+    shade_objects(plan, view, {&programs.shade, &programs.shade_diffuse, &programs.shade_flat}, screen_tiles_.x);
+}
+
+// The fraction pass (docs/DESIGN.md §5.14): the variant's programs (SHADOWED_FRACTION_OUT) at one sample per
+// texel of fraction_, after a pre-pass and tile lists of its own.
+void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& view) {
+    glBindFramebuffer(GL_FRAMEBUFFER, fraction_target_.id());
+    glViewport(0, 0, fraction_.width(), fraction_.height());
+    const float lit_nothing[4] = {1.0f, 1.0f, 1.0f, 0.0f};  // alpha 0: no object
+    const float clear_depth = 1.0f;
+    glDepthMask(GL_TRUE);
+    const float no_normal[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    glClearNamedFramebufferfv(fraction_target_.id(), GL_COLOR, 0, lit_nothing);
+    glClearNamedFramebufferfv(fraction_target_.id(), GL_COLOR, 1, no_normal);
+    glClearNamedFramebufferfv(fraction_target_.id(), GL_DEPTH, 0, &clear_depth);
+    if (settings_.depth_prepass) draw_depth_prepass(plan, view, "fraction pre-pass");
+    if (uses_tile_lists(settings_))
+        build_tile_lists(plan, view, fraction_depth_, 1, fraction_tile_lists_, fraction_tiles_, "fraction tile lists");
+    {
+        gl::ScopedPass pass(&timer_, "shadowed fraction");
+        const VariantPrograms& programs = *programs_now_;
+        shade_objects(plan, view, {&programs.shade, &programs.shade_diffuse, &programs.shade_flat}, fraction_tiles_.x);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
+    glViewport(0, 0, view.width, view.height);
+}
+
+void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs,
+                             int tiles_x) {
+    const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
+    for (const gl::Program* shade : {programs.full, programs.diffuse_only, programs.flat_receiver}) {
         const GLuint program = shade->id();
         glProgramUniformMatrix4fv(program, loc::clip_from_world, 1, GL_FALSE, &clip_from_world[0][0]);
         glProgramUniform3f(program, loc::eye, view.eye.x, view.eye.y, view.eye.z);
         glProgramUniform1i(program, loc::light_count, int(plan.lights.size()));
         glProgramUniform2f(program, loc::atlas_texel, 1.0f / float(layout_.width()), 1.0f / float(layout_.height()));
         glProgramUniform1f(program, loc::slope_bias, settings_.slope_bias);
-        glProgramUniform1ui(program, loc::tiles_x, GLuint(screen_tiles_.x));
+        glProgramUniform1ui(program, loc::tiles_x, GLuint(tiles_x));
     }
     atlas_depth_.bind(unit::atlas_depth);
     atlas_depth_sampler_.bind(unit::atlas_depth);
     const bool ratio = settings_.shading == ShadingMode::ratio;
     if (ratio) {
         const glm::mat3 env_from_world = map_from_world(rotation_degrees_);
-        for (const gl::Program* shade : {&programs.shade, &programs.shade_diffuse, &programs.shade_flat})
+        for (const gl::Program* shade : {programs.full, programs.diffuse_only, programs.flat_receiver})
             glProgramUniformMatrix3fv(shade->id(), loc::env_from_world, 1, GL_FALSE, &env_from_world[0][0]);
         if (!prefiltered_.empty()) prefiltered_[0].bind(unit::irradiance);
     }
@@ -509,9 +585,9 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     glDisable(GL_CULL_FACE);  // two-sided: shade.frag turns the normal by gl_FrontFacing (docs/DESIGN.md §5.4)
     for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
         const ObjectFrame& object = plan.objects[i];
-        const gl::Program& shade = object.program == ShadeProgram::flat_receiver  ? programs.shade_flat
-                                   : object.program == ShadeProgram::diffuse_only ? programs.shade_diffuse
-                                                                                  : programs.shade;
+        const gl::Program& shade = object.program == ShadeProgram::flat_receiver  ? *programs.flat_receiver
+                                   : object.program == ShadeProgram::diffuse_only ? *programs.diffuse_only
+                                                                                  : *programs.full;
         const GLuint program = shade.id();
         shade.use();
         if (object.program == ShadeProgram::flat_receiver)
@@ -566,6 +642,7 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     if (view.width < 1 || view.height < 1) throw UsageError("render: image size must be positive");
     ensure_atlas();
     ensure_target(view.width, view.height);
+    if (variant_.fraction_pass) ensure_fraction_target(view.width, view.height);
     // Deforming objects (glTF skins and morphs): the pose at `time` into their vertex buffers and their
     // boxes into the plan, before the atlas and the shading draw them (both see this pose).
     for (const DeformingInstance& d : deforming_) {

@@ -70,8 +70,9 @@ public:
     void set_settings(const RenderSettings& settings);
     const RenderSettings& settings() const { return settings_; }
     // The variant the settings draw with (render/shader_variant.h); the programs built so far: two for
-    // every variant (pre-pass, background), kProgramsPerVariant per variant drawn with, and
-    // shadow_tiles.comp once per sample count the tile lists were drawn at.
+    // every variant (pre-pass, background), kProgramsPerVariant per variant drawn with,
+    // shadow_tiles.comp once per sample count the tile lists were drawn at, and the shading from the
+    // shadowed-fraction texture once, when first drawn with (RenderSettings::shadow_rate).
     const ShaderVariant& shader_variant() const { return variant_; }
     std::size_t programs_built() const { return library_.programs_built(); }
     static constexpr std::size_t kProgramsPerVariant = 4;  // atlas; shading: full, diffuse-only, flat receiver
@@ -126,8 +127,11 @@ private:
     void select_lights();
     void ensure_atlas();
     void ensure_target(int width, int height);
-    int drawn_samples() const;           // settings_.msaa capped by max_samples_ (a warning, once, where it is)
-    const gl::Program& tiles_program();  // shadow_tiles.comp for samples_, built on first use
+    // The shadowed-fraction pass's target for an image of width x height (RenderSettings::shadow_rate).
+    void ensure_fraction_target(int width, int height);
+    int drawn_samples() const;  // settings_.msaa capped by max_samples_ (a warning, once, where it is)
+    const gl::Program& tiles_program(int samples);  // shadow_tiles.comp for a depth of `samples`, built on first use
+    const gl::Program& fraction_shading_program();  // shade.frag SHADOWED_FRACTION_IN, built on first use
     void upload(const FramePlan& plan);
     void draw_atlas(const FramePlan& plan, FrameStats& stats);
     // Draws the casters `which` accepts (by ObjectFrame index) into every tile, over what the atlas holds or
@@ -135,8 +139,21 @@ private:
     enum class AtlasStart { cleared, as_it_is };
     void draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, AtlasStart start);
     void draw_objects(const FramePlan& plan, const CameraView& view);
-    void draw_depth_prepass(const FramePlan& plan, const CameraView& view);
-    void build_tile_lists(const FramePlan& plan, const CameraView& view);
+    // The objects' depths into the bound framebuffer, timed as `pass`.
+    void draw_depth_prepass(const FramePlan& plan, const CameraView& view, const char* pass);
+    // Screen-tile light lists from `depth` (of `samples` per pixel) into `lists`, tiles.x by tiles.y.
+    void build_tile_lists(const FramePlan& plan, const CameraView& view, const gl::Texture& depth, int samples,
+                          const gl::Buffer& lists, glm::ivec2 tiles, const char* pass);
+    // The objects shaded into the bound framebuffer, each with the program of its ShadeProgram; tiles_x: the
+    // screen tiles per row of the bound tile lists.
+    struct ShadePrograms {
+        const gl::Program* full;
+        const gl::Program* diffuse_only;
+        const gl::Program* flat_receiver;
+    };
+    void shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x);
+    // The ratio's shadowed fraction into fraction_ (its own pre-pass and tile lists); leaves target_ bound.
+    void draw_shadowed_fraction(const FramePlan& plan, const CameraView& view);
     void draw_background(const CameraView& view);
 
     RenderSettings settings_;
@@ -150,6 +167,7 @@ private:
     std::map<ShaderVariant, VariantPrograms> programs_;  // every variant drawn with so far
     const VariantPrograms* programs_now_ = nullptr;      // programs_[variant_]
     gl::Program prepass_program_, background_program_;   // the same for every variant
+    gl::Program fraction_shading_program_;               // the same for every variant; empty until drawn with
     // shadow_tiles.comp per (lights in a uniform block, sample count): tiles_program()
     std::map<std::pair<bool, int>, gl::Program> tiles_programs_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID
@@ -218,6 +236,13 @@ private:
     glm::ivec2 screen_tiles_{0, 0};  // shader::size::screen_tile^2-pixel tiles of the target
     gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
     gl::Buffer caster_rect_buffer_;  // FramePlan::caster_rects
+    // The shadowed-fraction pass (RenderSettings::shadow_rate other than fragment, docs/DESIGN.md §5.14):
+    // one sample per pixel or per 2x2 pixels, fraction_ holding the fraction (RGB) and 1/w (A, 0: no
+    // object), with a depth and tile lists of its own.
+    gl::Texture fraction_, fraction_normal_, fraction_depth_;  // fraction_normal_: the shading normal (RGB)
+    gl::Framebuffer fraction_target_;
+    glm::ivec2 fraction_tiles_{0, 0};
+    gl::Buffer fraction_tile_lists_;
 };
 
 }  // namespace envshadow::render

@@ -39,6 +39,7 @@ namespace envshadow::render::shader {
     X(loc, env_from_world, 20)  /* SHADING_RATIO: world to map directions (mat3: 20-22) */             \
     X(loc, specular_weight, 23) /* SHADING_RATIO: weight of u_specular_upper, linear in log n */       \
     X(loc, slope_bias, 24)      /* RenderSettings::slope_bias, of the receiver-plane depth bias */     \
+    X(loc, fraction_scale, 25)  /* SHADOWED_FRACTION_IN: fraction texels per pixel */                  \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -70,6 +71,9 @@ namespace envshadow::render::shader {
     X(unit, specular_upper, 5)                                                                         \
     X(unit, atlas_depth, 6) /* shade.frag SOFT_SHADOWS: the atlas as depths (blocker search) */        \
     X(unit, base_color, 7)  /* shade.frag: the material's base-colour texture (white without one) */   \
+    /* shade.frag SHADOWED_FRACTION_IN: the fraction pass's fraction and 1/w, normals */               \
+    X(unit, fraction, 8)                                                                               \
+    X(unit, fraction_normal, 9)                                                                        \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \

@@ -16,6 +16,7 @@ ShaderVariant shader_variant(const RenderSettings& settings, const ShaderSupport
     variant.tile_lists = uses_tile_lists(settings);
     variant.ratio = settings.shading == ShadingMode::ratio;
     variant.soft_shadows = settings.shadows == ShadowMode::soft;
+    variant.fraction_pass = variant.ratio && settings.shadow_rate != ShadowRate::fragment;
     return variant;
 }
 
@@ -36,6 +37,7 @@ std::vector<std::string> shade_defines(const ShaderVariant& variant) {
     if (variant.tile_lists) defines.push_back("SHADOW_TILE_LISTS");
     if (variant.ratio) defines.push_back("SHADING_RATIO");
     if (variant.soft_shadows) defines.push_back("SOFT_SHADOWS");
+    if (variant.fraction_pass) defines.push_back("SHADOWED_FRACTION_OUT");
     return defines;
 }
 

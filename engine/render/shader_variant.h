@@ -26,6 +26,7 @@ struct ShaderVariant {
     bool tile_lists = false;                      // SHADOW_TILE_LISTS (uses_tile_lists)
     bool ratio = false;                           // SHADING_RATIO
     bool soft_shadows = false;                    // SOFT_SHADOWS
+    bool fraction_pass = false;                   // SHADOWED_FRACTION_OUT: ratio at a reduced shadow rate
 
     auto operator<=>(const ShaderVariant&) const = default;
 };
@@ -34,7 +35,9 @@ struct ShaderVariant {
 ShaderVariant shader_variant(const RenderSettings& settings, const ShaderSupport& support);
 
 // The defines of glsl/shadow_atlas.vert, and of glsl/shade.frag (whose diffuse-only and flat-receiver
-// programs add DIFFUSE_ONLY and FLAT_RECEIVER), for `variant`.
+// programs add DIFFUSE_ONLY and FLAT_RECEIVER), for `variant`. With fraction_pass these are the programs
+// of the shadowed-fraction pass; the shading then draws with one program for every variant
+// (SHADOWED_FRACTION_IN, Renderer's fraction_shading_program()).
 std::vector<std::string> atlas_defines(const ShaderVariant& variant);
 std::vector<std::string> shade_defines(const ShaderVariant& variant);
 

@@ -47,6 +47,10 @@ std::vector<BuiltProgram> engine_programs() {
         {"SOFT_SHADOWS", "SHADOW_TILE_LISTS", "LIGHTS_UNIFORM_BLOCK"});
     add("shade (soft shadows, ratio, flat receiver)", shade,
         {"SOFT_SHADOWS", "SHADING_RATIO", "SHADOW_TILE_LISTS", "DIFFUSE_ONLY", "FLAT_RECEIVER"});
+    add("shade (ratio, shadowed fraction pass, soft, flat receiver)", shade,
+        {"SHADING_RATIO", "SOFT_SHADOWS", "SHADOW_TILE_LISTS", "DIFFUSE_ONLY", "FLAT_RECEIVER",
+         "SHADOWED_FRACTION_OUT"});
+    add("shade (shading from the shadowed fraction)", shade, {"SHADOWED_FRACTION_IN"});
     add("depth pre-pass", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
     add("background", {{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
     add("shadow_tiles.comp", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, {"LIGHTS_UNIFORM_BLOCK"});
@@ -155,13 +159,14 @@ TEST_P(ShaderInterfaceTest, EveryProgramUsesTheTablesNumbers) {
 
 // shade.frag builds with any of the options renderer.cpp's build_programs sets, alone, in every pair and
 // all together, each with the diffuse-only and flat-receiver defines too: each option's #if sits in its
-// own include, so a combination that no other test draws could still break. (All 384 combinations take
-// half a minute on llvmpipe; pairs catch an #if that assumes another option on or off.)
+// own include, so a combination that no other test draws could still break. (All 768 combinations take
+// a minute on llvmpipe; pairs catch an #if that assumes another option on or off.)
 TEST_P(ShaderInterfaceTest, ShadeBuildsWithEveryPairOfOptions) {
     const gl::ShaderLibrary library = render::embedded_shaders();
     const std::vector<gl::ShaderStage> shade = {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}};
-    const std::vector<std::string> options = {"LIGHTS_UNIFORM_BLOCK", "DIFFUSE_CAP",   "SPECULAR_SINGLE", "PCF_WIDE",
-                                              "SHADOW_TILE_LISTS",    "SHADING_RATIO", "SOFT_SHADOWS"};
+    const std::vector<std::string> options = {
+        "LIGHTS_UNIFORM_BLOCK", "DIFFUSE_CAP",   "SPECULAR_SINGLE", "PCF_WIDE",
+        "SHADOW_TILE_LISTS",    "SHADING_RATIO", "SOFT_SHADOWS",    "SHADOWED_FRACTION_OUT"};
     const unsigned all = (1u << options.size()) - 1;
     int built = 0;
     for (unsigned mask = 0; mask <= all; ++mask) {
@@ -177,7 +182,7 @@ TEST_P(ShaderInterfaceTest, ShadeBuildsWithEveryPairOfOptions) {
             ++built;
         }
     }
-    EXPECT_EQ(built, 3 * (1 + 7 + 21 + 1));
+    EXPECT_EQ(built, 3 * (1 + 8 + 28 + 1));
 }
 
 TEST_P(ShaderInterfaceTest, WorkGroupsAreTheTablesSizes) {

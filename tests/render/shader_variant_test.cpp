@@ -19,18 +19,32 @@ std::vector<std::string> values_of(const SettingInfo& setting) {
     return {setting.kind == SettingKind::integer ? std::to_string(int(setting.min)) : std::to_string(setting.min)};
 }
 
+// From the defaults and from ratio shading (where --shadow-rate picks the programs).
 TEST(ShaderVariant, OnlyTheProgramSettingsChangeTheKey) {
-    const RenderSettings defaults;
-    const ShaderVariant base = shader_variant(defaults, kEverything);
+    RenderSettings ratio;
+    ratio.shading = ShadingMode::ratio;
     for (const SettingInfo& setting : setting_table()) {
         bool key_changed = false;
-        for (const std::string& value : values_of(setting)) {
-            RenderSettings s = defaults;
-            setting.parse(s, value);
-            key_changed |= shader_variant(s, kEverything) != base;
+        for (const RenderSettings& start : {RenderSettings{}, ratio}) {
+            const ShaderVariant base = shader_variant(start, kEverything);
+            for (const std::string& value : values_of(setting)) {
+                RenderSettings s = start;
+                setting.parse(s, value);
+                key_changed |= shader_variant(s, kEverything) != base;
+            }
         }
         EXPECT_EQ(key_changed, setting.effect == SettingEffect::programs) << setting.name;
     }
+}
+
+TEST(ShaderVariant, ShadowRateSplitsRatioShadingOnly) {
+    RenderSettings s;
+    s.shadow_rate = ShadowRate::half;
+    EXPECT_FALSE(shader_variant(s, kEverything).fraction_pass);  // cells: the sum does not split
+    s.shading = ShadingMode::ratio;
+    EXPECT_TRUE(shader_variant(s, kEverything).fraction_pass);
+    s.shadow_rate = ShadowRate::fragment;
+    EXPECT_FALSE(shader_variant(s, kEverything).fraction_pass);
 }
 
 TEST(ShaderVariant, WhatTheContextLacksFallsBack) {

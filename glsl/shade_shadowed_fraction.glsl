@@ -1,0 +1,97 @@
+// The ratio estimator split in two passes (docs/DESIGN.md §5.14). The fraction pass
+// (SHADOWED_FRACTION_OUT, one sample per pixel or per 2x2 pixels) writes the cells' shadowed fraction and
+// its surface's 1/w (gl_FragCoord.w: 1 / view depth, affine in window coordinates over a plane), and its
+// shading normal; texels without an object keep the clear's alpha 0. The shading (SHADOWED_FRACTION_IN,
+// at the image's own samples) takes the fraction from the texels about the fragment whose surface is the
+// fragment's own: its plane's 1/w carried to each texel's centre must meet the texel's, and the normals
+// must agree (where two surfaces meet, as an object standing on the ground, the depths do).
+
+#if defined(SHADOWED_FRACTION_OUT)
+layout(location = 1) out vec4 o_fraction_normal;
+
+// What the fraction pass writes: the fraction and 1/w to location 0, the normal to location 1.
+vec4 fraction_texel(vec3 fraction, vec3 normal) {
+    o_fraction_normal = vec4(normal, 0.0);
+    return vec4(fraction, gl_FragCoord.w);
+}
+#endif
+
+#if defined(SHADOWED_FRACTION_IN)
+// The fraction pass's two targets, read with texelFetch.
+layout(binding = UNIT_FRACTION) uniform sampler2D u_fraction;                // the fraction, 1/w
+layout(binding = UNIT_FRACTION_NORMAL) uniform sampler2D u_fraction_normal;  // the shading normal
+layout(location = LOC_FRACTION_SCALE) uniform vec2 u_fraction_scale;         // texels per pixel, x and y
+
+// How far a texel's 1/w may lie from the fragment's plane and still be its surface: a sliver of the depth
+// (a curved surface leaves its tangent plane within a pixel or two) and the plane's change over a pixel.
+const float kPlaneToleranceOfDepth = 0.005;
+// The normals' agreement: (n.n')^16, a half at 16 degrees apart, under 1% beyond 37.
+const float kNormalPower = 16.0;
+
+// The fragment's plane: 1/w at the fragment and its change per pixel; its shading normal.
+struct FragmentPlane {
+    float w;
+    vec2 slope;
+    float tolerance;
+    vec3 normal;
+};
+
+// How well texel t lies on the plane and faces its way: 1 on it, falling off over the tolerance; 0 for a
+// texel without an object.
+float plane_match(FragmentPlane plane, ivec2 t, float texel_w) {
+    vec2 centre = (vec2(t) + 0.5) / u_fraction_scale;  // the texel's centre in window coordinates
+    float expected = plane.w + dot(plane.slope, centre - gl_FragCoord.xy);
+    float e = (texel_w - expected) / plane.tolerance;
+    float facing = max(dot(plane.normal, texelFetch(u_fraction_normal, t, 0).xyz), 0.0);
+    return texel_w > 0.0 ? exp(-e * e) * pow(facing, kNormalPower) : 0.0;
+}
+
+// The shadowed fraction at this fragment: the fraction texels about it weighted bilinearly and by how well
+// they lie on its plane (a joint bilateral upsampling); where none of the four does (a silhouette the
+// fraction's samples missed), the 3x3 texels about the nearest by the plane alone, and failing that the one
+// nearest in depth. The mean is taken of the shadow 1 - f, so that fractions of exactly 1 (nothing in
+// the way) give exactly 1.
+vec3 fraction_at_fragment(vec3 normal) {
+    FragmentPlane plane;
+    plane.normal = normal;
+    plane.w = gl_FragCoord.w;
+    plane.slope = vec2(dFdx(gl_FragCoord.w), dFdy(gl_FragCoord.w));
+    plane.tolerance = kPlaneToleranceOfDepth * plane.w + abs(plane.slope.x) + abs(plane.slope.y);
+    ivec2 last = textureSize(u_fraction, 0) - 1;
+    vec2 q = gl_FragCoord.xy * u_fraction_scale - 0.5;  // texel centres at integers
+    ivec2 base = ivec2(floor(q));
+    vec2 f = q - vec2(base);
+    vec3 shadow = vec3(0.0);
+    float total = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        ivec2 t = clamp(base + o, ivec2(0), last);
+        vec4 texel = texelFetch(u_fraction, t, 0);
+        float bilinear = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
+        float weight = bilinear * plane_match(plane, t, texel.a);
+        shadow += weight * (1.0 - texel.rgb);
+        total += weight;
+    }
+    if (total > 1e-3) return 1.0 - shadow / total;
+
+    ivec2 nearest = ivec2(floor(q + 0.5));
+    vec3 best = vec3(1.0);  // lit where no texel has an object
+    float best_distance = 1e30;
+    shadow = vec3(0.0);
+    total = 0.0;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) {
+            ivec2 t = clamp(nearest + ivec2(x, y), ivec2(0), last);
+            vec4 texel = texelFetch(u_fraction, t, 0);
+            float weight = plane_match(plane, t, texel.a);
+            shadow += weight * (1.0 - texel.rgb);
+            total += weight;
+            float distance = abs(texel.a - plane.w);
+            if (texel.a > 0.0 && distance < best_distance) {
+                best_distance = distance;
+                best = texel.rgb;
+            }
+        }
+    return total > 1e-3 ? 1.0 - shadow / total : best;
+}
+#endif
