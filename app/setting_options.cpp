@@ -25,6 +25,8 @@ std::string rejection(const render::SettingInfo& setting, const std::string& tex
 render::RenderSettings command_defaults() {
     render::RenderSettings settings;
     settings.msaa = 4;
+    settings.shading = render::ShadingMode::ratio;
+    settings.shadows = render::ShadowMode::soft;
     return settings;
 }
 

@@ -14,8 +14,10 @@
 
 namespace envshadow::app {
 
-// What the commands start from: RenderSettings' defaults, but 4 samples per pixel (anti-aliased
-// images for people; the engine's own 1 is what its tests compare).
+// What the commands start from: the best picture (docs/DESIGN.md §4.1, §5.9): 4 samples per pixel, the
+// ratio estimator and soft shadows. RenderSettings' own defaults (one sample, the paper's sum over the
+// cells with hard shadows) are what the engine's tests compare; `--shading cells --shadows hard` gives
+// the paper's method.
 render::RenderSettings command_defaults();
 
 // The settings options as given.

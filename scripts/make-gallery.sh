@@ -14,9 +14,9 @@ for scene in assets/scenes/*.json; do
   "$envshadow" render --scene "$scene" --width 960 --height 540 --lights 128 --tile 256 --time "$time" \
     --out "screenshots/gallery/$name.png" | sed "s/^/$name: /"
 done
-# The glossy spheres again with the ratio estimator (--shading ratio): a smooth reflection, no dot per cell.
+# The glossy spheres again with the paper's method (--shading cells --shadows hard): a dot per cell.
 "$envshadow" render --scene assets/scenes/spheres.json --width 960 --height 540 --lights 128 --tile 256 \
-  --shading ratio --out screenshots/gallery/spheres_ratio.png | sed "s/^/spheres_ratio: /"
+  --shading cells --shadows hard --out screenshots/gallery/spheres_cells.png | sed "s/^/spheres_cells: /"
 # A bare glTF box under courtyard with N = 64: each cell's hard edge (a fan of 64 copies) against its
 # penumbra from the cell's cap (--shadows soft, docs/DESIGN.md §5.9).
 box=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb

@@ -189,12 +189,13 @@ def main():
         if args.report_only and os.path.exists(out):
             continue
         run([args.bin, "render", "--scene", f"{SCENE_DIR}/fig7.json", "--lights", "128", "--width", "480",
-             "--height", "200", "--specular", spec, "--out", out])
+             "--height", "200", "--specular", spec, "--shading", "cells", "--shadows", "hard", "--out", out])
     for t in (0.0, 1.5):
         if args.report_only and os.path.exists(f"{outdir}/fig8_t{t:g}.png"):
             continue
         run([args.bin, "render", "--scene", "assets/scenes/flyover.json", "--lights", "128", "--width", "400",
-             "--height", "225", "--time", str(t), "--out", f"{outdir}/fig8_t{t:g}.png"])
+             "--height", "225", "--time", str(t), "--shading", "cells", "--shadows", "hard",
+             "--out", f"{outdir}/fig8_t{t:g}.png"])
 
     fig7_three = fig7_three_ways(args, study, outdir)
 

@@ -27,8 +27,10 @@ TILES = [128, 256, 512]
 SHADING_NS = NS  # the shading study: cells against ratio, N = 16 ... 256
 # hemisphere "auto": the upper hemisphere when the scene has a ground (every scene here has one), else the whole sphere.
 # tile_sizes "share": a budget of N x tile^2 texels, each cell's tile sized by its share of the light.
+# shading "cells", shadows "hard": the paper's method, which the studies vary (the commands' defaults are
+# ratio shading with soft shadows; every run names both, so the cache's images keep their meaning).
 DEFAULTS = {"tile": 256, "specular": "blended", "cap": "weighted", "diffuse": "center", "seed": 1, "hemisphere": "auto",
-            "tile_sizes": "share", "shading": "cells"}
+            "tile_sizes": "share", "shading": "cells", "shadows": "hard"}
 
 # What the default run covers. --full: every scene x map in every study.
 GRID_PAIRS = [("figure", "city"), ("figure", "studio"), ("sphere_n100", "city"), ("sphere_n100", "studio")]

@@ -176,7 +176,7 @@ def fig7_three_ways(args, study, outdir):
         img = f"{study.cache}/img/fig7_{mode}.exr"
         run([args.bin, "render", "--scene", FIG7_SCENE, "--width", w, "--height", h, "--lights", str(FIG7_N),
              # One sample per pixel centre, as the reference's one ray per pixel centre.
-             "--shading", mode, "--msaa", "1", "--exr", img, "--out", f"{outdir}/fig7_{mode}_n{FIG7_N}.png"])
+             "--shading", mode, "--shadows", "hard", "--msaa", "1", "--exr", img, "--out", f"{outdir}/fig7_{mode}_n{FIG7_N}.png"])
         vals = dict(kv.split("=") for kv in run([args.bin, "compare", ref, img]).split())
         errors[mode] = float(vals["rel_rmse"])
     return errors

@@ -144,7 +144,7 @@ class Study:
         said = run([self.a.bin, "render", "--scene", f, "--env", MAPS[map_], "--lights", str(n), "--method", method,
              "--width", str(w), "--height", str(h), "--tile", str(o["tile"]), "--specular", o["specular"],
              "--cap", o["cap"], "--diffuse", o["diffuse"], "--seed", str(o["seed"]), "--hemisphere", o["hemisphere"],
-             "--tile-sizes", o["tile_sizes"], "--shading", o["shading"],
+             "--tile-sizes", o["tile_sizes"], "--shading", o["shading"], "--shadows", o["shadows"],
              # One sample at each pixel's centre, as the reference's one ray per pixel centre.
              "--msaa", "1", "--exr", img])
         seconds = time.time() - t

@@ -38,11 +38,15 @@ TEST(SettingOptions, EveryCommandListsEverySettingByItsName) {
     }
 }
 
-TEST(SettingOptions, CommandsDefaultToFourSamplesAndOtherwiseTheEngine) {
+TEST(SettingOptions, CommandsDefaultToTheBestPictureAndOtherwiseTheEngine) {
     render::RenderSettings engine;
     render::RenderSettings commands = command_defaults();
     EXPECT_EQ(commands.msaa, 4);
+    EXPECT_EQ(commands.shading, render::ShadingMode::ratio);
+    EXPECT_EQ(commands.shadows, render::ShadowMode::soft);
     commands.msaa = engine.msaa;
+    commands.shading = engine.shading;
+    commands.shadows = engine.shadows;
     for (const render::SettingInfo& setting : render::setting_table())
         EXPECT_EQ(setting.format(commands), setting.format(engine)) << setting.name;
 }
