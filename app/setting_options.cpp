@@ -27,6 +27,7 @@ render::RenderSettings command_defaults() {
     settings.msaa = 4;
     settings.shading = render::ShadingMode::ratio;
     settings.shadows = render::ShadowMode::soft;
+    settings.shadow_rate = render::ShadowRate::half;
     return settings;
 }
 

@@ -44,9 +44,11 @@ TEST(SettingOptions, CommandsDefaultToTheBestPictureAndOtherwiseTheEngine) {
     EXPECT_EQ(commands.msaa, 4);
     EXPECT_EQ(commands.shading, render::ShadingMode::ratio);
     EXPECT_EQ(commands.shadows, render::ShadowMode::soft);
+    EXPECT_EQ(commands.shadow_rate, render::ShadowRate::half);
     commands.msaa = engine.msaa;
     commands.shading = engine.shading;
     commands.shadows = engine.shadows;
+    commands.shadow_rate = engine.shadow_rate;
     for (const render::SettingInfo& setting : render::setting_table())
         EXPECT_EQ(setting.format(commands), setting.format(engine)) << setting.name;
 }
