@@ -194,6 +194,7 @@ private:
         std::uint64_t fit_version = 0;      // FramePlan::fit_version
         std::uint64_t content_version = 0;  // bumped by set_scene and by a new atlas texture
         float caster_lod = 0.0f;
+        bool caster_lod_per_tile = false;
         bool cull_back_faces = false;
         AtlasMode atlas = AtlasMode::clip_distances;
         bool operator==(const AtlasKey&) const = default;
@@ -218,6 +219,8 @@ private:
     glm::ivec2 screen_tiles_{0, 0};  // shader::size::screen_tile^2-pixel tiles of the target
     gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
     gl::Buffer caster_rect_buffer_;  // FramePlan::caster_rects
+    CasterTiles caster_tiles_;       // draw_casters: each caster's tiles by level, this draw's
+    gl::Buffer atlas_tile_buffer_;   // caster_tiles_.tiles (shadow_atlas.vert's instance to tile)
 };
 
 }  // namespace envshadow::render
