@@ -1,10 +1,11 @@
 #version 450 core
 // Depth of the shadow casters into the shadow atlas: instance k draws the mesh into tile
-// u_first_tile + k, orthographically along -w_i (Barsi et al. §2.2: one depth map per cell).
+// u_first_tile + k (ATLAS_CLIP_DISTANCES: tile atlas_tiles[u_first_tile + k]), orthographically along
+// -w_i (Barsi et al. §2.2: one depth map per cell).
 // One of three ways keeps a tile's triangles inside its rectangle (engine/render/render_settings.h
 // AtlasMode; engine/render/renderer.cpp draw_atlas):
-//   ATLAS_CLIP_DISTANCES  all tiles in one instanced draw over the whole atlas; four clip
-//                         distances cut each instance to the tile's [-1, 1]^2
+//   ATLAS_CLIP_DISTANCES  the tiles that take one level of the mesh in one instanced draw over the
+//                         whole atlas; four clip distances cut each instance to the tile's [-1, 1]^2
 //   ATLAS_VIEWPORT_ARRAY  batches of GL_MAX_VIEWPORTS instances, instance k to viewport k
 //   (neither)             the baseline: one draw per tile, the viewport set to the tile
 #if defined(ATLAS_VIEWPORT_ARRAY)
@@ -18,6 +19,8 @@ layout(location = LOC_WORLD_FROM_OBJECT) uniform mat4 u_world_from_object;
 layout(location = LOC_FIRST_TILE) uniform int u_first_tile;
 
 #if defined(ATLAS_CLIP_DISTANCES)
+layout(std430, binding = BINDING_ATLAS_TILES) readonly buffer AtlasTiles { int atlas_tiles[]; };
+
 out gl_PerVertex {
     vec4 gl_Position;
     float gl_ClipDistance[4];
@@ -25,7 +28,11 @@ out gl_PerVertex {
 #endif
 
 void main() {
+#if defined(ATLAS_CLIP_DISTANCES)
+    int tile = atlas_tiles[u_first_tile + gl_InstanceID];
+#else
     int tile = u_first_tile + gl_InstanceID;
+#endif
     vec4 clip = lights[tile].clip_from_world * (u_world_from_object * vec4(a_position, 1.0));  // w = 1
 #if defined(ATLAS_CLIP_DISTANCES)
     gl_ClipDistance[0] = 1.0 + clip.x;

@@ -540,4 +540,22 @@ float caster_error_budget(const glm::mat4& world_from_object, float min_texel_wo
     return fraction * min_texel_world / max_scale;
 }
 
+void append_caster_tiles(const CasterLod& lod, const glm::mat4& world_from_object, std::span<const float> texel_world,
+                         float fraction, CasterTiles& out) {
+    std::vector<int> level_of(texel_world.size());
+    int finest = int(lod.levels.size()), coarsest = -1;
+    for (std::size_t k = 0; k < texel_world.size(); ++k) {
+        level_of[k] = choose_caster_level(lod, caster_error_budget(world_from_object, texel_world[k], fraction));
+        finest = std::min(finest, level_of[k]);
+        coarsest = std::max(coarsest, level_of[k]);
+    }
+    for (int level = finest; level <= coarsest; ++level) {
+        const std::uint32_t first = std::uint32_t(out.tiles.size());
+        for (std::size_t k = 0; k < level_of.size(); ++k)
+            if (level_of[k] == level) out.tiles.push_back(std::int32_t(k));
+        const std::uint32_t count = std::uint32_t(out.tiles.size()) - first;
+        if (count > 0) out.runs.push_back({level, first, count});
+    }
+}
+
 }  // namespace envshadow::render

@@ -65,4 +65,24 @@ int choose_caster_level(const CasterLod& lod, float max_error);
 // 0 (full resolution) when fraction <= 0, i.e. LOD off.
 float caster_error_budget(const glm::mat4& world_from_object, float min_texel_world, float fraction);
 
+// One instanced draw of a caster: `count` tiles at one level, their indices at
+// CasterTiles::tiles[first ..].
+struct CasterTileRun {
+    int level = 0;
+    std::uint32_t first = 0;
+    std::uint32_t count = 0;
+};
+
+// A caster's draws into the atlas, one run per level.
+struct CasterTiles {
+    std::vector<std::int32_t> tiles;  // tile indices, grouped by level (ascending within a level)
+    std::vector<CasterTileRun> runs;  // levels finest first
+};
+
+// Each tile at the coarsest level whose error is within `fraction` of that tile's own texel
+// (`texel_world[k]`, world units): a small tile's texel is larger, so it takes a coarser level than a
+// large tile of the same light frame. Appends to `out` (runs' `first` index out.tiles).
+void append_caster_tiles(const CasterLod& lod, const glm::mat4& world_from_object, std::span<const float> texel_world,
+                         float fraction, CasterTiles& out);
+
 }  // namespace envshadow::render

@@ -148,6 +148,7 @@ void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& s
     const glm::vec2 atlas_size(float(layout.width()), float(layout.height()));
     const bool weighted = settings.cap == CapKind::weighted;
     plan_.lights.resize(lights_.size());
+    plan_.texel_world.resize(lights_.size());
     plan_.min_texel_world = std::numeric_limits<float>::infinity();
     // Over the animation the fits depend on the lights and the tiles' sizes alone: made once for them.
     const bool over_animation = settings.shadow_fit == ShadowFit::animation;
@@ -183,6 +184,7 @@ void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& s
         record.bias =
             glm::vec4(settings.depth_bias * fit.texel_world / fit.depth_range, settings.normal_offset * fit.texel_world,
                       penumbra_texels_per_depth(fit.clip_from_world, tile.size, record.direction.w));
+        plan_.texel_world[k] = fit.texel_world;
         plan_.min_texel_world = std::min(plan_.min_texel_world, fit.texel_world);
         if (previous_fits_[k] != record.clip_from_world || previous_tiles_[k] != record.tile) fits_changed = true;
         previous_fits_[k] = record.clip_from_world;

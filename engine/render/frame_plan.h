@@ -80,8 +80,9 @@ struct FramePlan {
     // each caster's box widened by 2 texels; never empty (one zero rectangle without lights).
     std::vector<glm::vec4> caster_rects;
     int caster_rects_per_light = 1;
-    float min_texel_world = 0.0f;  // smallest atlas texel of the fits (world units); 0 without lights
-    float receiver_pad = 0.0f;     // tile lists: how far the receivers' bounds are pushed out (world)
+    std::vector<float> texel_world;  // per light, its tile's texel (world units, the larger axis)
+    float min_texel_world = 0.0f;    // smallest atlas texel of the fits (world units); 0 without lights
+    float receiver_pad = 0.0f;       // tile lists: how far the receivers' bounds are pushed out (world)
     // Changes whenever a light's projection or tile differs from the last plan's (the shadow cache's
     // key, docs/DESIGN.md §5.11); the same number while every fit stays the same.
     std::uint64_t fit_version = 0;

@@ -182,6 +182,8 @@ std::vector<SettingInfo> make_setting_table() {
         off_is_zero(number_in("caster-lod", &RenderSettings::caster_lod, 0.0, double(kMaxCasterLod), "caster LOD error",
                               " shadow texels", frame,
                               "Shadow-caster LOD error in shadow texels, or off (the full meshes)")),
+        on_off("caster-lod-tiles", &RenderSettings::caster_lod_per_tile, frame,
+               "Caster LOD chosen per tile from its own texels (off: from the frame's smallest texels)"),
         on_off("prepass", &RenderSettings::depth_prepass, programs, "Depth pre-pass before shading"),
         on_off("ubo", &RenderSettings::lights_uniform_block, programs,
                "Light records in a uniform block (else a storage block)"),

@@ -150,6 +150,9 @@ struct RenderSettings {
     // speckle visibly from 0.4 texel on (the viruses' golden image), so 0.3; flyover's figures take 1
     // texel invisibly (docs/PERFORMANCE.md).
     float caster_lod = 0.3f;  // 0..kMaxCasterLod
+    // The caster LOD's texel is each tile's own (a 128^2 tile's texels are 8 times a 1024^2 tile's over
+    // the same casters, so it takes a coarser level), not the frame's smallest: the same bound, per tile.
+    bool caster_lod_per_tile = true;
     // Depth-only pass of the objects first, then the N-light shading once per visible pixel
     // (depth test EQUAL) instead of once per rasterised fragment.
     bool depth_prepass = true;

@@ -347,8 +347,8 @@ void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
     atlas_triangles_ = 0;
     int moving = 0;
     for (std::size_t i = 0; i < plan.objects.size(); ++i) moving += plan.objects[i].casts_shadows && moves(i);
-    const AtlasKey key{plan.fit_version, content_version_, settings_.caster_lod, settings_.cull_back_faces,
-                       variant_.atlas};
+    const AtlasKey key{plan.fit_version,          content_version_, settings_.caster_lod, settings_.caster_lod_per_tile,
+                       settings_.cull_back_faces, variant_.atlas};
     const std::optional<AtlasKey> last = std::exchange(last_key_, key);
     if (!settings_.shadow_cache || plan.lights.empty()) {
         atlas_holds_static_.reset();
@@ -405,44 +405,74 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
     programs_now_->atlas.use();
     const int tiles = int(plan.lights.size());
 
-    // Each caster at the coarsest level of detail within settings_.caster_lod of the smallest texel
-    // of this frame's tiles (level 0, the full mesh, with caster_lod = 0).
-    auto for_each_caster = [&](int tiles_per_draw, auto&& draw) {
-        for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
-            const ObjectFrame& object = plan.objects[i];
-            if (!object.casts_shadows || !which(i)) continue;
-            const GpuMesh& mesh = *instance_meshes_[i];
-            const CasterLod& lod = mesh.caster_lod();
-            const int level = choose_caster_level(
-                lod, caster_error_budget(object.world_from_object, plan.min_texel_world, settings_.caster_lod));
-            atlas_triangles_ +=
-                std::size_t(lod.levels[std::size_t(level)].index_count / 3) * std::size_t(tiles_per_draw);
-            glProgramUniformMatrix4fv(programs_now_->atlas.id(), loc::world_from_object, 1, GL_FALSE,
-                                      &object.world_from_object[0][0]);
-            // Closed casters: front faces only (the light frame keeps the winding: right x up = toward,
-            // so faces turned to the light are counter-clockwise in the tile; a mirroring transform
-            // turns them clockwise).
-            if (settings_.cull_back_faces && lod.levels[std::size_t(level)].closed) {
-                glEnable(GL_CULL_FACE);
-                glCullFace(GL_BACK);
-                glFrontFace(glm::determinant(glm::mat3(object.world_from_object)) < 0.0f ? GL_CW : GL_CCW);
-            } else {
-                glDisable(GL_CULL_FACE);
-            }
-            mesh.bind_caster(level);
-            draw(mesh, level);
+    // Each caster at the coarsest level of detail within settings_.caster_lod of the texels it is drawn
+    // into: each tile's own (caster_lod_per_tile), else the frame's smallest (level 0, the full mesh,
+    // with caster_lod = 0).
+    const std::span<const float> texel_world(plan.texel_world);
+    const auto texels_of = [&](int first, int count, std::vector<float>& texels) {
+        texels.assign(texel_world.begin() + first, texel_world.begin() + first + count);
+        if (!settings_.caster_lod_per_tile) std::fill(texels.begin(), texels.end(), plan.min_texel_world);
+    };
+    const auto set_caster = [&](std::size_t i, int level) {
+        const ObjectFrame& object = plan.objects[i];
+        const GpuMesh& mesh = *instance_meshes_[i];
+        glProgramUniformMatrix4fv(programs_now_->atlas.id(), loc::world_from_object, 1, GL_FALSE,
+                                  &object.world_from_object[0][0]);
+        // Closed casters: front faces only (the light frame keeps the winding: right x up = toward,
+        // so faces turned to the light are counter-clockwise in the tile; a mirroring transform
+        // turns them clockwise).
+        if (settings_.cull_back_faces && mesh.caster_lod().levels[std::size_t(level)].closed) {
+            glEnable(GL_CULL_FACE);
+            glCullFace(GL_BACK);
+            glFrontFace(glm::determinant(glm::mat3(object.world_from_object)) < 0.0f ? GL_CW : GL_CCW);
+        } else {
+            glDisable(GL_CULL_FACE);
         }
+        mesh.bind_caster(level);
+    };
+    const auto draws_caster = [&](std::size_t i) { return plan.objects[i].casts_shadows && which(i); };
+    std::vector<float> texels;
+    // Tiles first .. first + count - 1 of every caster, each caster's tiles grouped by level: the runs
+    // of caster i are caster_tiles_.runs[run_begin[i] .. run_begin[i + 1]).
+    std::vector<std::size_t> run_begin(instance_meshes_.size() + 1, 0);
+    auto group_tiles = [&](int first, int count) {
+        caster_tiles_.tiles.clear();
+        caster_tiles_.runs.clear();
+        texels_of(first, count, texels);
+        for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
+            run_begin[i] = caster_tiles_.runs.size();
+            if (!draws_caster(i)) continue;
+            const CasterLod& lod = instance_meshes_[i]->caster_lod();
+            append_caster_tiles(lod, plan.objects[i].world_from_object, texels, settings_.caster_lod, caster_tiles_);
+            for (std::size_t r = run_begin[i]; r < caster_tiles_.runs.size(); ++r)
+                atlas_triangles_ += std::size_t(lod.levels[std::size_t(caster_tiles_.runs[r].level)].index_count / 3) *
+                                    std::size_t(caster_tiles_.runs[r].count);
+        }
+        run_begin.back() = caster_tiles_.runs.size();
     };
     switch (variant_.atlas) {
-        case AtlasMode::clip_distances:
+        case AtlasMode::clip_distances: {
+            // One instanced draw per caster and level, its instances' tiles read from atlas_tile_buffer_.
+            group_tiles(0, tiles);
+            atlas_tile_buffer_.upload_resizing(
+                caster_tiles_.tiles.data(),
+                std::max<std::size_t>(caster_tiles_.tiles.size(), 1) * sizeof(std::int32_t));
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding::atlas_tiles, atlas_tile_buffer_.id());
             for (GLenum plane = 0; plane < 4; ++plane) glEnable(GL_CLIP_DISTANCE0 + plane);
             glViewport(0, 0, layout_.width(), layout_.height());
-            glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, 0);
-            for_each_caster(
-                tiles, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, tiles); });  // one draw per mesh
+            for (std::size_t i = 0; i < instance_meshes_.size(); ++i)
+                for (std::size_t r = run_begin[i]; r < run_begin[i + 1]; ++r) {
+                    const CasterTileRun& run = caster_tiles_.runs[r];
+                    set_caster(i, run.level);
+                    glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, GLint(run.first));
+                    instance_meshes_[i]->draw_caster(run.level, GLsizei(run.count));
+                }
             for (GLenum plane = 0; plane < 4; ++plane) glDisable(GL_CLIP_DISTANCE0 + plane);
             break;
+        }
         case AtlasMode::viewport_array:
+            // Instance k of a batch goes to viewport k: one level per caster and batch, the finest its
+            // tiles need.
             for (int first = 0; first < tiles; first += max_viewports_) {
                 const int batch = std::min(max_viewports_, tiles - first);
                 std::array<float, 4 * kMaxViewports> rects{};
@@ -454,7 +484,18 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
                 }
                 glViewportArrayv(0, batch, rects.data());
                 glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, first);
-                for_each_caster(batch, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level, batch); });
+                texels_of(first, batch, texels);
+                const float smallest = *std::min_element(texels.begin(), texels.end());
+                for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
+                    if (!draws_caster(i)) continue;
+                    const CasterLod& lod = instance_meshes_[i]->caster_lod();
+                    const int level = choose_caster_level(
+                        lod, caster_error_budget(plan.objects[i].world_from_object, smallest, settings_.caster_lod));
+                    atlas_triangles_ +=
+                        std::size_t(lod.levels[std::size_t(level)].index_count / 3) * std::size_t(batch);
+                    set_caster(i, level);
+                    instance_meshes_[i]->draw_caster(level, batch);
+                }
             }
             break;
         case AtlasMode::per_tile:
@@ -462,7 +503,12 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
                 const TileRect& tile = layout_.tiles[std::size_t(k)];
                 glViewport(tile.x, tile.y, tile.size, tile.size);
                 glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, k);
-                for_each_caster(1, [&](const GpuMesh& mesh, int level) { mesh.draw_caster(level); });
+                group_tiles(k, 1);
+                for (std::size_t i = 0; i < instance_meshes_.size(); ++i)
+                    for (std::size_t r = run_begin[i]; r < run_begin[i + 1]; ++r) {
+                        set_caster(i, caster_tiles_.runs[r].level);
+                        instance_meshes_[i]->draw_caster(caster_tiles_.runs[r].level);
+                    }
             }
             break;
     }

@@ -212,6 +212,7 @@ private:
         std::uint64_t fit_version = 0;      // FramePlan::fit_version
         std::uint64_t content_version = 0;  // bumped by set_scene and by a new atlas texture
         float caster_lod = 0.0f;
+        bool caster_lod_per_tile = false;
         bool cull_back_faces = false;
         AtlasMode atlas = AtlasMode::clip_distances;
         bool operator==(const AtlasKey&) const = default;
@@ -243,6 +244,8 @@ private:
     gl::Framebuffer fraction_target_;
     glm::ivec2 fraction_tiles_{0, 0};
     gl::Buffer fraction_tile_lists_;
+    CasterTiles caster_tiles_;       // draw_casters: each caster's tiles by level, this draw's
+    gl::Buffer atlas_tile_buffer_;   // caster_tiles_.tiles (shadow_atlas.vert's instance to tile)
 };
 
 }  // namespace envshadow::render

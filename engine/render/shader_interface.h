@@ -82,6 +82,7 @@ namespace envshadow::render::shader {
     X(binding, lights, 0)       /* cells.glsl: uniform or storage block of LightRecord */              \
     X(binding, tile_lists, 1)   /* shadow_tiles.comp writes, shade.frag reads */                       \
     X(binding, caster_rects, 3) /* shadow_tiles.comp */                                                \
+    X(binding, atlas_tiles, 5)  /* shadow_atlas.vert ATLAS_CLIP_DISTANCES: instance to tile */         \
     X(binding, fs_row_sums, 0)  /* fs_importance.comp writes, fs_sampler.geom reads */                 \
     X(binding, fs_counts, 1)    /* fs_sampler.geom writes, fs_lights.comp reads */                     \
     X(binding, fs_samples, 0)   /* fs_lights.comp (transform feedback of fs_sampler.geom) */           \

@@ -174,5 +174,41 @@ TEST(CasterLod, ErrorBudgetIsAFractionOfATexelInObjectSpace) {
     EXPECT_EQ(caster_error_budget(glm::mat4(1.0f), 0.0f, 0.5f), 0.0f);   // no tiles
 }
 
+// Tiles over the same casters at 128^2, 256^2 and 1024^2: the small tile's texel is 8 times the large
+// one's and takes a coarser level; tiles of one level are drawn together, every tile exactly once.
+TEST(CasterLod, EachTileTakesTheLevelOfItsOwnTexel) {
+    CasterLod lod;
+    lod.levels = {{0, 300, 0.0f}, {300, 150, 0.01f}, {450, 60, 0.04f}, {510, 30, 0.2f}};
+    const float large = 4.0f / 1024.0f, middle = 4.0f / 256.0f, small = 4.0f / 128.0f;
+    const std::vector<float> texels = {small, large, small, middle, large};
+    CasterTiles tiles;
+    tiles.tiles = {7};  // appended after what is there
+    tiles.runs = {{2, 0, 1}};
+    // Half a texel: 0.0020 and 0.0078 m (level 0), 0.0156 m (level 1).
+    append_caster_tiles(lod, glm::mat4(1.0f), texels, 0.5f, tiles);
+    ASSERT_EQ(tiles.runs.size(), 3u);
+    EXPECT_EQ(tiles.runs[1].level, 0);
+    EXPECT_EQ(tiles.runs[1].first, 1u);
+    EXPECT_EQ(tiles.runs[1].count, 3u);
+    EXPECT_EQ(tiles.runs[2].level, 1);
+    EXPECT_EQ(tiles.runs[2].first, 4u);
+    EXPECT_EQ(tiles.runs[2].count, 2u);
+    EXPECT_EQ(tiles.tiles, (std::vector<std::int32_t>{7, 1, 3, 4, 0, 2}));
+    // An object scaled by 0.1: an object-space error moves its surface a tenth as far, so ten times the
+    // error is allowed (0.020 m: level 1; 0.078 and 0.156 m: level 2).
+    CasterTiles scaled;
+    append_caster_tiles(lod, glm::scale(glm::mat4(1.0f), glm::vec3(0.1f)), texels, 0.5f, scaled);
+    ASSERT_EQ(scaled.runs.size(), 2u);
+    EXPECT_EQ(scaled.runs[0].level, 1);
+    EXPECT_EQ(scaled.runs[1].level, 2);
+    EXPECT_EQ(scaled.tiles, (std::vector<std::int32_t>{1, 4, 0, 2, 3}));
+    // LOD off: one run of every tile at level 0.
+    CasterTiles off;
+    append_caster_tiles(lod, glm::mat4(1.0f), texels, 0.0f, off);
+    ASSERT_EQ(off.runs.size(), 1u);
+    EXPECT_EQ(off.runs[0].level, 0);
+    EXPECT_EQ(off.runs[0].count, 5u);
+}
+
 }  // namespace
 }  // namespace envshadow::render

@@ -623,6 +623,73 @@ TEST_P(RendererTest, OptimisationsKeepTheBaselineImage) {
     EXPECT_GT(object_psnr(render_with(optimised), reference), 45.0);
 }
 
+// The caster LOD per tile (RenderSettings::caster_lod_per_tile): one light from overhead, 30 dim ones
+// around; a large finely tessellated sphere and a small one floating above the ground. Every caster's
+// tiles are grouped by level and drawn through the buffer of tile indices: a caster drawn into the
+// wrong tiles, or left out of some, moves or loses its shadow. The small sphere's shadow must stay
+// under it in 128^2 tiles even at the coarsest LOD allowed; with tiles of mixed sizes the per-tile
+// levels draw fewer triangles than the frame's smallest texel would, within 45 dB of the full meshes.
+TEST_P(RendererTest, CasterLodPerTileKeepsASmallCastersShadow) {
+    Scene scene;
+    scene.has_ground = true;
+    scene.objects.push_back(make_object(mesh_of(PlaneShape{6.0f}), glm::vec3(0.0f), diffuse(0.6f), false));
+    scene.objects.push_back(make_object(mesh_of(SphereShape{0.5f, 96}), glm::vec3(-0.5f, 0.5f, 0.0f), diffuse(0.6f)));
+    const glm::vec3 small_centre(0.7f, 0.3f, 0.0f);
+    scene.objects.push_back(make_object(mesh_of(SphereShape{0.06f, 32}), small_centre, diffuse(0.6f)));
+    std::vector<Cell> cells;
+    Cell overhead;
+    overhead.direction = glm::vec3(0.0f, 1.0f, 0.0f);
+    overhead.radiance = glm::vec3(3.0f);
+    overhead.solid_angle = 1e-3f;
+    cells.push_back(overhead);
+    for (const glm::vec3& d : upper_fibonacci(31)) {
+        if (d.y > 0.95f) continue;  // the overhead one is there
+        Cell dim;
+        dim.direction = d;
+        dim.radiance = glm::vec3(0.01f);
+        dim.solid_angle = 1e-3f;
+        cells.push_back(dim);
+    }
+    const CameraView view = look_at({0.0f, 3.0f, 3.0f}, glm::vec3(0.2f, 0.0f, 0.0f), 160, 120);
+    auto render_with = [&](const RenderSettings& settings, std::size_t* atlas_triangles = nullptr) {
+        Renderer renderer(settings);
+        renderer.set_scene(scene);
+        renderer.set_lights(cells);
+        const render::FrameStats stats = renderer.render(0.0, view);
+        if (atlas_triangles) *atlas_triangles = stats.atlas_triangles;
+        return renderer.read_back();
+    };
+    const glm::ivec2 under = pixel_of(view, glm::vec3(small_centre.x, 0.0f, 0.0f));
+    const glm::ivec2 open = pixel_of(view, glm::vec3(small_centre.x, 0.0f, 0.5f));
+    auto expect_small_shadow = [&](const Image& image, const char* what) {
+        ASSERT_EQ(image.at(under.x, under.y).a, 1.0f) << what;
+        ASSERT_EQ(image.at(open.x, open.y).a, 1.0f) << what;
+        EXPECT_LT(luminance(image.at(under.x, under.y)), 0.5f * luminance(image.at(open.x, open.y))) << what;
+    };
+
+    RenderSettings small_tiles;
+    small_tiles.tile_size = 128;
+    small_tiles.tile_sizing = render::TileSizing::uniform;
+    small_tiles.caster_lod = render::kMaxCasterLod;
+    expect_small_shadow(render_with(small_tiles), "128^2 tiles at the coarsest LOD");
+
+    RenderSettings mixed;  // the overhead light's tile 1024^2, the others' 128^2
+    mixed.tile_size = 256;
+    RenderSettings full = mixed;
+    full.caster_lod = 0.0f;
+    RenderSettings smallest_texel = mixed;
+    smallest_texel.caster_lod_per_tile = false;
+    std::size_t full_triangles = 0, smallest_texel_triangles = 0, per_tile_triangles = 0;
+    const Image reference = render_with(full, &full_triangles);
+    expect_small_shadow(reference, "full meshes");
+    render_with(smallest_texel, &smallest_texel_triangles);
+    const Image per_tile = render_with(mixed, &per_tile_triangles);
+    expect_small_shadow(per_tile, "per-tile LOD");
+    EXPECT_GT(object_psnr(per_tile, reference), 45.0);
+    EXPECT_LT(smallest_texel_triangles, full_triangles);
+    EXPECT_LT(double(per_tile_triangles), 0.7 * double(smallest_texel_triangles));
+}
+
 ENVSHADOW_INSTANTIATE_GL_TEST(RendererTest);
 
 }  // namespace
