@@ -15,9 +15,9 @@
 namespace envshadow::app {
 
 // What the commands start from: the best picture (docs/DESIGN.md §4.1, §5.9, §5.14): 4 samples per pixel,
-// the ratio estimator and soft shadows, the shadowed fraction once per 2x2 pixels. RenderSettings' own defaults (one sample, the paper's sum over the
-// cells with hard shadows) are what the engine's tests compare; `--shading cells --shadows hard` gives
-// the paper's method.
+// the ratio estimator and soft shadows, the shadowed fraction once per 2x2 pixels. RenderSettings' own defaults (one
+// sample, the paper's sum over the cells with hard shadows) are what the engine's tests compare; `--shading cells
+// --shadows hard` gives the paper's method.
 render::RenderSettings command_defaults();
 
 // The settings options as given.

@@ -25,9 +25,10 @@ mat2 disc_rotation(Light light) {
 
 // uv: the receiver's (unclamped) position in the atlas, depth: its biased depth, hard: the 2x2 lookup
 // there, plane_slope: its triangle's depth slope per texel, for plane_pcf. The penumbra is sized by the
-// blocker nearest the receiver (the largest depth among the taps that block), not their mean: a roof
-// far above and a wall foot beside the receiver would otherwise average to a penumbra wider than the
-// wall's, which lets light through a concave corner.
+// blocking tap closest to the receiver in the tile (the discs' taps run outwards), not by the blockers'
+// mean: the outline nearest the receiver is the one whose penumbra reaches it, and under an edge that
+// rises from the ground (a box's vertical edge) its depth is the edge's point above the receiver, which
+// the mean (every height of the edge) and the deepest blocker (its foot) both miss.
 float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard, vec2 plane_slope) {
     vec2 per_depth = light.bias.zw;
     vec2 search = per_depth * depth;  // the widest penumbra: a blocker at depth 0
@@ -35,16 +36,19 @@ float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard, vec
     vec2 lo = light.tile.xy + 0.5 * u_atlas_texel, hi = light.tile.xy + light.tile.zw - 0.5 * u_atlas_texel;
     vec2 slope = receiver_depth_slope(light, n, 0.2);
     mat2 rotation = disc_rotation(light);
-    float blockers = 0.0, nearest_blocker = 0.0;
+    float blockers = 0.0, closest_blocker = 0.0;
     for (int k = 0; k < kBlockerTaps; ++k) {
         vec2 offset = rotation * kBlockerDisc[k] * search;  // texels
         float z = textureLod(u_atlas_depth, clamp(uv + offset * u_atlas_texel, lo, hi), 0.0).r;
-        if (z < depth + dot(slope, offset)) blockers += 1.0, nearest_blocker = max(nearest_blocker, z);
+        if (z < depth + dot(slope, offset)) {
+            if (blockers == 0.0) closest_blocker = z;
+            blockers += 1.0;
+        }
     }
     if (blockers == 0.0) return hard;
     // Every tap of the widest region a blocker, and the centre too: the (smaller) filter region is umbra.
     if (blockers == float(kBlockerTaps) && hard == 0.0) return 0.0;
-    vec2 radius = per_depth * max(depth - nearest_blocker, 0.0);
+    vec2 radius = per_depth * max(depth - closest_blocker, 0.0);
     if (max(radius.x, radius.y) < 1.0) return hard;  // the penumbra is under a texel
     float sum = 0.0;
     for (int k = 0; k < kFilterTaps; ++k) {

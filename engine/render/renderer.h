@@ -244,8 +244,8 @@ private:
     gl::Framebuffer fraction_target_;
     glm::ivec2 fraction_tiles_{0, 0};
     gl::Buffer fraction_tile_lists_;
-    CasterTiles caster_tiles_;       // draw_casters: each caster's tiles by level, this draw's
-    gl::Buffer atlas_tile_buffer_;   // caster_tiles_.tiles (shadow_atlas.vert's instance to tile)
+    CasterTiles caster_tiles_;      // draw_casters: each caster's tiles by level, this draw's
+    gl::Buffer atlas_tile_buffer_;  // caster_tiles_.tiles (shadow_atlas.vert's instance to tile)
 };
 
 }  // namespace envshadow::render
