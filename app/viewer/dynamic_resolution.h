@@ -16,6 +16,9 @@ struct DynamicResolutionOptions {
     // One sample per pixel while the view changes, whatever --msaa says: on a CPU rasteriser such as
     // llvmpipe 4 samples cost about 3x the shading (docs/PERFORMANCE.md).
     bool one_sample_while_moving = true;
+    // Hard shadows while the view changes, whatever --shadows says: the soft shadows' blocker search and
+    // filter cost about 3.5x the cells' one lookup each (docs/PERFORMANCE.md).
+    bool hard_shadows_while_moving = true;
 };
 
 class DynamicResolution {

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+
+#include "core/enum_names.h"
 
 namespace envshadow::app {
 namespace {
@@ -38,9 +41,10 @@ std::string MotionLog::summary(const DynamicResolutionOptions& options) const {
     char text[400];
     std::snprintf(text, sizeof text,
                   "dynamic resolution: %zu frames while the view changed, median %.1f ms (%.1f FPS) at scale "
-                  "%.2f, the last at %dx%d, %d sample(s) per pixel; target %s",
+                  "%.2f, the last at %dx%d, %d sample(s) per pixel, %s shadows; target %s",
                   frame_ms.size(), ms, ms > 0.0 ? 1000.0 / ms : 0.0, median_of(scale_values), last_moving.width,
                   last_moving.height, last_moving.samples,
+                  std::string(envshadow::to_string(last_moving.shadows)).c_str(),
                   options.enabled ? (std::to_string(int(std::lround(options.target_ms))) + " ms").c_str() : "off");
     std::string line = text;
     if (full_again) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gl/timer.h"
+#include "render/render_settings.h"
 #include "viewer/dynamic_resolution.h"
 
 namespace envshadow::app {
@@ -17,7 +18,8 @@ struct DrawnFrame {
     bool changing = false;  // the view differed from the frame before
     float scale = 1.0f;     // of the window's size
     int width = 0, height = 0;
-    int samples = 1;         // MSAA samples asked of the renderer
+    int samples = 1;                                        // MSAA samples asked of the renderer
+    render::ShadowMode shadows = render::ShadowMode::hard;  // asked of the renderer
     double render_ms = 0.0;  // Renderer::render's wall time: the rest of the frame is display, panels, swap
     int atlas_passes = 0;    // 0 when the shadow cache kept the atlas (docs/DESIGN.md §5.11)
     std::vector<gl::PassTime> passes;

@@ -315,13 +315,17 @@ private:
     void apply_settings() {
         try {
             render::RenderSettings settings = controls_.settings;
-            settings.msaa = renderer_->settings().msaa;  // draw_frame sets it: fewer while the view moves
+            // draw_frame sets these two: fewer samples and hard shadows while the view moves.
+            settings.msaa = renderer_->settings().msaa;
+            settings.shadows = renderer_->settings().shadows;
             renderer_->set_settings(settings);
         } catch (const std::exception& e) {
             error_ = e.what();
             const int msaa = controls_.settings.msaa;
+            const render::ShadowMode shadows = controls_.settings.shadows;
             controls_.settings = renderer_->settings();
             controls_.settings.msaa = msaa;
+            controls_.settings.shadows = shadows;
         }
     }
 
@@ -358,8 +362,10 @@ private:
         frame.scale = resolution_.scale_for_frame(frame.changing, now_seconds_);
         frame.width = std::max(1, int(std::lround(float(width) * frame.scale)));
         frame.height = std::max(1, int(std::lround(float(height) * frame.scale)));
-        const bool reduced = !resolution_.at_full_quality() && controls_.dynamic_resolution.one_sample_while_moving;
-        frame.samples = reduced ? 1 : controls_.settings.msaa;
+        const bool moving = !resolution_.at_full_quality();
+        frame.samples = moving && controls_.dynamic_resolution.one_sample_while_moving ? 1 : controls_.settings.msaa;
+        frame.shadows = moving && controls_.dynamic_resolution.hard_shadows_while_moving ? render::ShadowMode::hard
+                                                                                         : controls_.settings.shadows;
         return frame;
     }
 
@@ -367,9 +373,11 @@ private:
         Scene framed = scene_;
         framed.camera = orbit_.camera();
         drawn_ = plan_frame(framed.camera, width, height);
-        if (renderer_->settings().msaa != drawn_.samples) {  // the shaders do not change: no compile
+        // Samples: the shaders do not change; shadows: the programs of each mode are built once and kept.
+        if (renderer_->settings().msaa != drawn_.samples || renderer_->settings().shadows != drawn_.shadows) {
             render::RenderSettings settings = renderer_->settings();
             settings.msaa = drawn_.samples;
+            settings.shadows = drawn_.shadows;
             renderer_->set_settings(settings);
         }
         if (controls_.light_source == render::LightSourceKind::gpu_fs) sample_lights_on_the_gpu();

@@ -31,7 +31,8 @@ TEST(MotionLog, FullSizeAgainIsTimedFromTheLastChangingFrame) {
     EXPECT_EQ(log.frame_ms.size(), 2u);
     const std::string line = log.summary(DynamicResolutionOptions{});  // enabled, 100 ms
     EXPECT_NE(line.find("2 frames while the view changed, median 120.0 ms"), std::string::npos) << line;
-    EXPECT_NE(line.find("the last at 80x45, 1 sample(s) per pixel; target 100 ms"), std::string::npos) << line;
+    EXPECT_NE(line.find("the last at 80x45, 1 sample(s) per pixel, hard shadows; target 100 ms"), std::string::npos)
+        << line;
     EXPECT_NE(line.find("full size again 0.40 s after it stopped"), std::string::npos) << line;
 }
 

@@ -102,10 +102,11 @@ TEST(Viewer, DynamicResolutionShadesLessWhileDraggedAndFullSizeOnceStill) {
                               "/assets/scenes/spheres.json --lights 16 --speed 0 --width 1024 --height 576 "
                               "--orbit-frames 6 "
                               "--frames 16";
-    const std::regex line(R"(dynamic resolution: (\d+) frames while the view changed, median [0-9.]+ ms \([0-9.]+ )"
-                          R"(FPS\) at scale ([0-9.]+), the last at (\d+)x(\d+), (\d+) sample\(s\) per pixel; )"
-                          R"(target ([^;]+); ([^;]*); while it changed: the renderer [0-9.]+ ms a frame \(median\), )"
-                          R"((\d+) atlas passes)");
+    const std::regex line(
+        R"(dynamic resolution: (\d+) frames while the view changed, median [0-9.]+ ms \([0-9.]+ )"
+        R"(FPS\) at scale ([0-9.]+), the last at (\d+)x(\d+), (\d+) sample\(s\) per pixel, (\w+) shadows; )"
+        R"(target ([^;]+); ([^;]*); while it changed: the renderer [0-9.]+ ms a frame \(median\), )"
+        R"((\d+) atlas passes)");
     std::smatch m;
 
     const fs::path out = fs::path(ENVSHADOW_BINARY_DIR) / "viewer" / "viewer_dynamic_resolution.png";
@@ -116,10 +117,11 @@ TEST(Viewer, DynamicResolutionShadesLessWhileDraggedAndFullSizeOnceStill) {
     EXPECT_EQ(std::stoi(m[3]), 256);
     EXPECT_EQ(std::stoi(m[4]), 144);
     EXPECT_EQ(std::stoi(m[5]), 1) << "MSAA is dropped while the view moves";
-    EXPECT_EQ(m[6].str(), "1 ms");
-    EXPECT_TRUE(m[7].str().starts_with("full size again")) << m[7];
+    EXPECT_EQ(m[6].str(), "hard") << "soft shadows are dropped while the view moves";
+    EXPECT_EQ(m[7].str(), "1 ms");
+    EXPECT_TRUE(m[8].str().starts_with("full size again")) << m[8];
     // spheres.json is still: the atlas is drawn once, for the first frame, and kept while the camera moves.
-    EXPECT_LE(std::stoi(m[8]), 1);
+    EXPECT_LE(std::stoi(m[9]), 1);
     const Image8 window = read_png(out);
     EXPECT_EQ(window.width, 1024);
     EXPECT_EQ(window.height, 576);
@@ -131,7 +133,8 @@ TEST(Viewer, DynamicResolutionShadesLessWhileDraggedAndFullSizeOnceStill) {
     EXPECT_EQ(std::stoi(m[3]), 1024);
     EXPECT_EQ(std::stoi(m[4]), 576);
     EXPECT_EQ(std::stoi(m[5]), 4) << "without dynamic resolution the frames keep --msaa's default";
-    EXPECT_EQ(m[6].str(), "off");
+    EXPECT_EQ(m[6].str(), "soft") << "and --shadows' default";
+    EXPECT_EQ(m[7].str(), "off");
 }
 
 // --tonemap reaches the window: the ground below the panels (the same frame of a still scene) is
