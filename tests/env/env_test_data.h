@@ -11,7 +11,10 @@
 #include <string>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
 #include "env/environment.h"
+#include "env/latlong.h"
 
 namespace envshadow::test {
 
@@ -30,6 +33,18 @@ inline const EnvironmentMap& world(const std::string& name) {
     if (it == cache.end())
         it = cache.emplace(name, load_environment(name.starts_with("builtin:") ? name : world_path(name))).first;
     return it->second;
+}
+
+// A prefiltered value's luminance against the direct integral's, relative (the prefiltering tests).
+inline double relative_error(const glm::vec3& got, const glm::dvec3& want) {
+    return std::abs(latlong::luminance(glm::dvec3(got)) - latlong::luminance(want)) / latlong::luminance(want);
+}
+
+// Directions the prefiltering tests look up: the zenith, the upper and lower hemispheres, near the horizon.
+inline std::vector<glm::dvec3> test_directions() {
+    return {glm::normalize(glm::dvec3(0.0, 1.0, 0.0)), glm::normalize(glm::dvec3(0.3, 0.8, -0.5)),
+            glm::normalize(glm::dvec3(-0.7, 0.25, 0.4)), glm::normalize(glm::dvec3(0.9, 0.05, 0.2)),
+            glm::normalize(glm::dvec3(0.1, -0.6, 0.8))};
 }
 
 inline std::filesystem::path scratch_folder() {

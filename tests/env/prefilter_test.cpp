@@ -32,15 +32,8 @@ glm::dvec3 lobe_integral(const EnvironmentMap& map, const glm::dvec3& axis, doub
     return sum;
 }
 
-double relative_error(const glm::vec3& got, const glm::dvec3& want) {
-    return std::abs(latlong::luminance(glm::dvec3(got)) - latlong::luminance(want)) / latlong::luminance(want);
-}
-
-std::vector<glm::dvec3> test_directions() {
-    return {glm::normalize(glm::dvec3(0.0, 1.0, 0.0)), glm::normalize(glm::dvec3(0.3, 0.8, -0.5)),
-            glm::normalize(glm::dvec3(-0.7, 0.25, 0.4)), glm::normalize(glm::dvec3(0.9, 0.05, 0.2)),
-            glm::normalize(glm::dvec3(0.1, -0.6, 0.8))};
-}
+using test::relative_error;
+using test::test_directions;
 
 TEST(PrefilterTest, LobeFactorsMatchQuadrature) {
     for (double n : {1.0, 3.7, 100.0}) {

@@ -47,6 +47,18 @@ std::vector<Cell> cells_of(const std::string& environment, int lights) {
     return decompose(load_environment(environment), DecomposeOptions{Method::lloyd, lights, 1}).cells;
 }
 
+// One frame of `scene` under `cells` at t = 0, read back; the atlas's triangle count into
+// `atlas_triangles` when given.
+Image render_frame(const Scene& scene, const std::vector<Cell>& cells, const CameraView& view,
+                   const RenderSettings& settings, std::size_t* atlas_triangles = nullptr) {
+    Renderer renderer(settings);
+    renderer.set_scene(scene);
+    renderer.set_lights(cells);
+    const render::FrameStats stats = renderer.render(0.0, view);
+    if (atlas_triangles) *atlas_triangles = stats.atlas_triangles;
+    return renderer.read_back();
+}
+
 // Fibonacci directions over the upper hemisphere.
 std::vector<glm::vec3> upper_fibonacci(int n) {
     std::vector<glm::vec3> d;
@@ -584,12 +596,7 @@ TEST_P(RendererTest, OptimisationsKeepTheBaselineImage) {
     const CameraView view = look_at({0.8f, 1.8f, 4.0f}, glm::vec3(0.0f, 0.7f, 0.0f), 192, 144);
     const std::vector<Cell> cells = cells_of("builtin:sky", 40);
     auto render_with = [&](const RenderSettings& settings, std::size_t* atlas_triangles = nullptr) {
-        Renderer renderer(settings);
-        renderer.set_scene(scene);
-        renderer.set_lights(cells);
-        const render::FrameStats stats = renderer.render(0.0, view);
-        if (atlas_triangles) *atlas_triangles = stats.atlas_triangles;
-        return renderer.read_back();
+        return render_frame(scene, cells, view, settings, atlas_triangles);
     };
     RenderSettings first = render::baseline(RenderSettings{});
     first.tile_size = 128;  // coarse texels: the LOD has room to simplify
@@ -652,12 +659,7 @@ TEST_P(RendererTest, CasterLodPerTileKeepsASmallCastersShadow) {
     }
     const CameraView view = look_at({0.0f, 3.0f, 3.0f}, glm::vec3(0.2f, 0.0f, 0.0f), 160, 120);
     auto render_with = [&](const RenderSettings& settings, std::size_t* atlas_triangles = nullptr) {
-        Renderer renderer(settings);
-        renderer.set_scene(scene);
-        renderer.set_lights(cells);
-        const render::FrameStats stats = renderer.render(0.0, view);
-        if (atlas_triangles) *atlas_triangles = stats.atlas_triangles;
-        return renderer.read_back();
+        return render_frame(scene, cells, view, settings, atlas_triangles);
     };
     const glm::ivec2 under = pixel_of(view, glm::vec3(small_centre.x, 0.0f, 0.0f));
     const glm::ivec2 open = pixel_of(view, glm::vec3(small_centre.x, 0.0f, 0.5f));
