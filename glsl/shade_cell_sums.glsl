@@ -8,7 +8,6 @@
 #include "shade_surface.glsl"
 #include "shade_visibility.glsl"
 
-layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
 layout(location = LOC_TILES_X) uniform uint u_tiles_x;        // screen tiles per row (SHADOW_TILE_LISTS)
 layout(location = LOC_UNSHADOWED) uniform vec3 u_unshadowed;  // FLAT_RECEIVER: sum of L~_i a_i, the same for every pixel
 
@@ -68,6 +67,9 @@ CellSums unshadowed_sums(Surface s) {
 
 // The sums before the loop: every cell unshadowed with the tile lists, else nothing yet.
 CellSums sums_before_lookups(Surface s) {
+#if defined(SOFT_SHADOWS)
+    begin_penumbra_bound();
+#endif
 #if defined(SHADOW_TILE_LISTS)
     return unshadowed_sums(s);
 #else
@@ -78,18 +80,31 @@ CellSums sums_before_lookups(Surface s) {
 // Cell i's shadow into the sums; a cell that reflects nothing is skipped without a shadow lookup.
 void add_cell(inout CellSums sums, Surface s, int i) {
     Reflectivity a = reflectivity(s, i);
+    vec3 light = lights[i].radiance.rgb * a.kept;
 #if defined(SHADOW_TILE_LISTS)
-    if (!reflects(a.kept)) return;
-    sums.shadowed -= (1.0 - cell_visibility(s, i)) * lights[i].radiance.rgb * a.kept;
+    if (!reflects(a.kept)) {
+        skip_cell(s, i);
+        return;
+    }
+    sums.shadowed -= (1.0 - cell_visibility(s, i, light)) * light;
 #else
-    if (!reflects(a.whole_lobe)) return;
+    if (!reflects(a.whole_lobe)) {
+        skip_cell(s, i);
+        return;
+    }
     sums.whole_lobe += lights[i].radiance.rgb * a.whole_lobe;
-    if (reflects(a.kept)) sums.shadowed += cell_visibility(s, i) * lights[i].radiance.rgb * a.kept;
+    if (reflects(a.kept))
+        sums.shadowed += cell_visibility(s, i, light) * light;
+    else
+        skip_cell(s, i);
 #endif
 }
 
 // sum_i V_i L~_i a_i once the loop is done.
 vec3 shadowed_sum(CellSums sums) {
+#if defined(SOFT_SHADOWS)
+    sums.shadowed += bounded_penumbrae();
+#endif
 #if defined(SHADOW_TILE_LISTS)
     return max(sums.shadowed, vec3(0.0));  // fully shadowed pixels: the difference may round below zero
 #else

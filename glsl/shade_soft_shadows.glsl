@@ -3,6 +3,8 @@
 // light.bias.zw turns a depth difference into tile texels. Taps on Vogel discs (radius
 // sqrt((k + 0.5) / K), golden angle).
 #include "shade_atlas.glsl"
+#include "shade_surface.glsl"
+#include "shade_tile_lookup.glsl"
 
 const int kBlockerTaps = 8;
 const vec2 kBlockerDisc[kBlockerTaps] = vec2[](vec2(0.2500, 0.0000), vec2(-0.3193, 0.2925), vec2(0.0489, -0.5569),
@@ -23,37 +25,44 @@ mat2 disc_rotation(Light light) {
     return mat2(c, s, -s, c);
 }
 
-// uv: the receiver's (unclamped) position in the atlas, depth: its biased depth, hard: the 2x2 lookup
-// there, plane_slope: its triangle's depth slope per texel, for plane_pcf. The penumbra is sized by the
-// blocking tap closest to the receiver in the tile (the discs' taps run outwards), not by the blockers'
-// mean: the outline nearest the receiver is the one whose penumbra reaches it, and under an edge that
-// rises from the ground (a box's vertical edge) its depth is the edge's point above the receiver, which
-// the mean (every height of the edge) and the deepest blocker (its foot) both miss.
-float soft_visibility(Light light, vec3 n, vec2 uv, float depth, float hard, vec2 plane_slope) {
+// Cell i's soft visibility at the receiver `lookup`, whose hard 2x2 lookup is `hard`: x the whole, y the part
+// of it through texels that hold no caster (the share of the search's unblocked taps that read cleared
+// depth). The penumbra is sized by the blocking tap closest
+// to the receiver in the tile (the discs' taps run outwards), not by the blockers' mean: the outline
+// nearest the receiver is the one whose penumbra reaches it, and under an edge that rises from the ground
+// (a box's vertical edge) its depth is the edge's point above the receiver, which the mean (every height
+// of the edge) and the deepest blocker (its foot) both miss.
+vec2 soft_visibility(Surface s, int i, TileLookup lookup, float hard) {
+    Light light = lights[i];
     vec2 per_depth = light.bias.zw;
-    vec2 search = per_depth * depth;  // the widest penumbra: a blocker at depth 0
-    if (max(search.x, search.y) < 1.0) return hard;
+    vec2 search = per_depth * lookup.depth;  // the widest penumbra: a blocker at depth 0
+    if (max(search.x, search.y) < 1.0) return vec2(hard, 0.0);
     vec2 lo = light.tile.xy + 0.5 * u_atlas_texel, hi = light.tile.xy + light.tile.zw - 0.5 * u_atlas_texel;
-    vec2 slope = receiver_depth_slope(light, n, 0.2);
+    vec2 slope = receiver_depth_slope(light, s.normal, 0.2);
     mat2 rotation = disc_rotation(light);
-    float blockers = 0.0, closest_blocker = 0.0;
+    float blockers = 0.0, closest_blocker = 0.0, empty = 0.0;
     for (int k = 0; k < kBlockerTaps; ++k) {
         vec2 offset = rotation * kBlockerDisc[k] * search;  // texels
-        float z = textureLod(u_atlas_depth, clamp(uv + offset * u_atlas_texel, lo, hi), 0.0).r;
-        if (z < depth + dot(slope, offset)) {
+        float z = textureLod(u_atlas_depth, clamp(lookup.unclamped + offset * u_atlas_texel, lo, hi), 0.0).r;
+        if (z < lookup.depth + dot(slope, offset)) {
             if (blockers == 0.0) closest_blocker = z;
             blockers += 1.0;
+        } else if (z >= 1.0) {
+            empty += 1.0;
         }
     }
-    if (blockers == 0.0) return hard;
+    if (blockers == 0.0) return vec2(hard, 0.0);
     // Every tap of the widest region a blocker, and the centre too: the (smaller) filter region is umbra.
-    if (blockers == float(kBlockerTaps) && hard == 0.0) return 0.0;
-    vec2 radius = per_depth * max(depth - closest_blocker, 0.0);
-    if (max(radius.x, radius.y) < 1.0) return hard;  // the penumbra is under a texel
+    if (blockers == float(kBlockerTaps) && hard == 0.0) return vec2(0.0);
+    vec2 radius = per_depth * max(lookup.depth - closest_blocker, 0.0);
+    if (max(radius.x, radius.y) < 1.0) return vec2(hard, 0.0);  // the penumbra is under a texel
     float sum = 0.0;
     for (int k = 0; k < kFilterTaps; ++k) {
         vec2 offset = rotation * kFilterDisc[k] * radius;
-        sum += plane_pcf(clamp(uv + offset * u_atlas_texel, lo, hi), depth + dot(slope, offset), plane_slope);
+        sum += plane_pcf(clamp(lookup.unclamped + offset * u_atlas_texel, lo, hi), lookup.depth + dot(slope, offset),
+                         lookup.slope);
     }
-    return sum / float(kFilterTaps);
+    // The part through empty texels: the lit taps' share that read none in the search.
+    float v = sum / float(kFilterTaps);
+    return vec2(v, v * empty / max(float(kBlockerTaps) - blockers, 1.0));
 }

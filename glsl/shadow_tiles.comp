@@ -16,7 +16,6 @@ layout(binding = UNIT_DEPTH) uniform sampler2DMS u_depth;  // DEPTH_SAMPLES per 
 layout(binding = UNIT_DEPTH) uniform sampler2D u_depth;  // the image's depth after the pre-pass (NEAREST)
 #endif
 layout(location = LOC_WORLD_FROM_CLIP) uniform mat4 u_world_from_clip;
-layout(location = LOC_LIGHT_COUNT) uniform int u_light_count;
 layout(location = LOC_PAD) uniform float u_pad;  // world units: the largest normal offset and rounding
 
 layout(location = LOC_CASTER_COUNT) uniform int u_caster_count;  // rectangles per light

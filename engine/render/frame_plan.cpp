@@ -116,6 +116,7 @@ void FramePlanner::set_lights(std::span<const WorldLight> lights) {
     lights_.assign(lights.begin(), lights.end());
     frames_.clear();
     for (const WorldLight& light : lights_) frames_.push_back(light_frame(light.direction));
+    neighbourhoods_ = light_neighbourhoods(lights_);
     animation_fits_.clear();
 }
 
@@ -177,13 +178,17 @@ void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& s
                                         : fit_orthographic(frames_[k], caster_points_, tile.size, kTileMarginTexels);
         LightRecord& record = plan_.lights[k];
         record.direction = glm::vec4(light.direction, weighted ? light.cos_radius_weighted : light.cos_radius);
-        record.radiance = glm::vec4(light.radiance, 0.0f);
+        record.radiance = glm::vec4(light.radiance, neighbourhoods_[k].surrounded ? 1.0f : 0.0f);
         record.clip_from_world = fit.clip_from_world;
         record.tile =
             glm::vec4(glm::vec2(float(tile.x), float(tile.y)) / atlas_size, glm::vec2(float(tile.size)) / atlas_size);
         record.bias =
             glm::vec4(settings.depth_bias * fit.texel_world / fit.depth_range, settings.normal_offset * fit.texel_world,
                       penumbra_texels_per_depth(fit.clip_from_world, tile.size, record.direction.w));
+        for (std::size_t w = 0; w < record.neighbourhood.size(); ++w)
+            record.neighbourhood[w] =
+                glm::uvec4(neighbourhoods_[k].lights[4 * w], neighbourhoods_[k].lights[4 * w + 1],
+                           neighbourhoods_[k].lights[4 * w + 2], neighbourhoods_[k].lights[4 * w + 3]);
         plan_.texel_world[k] = fit.texel_world;
         plan_.min_texel_world = std::min(plan_.min_texel_world, fit.texel_world);
         if (previous_fits_[k] != record.clip_from_world || previous_tiles_[k] != record.tile) fits_changed = true;

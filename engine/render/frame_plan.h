@@ -132,8 +132,9 @@ private:
     std::vector<PlannedObject> objects_;
     std::vector<WorldLight> lights_;
     std::vector<LightFrame> frames_;
-    std::vector<glm::vec3> caster_points_;     // 8 box corners per shadow caster, world space
-    std::vector<glm::vec3> animation_points_;  // animation_caster_points(objects_)
+    std::vector<LightNeighbourhood> neighbourhoods_;  // light_neighbourhoods of lights_
+    std::vector<glm::vec3> caster_points_;            // 8 box corners per shadow caster, world space
+    std::vector<glm::vec3> animation_points_;         // animation_caster_points(objects_)
     // ShadowFit::animation: the fits are the same every frame while the lights and tile sizes are.
     std::vector<OrthographicFit> animation_fits_;
     std::vector<int> animation_fit_tile_sizes_;

@@ -1,6 +1,8 @@
 #pragma once
 // Cells of the environment become the renderer's directional lights: rotated into the world, the
 // ones that cannot change the image dropped, and packed for the GPU. Plain C++, no GL.
+#include <array>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -13,16 +15,22 @@
 
 namespace envshadow::render {
 
+// A light's neighbourhood as a bit set over the lights: bit j of word j / 32 is set when light j is the
+// light itself or one of its neighbours (light_neighbourhoods).
+inline constexpr int kNeighbourhoodWords = kMaxLights / 32;
+using Neighbourhood = std::array<std::uint32_t, kNeighbourhoodWords>;
+
 // The GPU's light record: the C++ twin of `struct Light` in glsl/cells.glsl (std430).
 struct LightRecord {
     glm::vec4 direction{0.0f, 1.0f, 0.0f, 1.0f};  // xyz: w_i in the world (towards the light); w: cos r_i
-    glm::vec4 radiance{0.0f};                     // rgb: L~_i
+    glm::vec4 radiance{0.0f};                     // rgb: L~_i; w: 1 where the neighbourhood surrounds the light
     glm::mat4 clip_from_world{1.0f};              // the cell's orthographic projection (tile clip cube)
     glm::vec4 tile{0.0f};                         // xy: tile corner in atlas uv, zw: tile size in atlas uv
     glm::vec4 bias{
         0.0f};  // x: receiver depth bias (depth units), y: normal offset (world), zw: penumbra texels per depth
+    std::array<glm::uvec4, kNeighbourhoodWords / 4> neighbourhood{};  // the Neighbourhood's words, four a vector
 };
-static_assert(sizeof(LightRecord) == 128, "must match the std430 layout of glsl/cells.glsl's Light");
+static_assert(sizeof(LightRecord) == 160, "must match the std430 layout of glsl/cells.glsl's Light");
 
 // A light in the world, before shadow fitting.
 struct WorldLight {
@@ -53,5 +61,28 @@ inline constexpr double kNegligibleShare = 1e-6;
 //    most that share of what the unshadowed environment would give it (times the ratio of the
 //    material's peak reflectivity to its mean), far under half-float precision and PNG quantisation.
 LightSelection select_lights(std::span<const Cell> cells, const glm::mat3& world_from_map, bool has_ground, bool skip);
+
+// How far apart, in units of the sum of two lights' cap radii, their centres may lie and the two still
+// be neighbours. Equal-area caps (cos_radius) of Voronoi cells in a hexagonal arrangement put the first
+// ring of neighbours at 0.95 (r_i + r_j) and the second at 1.65; 2 reaches the first ring of long cells
+// too (those along the horizon of an upper hemisphere, a small cell beside the sun) and a centre off its
+// cell's middle (the importance-weighted direction).
+inline constexpr float kNeighbourReach = 2.0f;
+
+// The widest gap, in azimuth about a light, that its neighbours may leave and still surround it.
+inline constexpr float kSurroundingGapDegrees = 120.0f;
+
+struct LightNeighbourhood {
+    Neighbourhood lights{};   // the light itself and its neighbours
+    bool surrounded = false;  // no gap wider than kSurroundingGapDegrees between the neighbours about it
+};
+
+// Each light's neighbourhood: itself and every light whose centre lies within kNeighbourReach (r_i + r_j)
+// of its own, r the equal-area cap radius (acos cos_radius). The soft shadows' bound reads it: the cap of a
+// surrounded light lies within the directions of its neighbours' centres, so where none of them sees a
+// point, no part of the cap does (docs/DESIGN.md §5.9). When no light lies below the horizon (a scene with
+// a ground, or a map dark there), the horizon closes a light's neighbourhood below: no light comes from
+// there. At most kMaxLights lights (std::invalid_argument).
+std::vector<LightNeighbourhood> light_neighbourhoods(std::span<const WorldLight> lights);
 
 }  // namespace envshadow::render

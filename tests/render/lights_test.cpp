@@ -1,9 +1,14 @@
-// Cells to world lights: the rotation and which lights may be skipped.
+// Cells to world lights: the rotation, which lights may be skipped, and each light's neighbourhood.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "env/environment.h"
 #include "env/orientation.h"
 #include "render/lights.h"
 
@@ -67,6 +72,71 @@ TEST(SelectLights, RotatesDirectionsAndKeepsBothCaps) {
     EXPECT_LT(s.kept[0].direction.z, -0.8f);
     EXPECT_FLOAT_EQ(s.kept[0].cos_radius, 0.98f);
     EXPECT_FLOAT_EQ(s.kept[0].cos_radius_weighted, 0.99f);
+}
+
+WorldLight cap_light(glm::vec3 direction, float radius_degrees) {
+    return {glm::normalize(direction), glm::vec3(1.0f), std::cos(glm::radians(radius_degrees)), 1.0f};
+}
+
+bool in_neighbourhood(const LightNeighbourhood& neighbourhood, std::size_t j) {
+    return (neighbourhood.lights[j / 32] >> (j % 32) & 1u) != 0;
+}
+
+TEST(LightNeighbourhoods, HoldTheLightAndTheLightsWithinReachOfTheirCaps) {
+    // Caps of 10 degrees: neighbours while the centres are within 2 (10 + 10) = 40 degrees.
+    const float degree = std::numbers::pi_v<float> / 180.0f;
+    const std::vector<WorldLight> lights = {
+        cap_light({0, 1, 0}, 10.0f), cap_light({std::sin(35 * degree), std::cos(35 * degree), 0}, 10.0f),
+        cap_light({0, std::cos(45 * degree), std::sin(45 * degree)}, 10.0f), cap_light({0, -1, 0}, 10.0f)};
+    const std::vector<LightNeighbourhood> n = light_neighbourhoods(lights);
+    ASSERT_EQ(n.size(), lights.size());
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        EXPECT_TRUE(in_neighbourhood(n[i], i));
+        EXPECT_FALSE(n[i].surrounded);  // one neighbour at most
+    }
+    EXPECT_TRUE(in_neighbourhood(n[0], 1));
+    EXPECT_TRUE(in_neighbourhood(n[1], 0));
+    EXPECT_FALSE(in_neighbourhood(n[0], 2));
+    EXPECT_FALSE(in_neighbourhood(n[0], 3));
+    EXPECT_FALSE(in_neighbourhood(n[1], 2));  // 55 degrees apart
+}
+
+TEST(LightNeighbourhoods, ALoneLightIsNotSurrounded) {
+    const std::vector<WorldLight> one = {cap_light({0.3f, 1, 0}, 5.0f)};
+    const std::vector<LightNeighbourhood> n = light_neighbourhoods(one);
+    ASSERT_EQ(n.size(), 1u);
+    EXPECT_FALSE(n[0].surrounded);
+}
+
+// What the soft shadows' bound relies on: around every cell of a decomposition of the whole sphere, its
+// neighbours' centres leave no gap wider than 120 degrees (a hexagonal ring leaves 60), and they are the
+// first two rings at most (6 + 12), not the whole sky. Of the upper hemisphere's, the horizon closes the
+// gap below the cells along it.
+TEST(LightNeighbourhoods, SurroundEveryCellOfALloydDecomposition) {
+    const EnvironmentMap sky = load_environment("builtin:sky:elevation=40");
+    for (const Hemisphere hemisphere : {Hemisphere::full, Hemisphere::upper})
+        for (const int n : {32, 128}) {
+            const Decomposition d = decompose(sky, {Method::lloyd, n, 1, SiteSearch::tiles, hemisphere});
+            const std::vector<WorldLight> lights = select_lights(d.cells, world_from_map(0.0f), false, false).kept;
+            const std::vector<LightNeighbourhood> neighbourhoods = light_neighbourhoods(lights);
+            ASSERT_EQ(neighbourhoods.size(), lights.size());
+            for (std::size_t i = 0; i < lights.size(); ++i) {
+                int count = 0;
+                for (std::size_t j = 0; j < lights.size(); ++j) {
+                    EXPECT_EQ(in_neighbourhood(neighbourhoods[i], j), in_neighbourhood(neighbourhoods[j], i));
+                    if (j != i && in_neighbourhood(neighbourhoods[i], j)) ++count;
+                }
+                EXPECT_TRUE(neighbourhoods[i].surrounded)
+                    << "N = " << n << ", light " << i << ", hemisphere " << int(hemisphere);
+                EXPECT_GE(count, hemisphere == Hemisphere::full ? 3 : 2) << "N = " << n << ", light " << i;
+                EXPECT_LE(count, 18) << "N = " << n << ", light " << i;
+            }
+        }
+}
+
+TEST(LightNeighbourhoods, RefuseMoreLightsThanTheBitSetsHold) {
+    const std::vector<WorldLight> lights(std::size_t(kMaxLights) + 1, cap_light({0, 1, 0}, 1.0f));
+    EXPECT_THROW(light_neighbourhoods(lights), std::invalid_argument);
 }
 
 }  // namespace
