@@ -512,8 +512,9 @@ room_window / courtyard 3.18% → 2.04%; the sealed box's brightest pixel 0.0253
 moved by more than 0.01 percentage points. What is left in the room is the light through the door: the
 patch on the floor, the walls beside the door and a faint line down the far vertical corner. At the
 defaults (MSAA 4, the fraction per 2×2 pixels) against a box-filtered reference the room is 3.88% (5.85%
-before the bound; the reference's own noise, about 1.4% per pixel, is in the figure). Not yet part of this
-script's runs (the room's reference takes 25 minutes on 2 cores)."""
+before the bound; the reference's own noise, about 1.4% per pixel, is in the figure); room_window and
+carport at 64×48 are 17–30% and 8.5–9.8% there, most of it sunlit patches smaller than a pixel that MSAA
+shades once per pixel. Not yet part of this script's runs (the room's reference takes 25 minutes on 2 cores)."""
 
 
 def weaknesses(ctx):
