@@ -185,10 +185,7 @@ void FramePlanner::fit_lights(const AtlasLayout& layout, const RenderSettings& s
         record.bias =
             glm::vec4(settings.depth_bias * fit.texel_world / fit.depth_range, settings.normal_offset * fit.texel_world,
                       penumbra_texels_per_depth(fit.clip_from_world, tile.size, record.direction.w));
-        for (std::size_t w = 0; w < record.neighbourhood.size(); ++w)
-            record.neighbourhood[w] =
-                glm::uvec4(neighbourhoods_[k].lights[4 * w], neighbourhoods_[k].lights[4 * w + 1],
-                           neighbourhoods_[k].lights[4 * w + 2], neighbourhoods_[k].lights[4 * w + 3]);
+        record.neighbourhood = neighbourhoods_[k].lights;
         plan_.texel_world[k] = fit.texel_world;
         plan_.min_texel_world = std::min(plan_.min_texel_world, fit.texel_world);
         if (previous_fits_[k] != record.clip_from_world || previous_tiles_[k] != record.tile) fits_changed = true;

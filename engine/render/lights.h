@@ -2,6 +2,7 @@
 // Cells of the environment become the renderer's directional lights: rotated into the world, the
 // ones that cannot change the image dropped, and packed for the GPU. Plain C++, no GL.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -28,9 +29,10 @@ struct LightRecord {
     glm::vec4 tile{0.0f};                         // xy: tile corner in atlas uv, zw: tile size in atlas uv
     glm::vec4 bias{
         0.0f};  // x: receiver depth bias (depth units), y: normal offset (world), zw: penumbra texels per depth
-    std::array<glm::uvec4, kNeighbourhoodWords / 4> neighbourhood{};  // the Neighbourhood's words, four a vector
+    Neighbourhood neighbourhood{};  // light_neighbourhoods' set: GLSL's uvec4[MAX_LIGHTS / 128], four words a vector
 };
 static_assert(sizeof(LightRecord) == 160, "must match the std430 layout of glsl/cells.glsl's Light");
+static_assert(offsetof(LightRecord, neighbourhood) % 16 == 0, "GLSL's uvec4 array starts on a vec4");
 
 // A light in the world, before shadow fitting.
 struct WorldLight {

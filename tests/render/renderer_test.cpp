@@ -47,15 +47,14 @@ std::vector<Cell> cells_of(const std::string& environment, int lights) {
     return decompose(load_environment(environment), DecomposeOptions{Method::lloyd, lights, 1}).cells;
 }
 
-// One frame of `scene` under `cells` at t = 0, read back; the atlas's triangle count into
-// `atlas_triangles` when given.
+// One frame of `scene` under `cells` at t = 0, read back; its statistics into `stats` when given.
 Image render_frame(const Scene& scene, const std::vector<Cell>& cells, const CameraView& view,
-                   const RenderSettings& settings, std::size_t* atlas_triangles = nullptr) {
+                   const RenderSettings& settings, render::FrameStats* stats = nullptr) {
     Renderer renderer(settings);
     renderer.set_scene(scene);
     renderer.set_lights(cells);
-    const render::FrameStats stats = renderer.render(0.0, view);
-    if (atlas_triangles) *atlas_triangles = stats.atlas_triangles;
+    const render::FrameStats drawn = renderer.render(0.0, view);
+    if (stats) *stats = drawn;
     return renderer.read_back();
 }
 
@@ -296,11 +295,7 @@ TEST_P(RendererTest, BlendedSpecularRemovesTheOverBrightPeakOfTheSingleSample) {
     auto render_with = [&](render::SpecularMode mode) {
         RenderSettings settings;
         settings.specular = mode;
-        Renderer renderer(settings);
-        renderer.set_scene(scene);
-        renderer.set_lights({cell});
-        renderer.render(0.0, view);
-        return renderer.read_back();
+        return render_frame(scene, {cell}, view, settings);
     };
     auto peak = [](const Image& image) {
         float best = 0.0f;
@@ -376,15 +371,12 @@ Scene box_and_sphere_on_a_ground() {
 TEST_P(RendererTest, AtlasModesRenderTheSameImage) {
     const Scene scene = box_and_sphere_on_a_ground();
     const CameraView view = look_at({0.5f, 3.0f, 4.0f}, glm::vec3(0.0f), 160, 120);
+    const std::vector<Cell> cells = cells_of("builtin:sky", 40);  // 40 tiles: more than 16 viewports
     auto render_with = [&](render::AtlasMode mode) {
         RenderSettings settings;
         settings.atlas = mode;
         settings.tile_size = 128;
-        Renderer renderer(settings);
-        renderer.set_scene(scene);
-        renderer.set_lights(cells_of("builtin:sky", 40));  // 40 tiles: more than 16 viewports
-        renderer.render(0.0, view);
-        return renderer.read_back();
+        return render_frame(scene, cells, view, settings);
     };
     const Image per_tile = render_with(render::AtlasMode::per_tile);
     long pixels = 0;
@@ -408,12 +400,10 @@ TEST_P(RendererTest, SizedTilesDrawTheSameInEveryAtlasMode) {
         settings.atlas = mode;
         settings.tile_size = 256;  // a budget of 40 x 256^2 (at 128^2 every tile must be the smallest)
         settings.tile_sizing = sizing;
-        Renderer renderer(settings);
-        renderer.set_scene(scene);
-        renderer.set_lights(cells);
-        const render::FrameStats stats = renderer.render(0.0, view);
+        render::FrameStats stats;
+        const Image image = render_frame(scene, cells, view, settings, &stats);
         if (layout) *layout = stats.atlas;
-        return renderer.read_back();
+        return image;
     };
     render::AtlasLayout layout;
     const Image per_tile = render_with(render::AtlasMode::per_tile, render::TileSizing::share, sky, &layout);
@@ -595,14 +585,14 @@ TEST_P(RendererTest, OptimisationsKeepTheBaselineImage) {
         make_object(mesh_of(SphereShape{0.35f, 48}), glm::vec3(0.7f, 0.35f, 0.4f), {glm::vec3(0.5f), 0.3f, 60.0f}));
     const CameraView view = look_at({0.8f, 1.8f, 4.0f}, glm::vec3(0.0f, 0.7f, 0.0f), 192, 144);
     const std::vector<Cell> cells = cells_of("builtin:sky", 40);
-    auto render_with = [&](const RenderSettings& settings, std::size_t* atlas_triangles = nullptr) {
-        return render_frame(scene, cells, view, settings, atlas_triangles);
+    auto render_with = [&](const RenderSettings& settings, render::FrameStats* stats = nullptr) {
+        return render_frame(scene, cells, view, settings, stats);
     };
     RenderSettings first = render::baseline(RenderSettings{});
     first.tile_size = 128;  // coarse texels: the LOD has room to simplify
-    std::size_t full_triangles = 0, lod_triangles = 0;
+    render::FrameStats full, with_lod;
     long pixels = 0;
-    const Image reference = render_with(first, &full_triangles);
+    const Image reference = render_with(first, &full);
     using Switch = bool RenderSettings::*;
     auto with = [&](std::initializer_list<Switch> on) {
         RenderSettings settings = first;
@@ -612,9 +602,10 @@ TEST_P(RendererTest, OptimisationsKeepTheBaselineImage) {
     RenderSettings lod = first;
     lod.caster_lod = 1.0f;
 
-    EXPECT_GT(object_psnr(render_with(lod, &lod_triangles), reference, &pixels), 45.0);
+    EXPECT_GT(object_psnr(render_with(lod, &with_lod), reference, &pixels), 45.0);
     EXPECT_GT(pixels, 5000);
-    EXPECT_LT(double(lod_triangles), 0.8 * double(full_triangles)) << "the LOD must really simplify the casters here";
+    EXPECT_LT(double(with_lod.atlas_triangles), 0.8 * double(full.atlas_triangles))
+        << "the LOD must really simplify the casters here";
     const std::vector<std::pair<const char*, RenderSettings>> exact = {
         {"prepass", with({&RenderSettings::depth_prepass})},
         {"ubo", with({&RenderSettings::lights_uniform_block})},
@@ -658,8 +649,8 @@ TEST_P(RendererTest, CasterLodPerTileKeepsASmallCastersShadow) {
         cells.push_back(dim);
     }
     const CameraView view = look_at({0.0f, 3.0f, 3.0f}, glm::vec3(0.2f, 0.0f, 0.0f), 160, 120);
-    auto render_with = [&](const RenderSettings& settings, std::size_t* atlas_triangles = nullptr) {
-        return render_frame(scene, cells, view, settings, atlas_triangles);
+    auto render_with = [&](const RenderSettings& settings, render::FrameStats* stats = nullptr) {
+        return render_frame(scene, cells, view, settings, stats);
     };
     const glm::ivec2 under = pixel_of(view, glm::vec3(small_centre.x, 0.0f, 0.0f));
     const glm::ivec2 open = pixel_of(view, glm::vec3(small_centre.x, 0.0f, 0.5f));
@@ -681,15 +672,15 @@ TEST_P(RendererTest, CasterLodPerTileKeepsASmallCastersShadow) {
     full.caster_lod = 0.0f;
     RenderSettings smallest_texel = mixed;
     smallest_texel.caster_lod_per_tile = false;
-    std::size_t full_triangles = 0, smallest_texel_triangles = 0, per_tile_triangles = 0;
-    const Image reference = render_with(full, &full_triangles);
+    render::FrameStats full_stats, smallest_texel_stats, per_tile_stats;
+    const Image reference = render_with(full, &full_stats);
     expect_small_shadow(reference, "full meshes");
-    render_with(smallest_texel, &smallest_texel_triangles);
-    const Image per_tile = render_with(mixed, &per_tile_triangles);
+    render_with(smallest_texel, &smallest_texel_stats);
+    const Image per_tile = render_with(mixed, &per_tile_stats);
     expect_small_shadow(per_tile, "per-tile LOD");
     EXPECT_GT(object_psnr(per_tile, reference), 45.0);
-    EXPECT_LT(smallest_texel_triangles, full_triangles);
-    EXPECT_LT(double(per_tile_triangles), 0.7 * double(smallest_texel_triangles));
+    EXPECT_LT(smallest_texel_stats.atlas_triangles, full_stats.atlas_triangles);
+    EXPECT_LT(double(per_tile_stats.atlas_triangles), 0.7 * double(smallest_texel_stats.atlas_triangles));
 }
 
 ENVSHADOW_INSTANTIATE_GL_TEST(RendererTest);
