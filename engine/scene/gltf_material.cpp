@@ -61,8 +61,8 @@ public:
                 const json& pbr = pbr_it != m.end() ? *pbr_it : kEmpty;
                 const std::string at = where + ".pbrMetallicRoughness";
                 const glm::vec3 base = unit_rgb(pbr, "baseColorFactor", 4, at);
-                g.material = material_from_metallic_roughness(base, unit(pbr, "metallicFactor", at),
-                                                              unit(pbr, "roughnessFactor", at));
+                g.material = material_from_metallic_roughness(
+                    MetallicRoughness{base, unit(pbr, "metallicFactor", at), unit(pbr, "roughnessFactor", at)});
                 g.base_color = texture_ref(pbr, "baseColorTexture", at);
             }
             out.materials.push_back(std::move(g));
@@ -178,8 +178,10 @@ float shininess_from_roughness(float roughness) {
     return float(std::clamp(2.0 / alpha2 - 2.0, double(kGltfMinShininess), double(kGltfMaxShininess)));
 }
 
-Material material_from_metallic_roughness(const glm::vec3& base_color, float metallic, float roughness) {
+Material material_from_metallic_roughness(const MetallicRoughness& parameters) {
+    const auto& [base_color, metallic, roughness] = parameters;
     Material m;
+    m.metallic_roughness = parameters;
     m.shininess = shininess_from_roughness(roughness);
     m.rho_d = base_color * ((1.0f - kDielectricF0) * (1.0f - metallic));
     const glm::vec3 f0 = glm::mix(glm::vec3(kDielectricF0), base_color, metallic);

@@ -37,8 +37,9 @@ float shininess_from_roughness(float roughness);
 //   rho_d = baseColor (1 - 0.04) (1 - metallic),   F0 = mix(0.04, baseColor, metallic),
 //   n from roughness,   rho_s = luminance(F0) (n + 1) / (n + 2),
 // the last factor making the lobe's albedo at normal incidence, rho_s (n + 2) / (n + 1) (docs/DESIGN.md
-// §2), equal to luminance(F0). Then rho_d + specular albedo <= 1 in every channel.
-Material material_from_metallic_roughness(const glm::vec3& base_color, float metallic, float roughness);
+// §2), equal to luminance(F0). Then rho_d + specular albedo <= 1 in every channel. The material keeps the
+// parameters themselves too (Material::metallic_roughness).
+Material material_from_metallic_roughness(const MetallicRoughness& parameters);
 
 // KHR_materials_pbrSpecularGlossiness: rho_d = diffuse (1 - max(specular)) (the extension's c_diff),
 // roughness = 1 - glossiness, rho_s = luminance(specular) (n + 1) / (n + 2).

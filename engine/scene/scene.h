@@ -17,20 +17,33 @@
 
 namespace envshadow {
 
+// The glTF 2.0 metallic-roughness parameters (docs/DESIGN.md §11): ratio shading and the reference shade a
+// material that has them with the specification's BRDF. The base-colour texture multiplies base_color.
+struct MetallicRoughness {
+    glm::vec3 base_color{1.0f};
+    float metallic = 1.0f;
+    float roughness = 1.0f;  // perceptual, as in the file
+    bool operator==(const MetallicRoughness&) const = default;
+};
+
 // Albedos (docs/DESIGN.md §2): k_d = rho_d / pi, k_s = rho_s (n + 2) / (2 pi).
 // A base-colour texture, where present, multiplies rho_d per pixel (linear RGB; docs/SCENES.md
 // "Textures"): k_d = rho_d texture(uv) / pi.
+// With metallic_roughness, rho_d, rho_s and shininess are its Phong stand-in (docs/SCENES.md "Materials from
+// glTF"): what cells shading draws, and the cells' weights in the shadowed fraction of ratio shading.
 struct Material {
     glm::vec3 rho_d{0.8f};
     float rho_s = 0.0f;
     float shininess = 1.0f;
     std::optional<MaterialTexture> base_color_texture = std::nullopt;  // needs Mesh::texcoords
+    std::optional<MetallicRoughness> metallic_roughness = std::nullopt;
 
     bool same_as(const Material& o) const {
         const auto image = [](const Material& m) {
             return m.base_color_texture ? m.base_color_texture->image : nullptr;
         };
-        return rho_d == o.rho_d && rho_s == o.rho_s && shininess == o.shininess && image(*this) == image(o) &&
+        return rho_d == o.rho_d && rho_s == o.rho_s && shininess == o.shininess &&
+               metallic_roughness == o.metallic_roughness && image(*this) == image(o) &&
                (!base_color_texture || (base_color_texture->wrap_s == o.base_color_texture->wrap_s &&
                                         base_color_texture->wrap_t == o.base_color_texture->wrap_t &&
                                         base_color_texture->nearest == o.base_color_texture->nearest));

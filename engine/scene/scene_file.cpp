@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "scene/gltf.h"
 #include "scene/gltf_animation.h"
+#include "scene/gltf_material.h"
 #include "scene/meshes.h"
 #include "scene/scene.h"
 
@@ -399,10 +400,17 @@ private:
     }
 
     // The keys given replace those of `base` (a model part's mapped material, or Material{}); "diffuse"
-    // replaces its base-colour texture too.
+    // replaces its base-colour texture too. Either the paper's Phong parameters ("diffuse", "specular",
+    // "shininess", which leave the glTF BRDF) or glTF's ("base_color", "metallic", "roughness").
     Material material(const json& value, const std::string& where, const Material& base) const {
-        expect_keys(value, where, {"diffuse", "specular", "shininess"});
+        expect_keys(value, where, {"diffuse", "specular", "shininess", "base_color", "metallic", "roughness"});
+        const bool phong = value.contains("diffuse") || value.contains("specular") || value.contains("shininess");
+        const bool gltf = value.contains("base_color") || value.contains("metallic") || value.contains("roughness");
+        if (phong && gltf)
+            fail(where, "give either diffuse/specular/shininess (Phong) or base_color/metallic/roughness (glTF), not both");
+        if (gltf) return metallic_roughness_material(value, where, base);
         Material m = base;
+        m.metallic_roughness.reset();
         if (const auto it = value.find("diffuse"); it != value.end()) {
             m.rho_d = scalar_or_vec3(*it, where + ".diffuse");
             if (std::min({m.rho_d.r, m.rho_d.g, m.rho_d.b}) < 0.0f ||
@@ -414,6 +422,27 @@ private:
             m.rho_s = number_in(*it, where + ".specular", 0.0f, 1.0f);
         if (const auto it = value.find("shininess"); it != value.end())
             m.shininess = number_in(*it, where + ".shininess", 0.0f, 100000.0f);
+        return m;
+    }
+
+    // glTF's metallic-roughness parameters; those not given are the base's (glTF's defaults, 1, where the base
+    // has none). "base_color" replaces the base-colour texture, as "diffuse" does.
+    Material metallic_roughness_material(const json& value, const std::string& where, const Material& base) const {
+        MetallicRoughness p = base.metallic_roughness.value_or(MetallicRoughness{});
+        std::optional<MaterialTexture> texture = base.base_color_texture;
+        if (const auto it = value.find("base_color"); it != value.end()) {
+            p.base_color = scalar_or_vec3(*it, where + ".base_color");
+            if (std::min({p.base_color.r, p.base_color.g, p.base_color.b}) < 0.0f ||
+                std::max({p.base_color.r, p.base_color.g, p.base_color.b}) > 1.0f)
+                fail(where + ".base_color", "components must be between 0 and 1");
+            texture.reset();
+        }
+        if (const auto it = value.find("metallic"); it != value.end())
+            p.metallic = number_in(*it, where + ".metallic", 0.0f, 1.0f);
+        if (const auto it = value.find("roughness"); it != value.end())
+            p.roughness = number_in(*it, where + ".roughness", 0.0f, 1.0f);
+        Material m = material_from_metallic_roughness(p);
+        m.base_color_texture = std::move(texture);
         return m;
     }
 

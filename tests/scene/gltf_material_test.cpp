@@ -106,7 +106,7 @@ TEST(GltfMaterial, TwoPrimitivesGetTheirOwnMappedMaterials) {
 
 TEST(GltfMaterial, FullyMetallicHasNoDiffuseWhateverItsColour) {
     for (const double roughness : {0.0, 0.25, 1.0}) {
-        const Material m = material_from_metallic_roughness({1.0f, 0.5f, 0.25f}, 1.0f, float(roughness));
+        const Material m = material_from_metallic_roughness({{1.0f, 0.5f, 0.25f}, 1.0f, float(roughness)});
         EXPECT_EQ(m.rho_d, glm::vec3(0.0f)) << roughness;
         EXPECT_GT(m.rho_s, 0.0f) << roughness;
     }
@@ -161,7 +161,7 @@ TEST(GltfMaterial, EnergyStaysBelowOneInEveryChannel) {
                 for (int k = 0; k <= 4; ++k) {
                     const glm::vec3 colour(float(r) / 4, float(g) / 4, 1.0f);
                     const float t = float(m) / 4, roughness = float(k) / 4;
-                    for (const Material& mat : {material_from_metallic_roughness(colour, t, roughness),
+                    for (const Material& mat : {material_from_metallic_roughness({colour, t, roughness}),
                                                 material_from_specular_glossiness(colour, colour * t, roughness)}) {
                         const float albedo_s = mat.rho_s * (mat.shininess + 2.0f) / (mat.shininess + 1.0f);
                         for (int c = 0; c < 3; ++c)
