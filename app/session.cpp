@@ -3,8 +3,8 @@
 #include <chrono>
 #include <cstdio>
 
-#include "env/prefilter.h"
 #include "options.h"
+#include "prefiltering.h"
 #include "progress.h"
 
 namespace envshadow::app {
@@ -51,14 +51,10 @@ render::FrameStats RenderSession::render(render::LightSource& lights, double tim
 void RenderSession::prefilter_if_needed() {
     if (prefiltered_ || renderer_.settings().shading != render::ShadingMode::ratio) return;
     const Hemisphere hemisphere = visible_hemisphere(inputs_.scene);
-    const PrefilteredEnvironment prefiltered = prefilter_environment(inputs_.map, hemisphere);
-    renderer_.set_prefiltered(prefiltered);
+    const PrefilteredMaps maps = prefilter_maps(inputs_.map, hemisphere, has_metallic_roughness(inputs_.scene));
+    upload(renderer_, maps);
     prefiltered_ = true;
-    if (report_ == Report::print)
-        std::printf("prefiltered: %zu levels n = 1..%g, %dx%d to %dx%d, %s, %.3f s\n", prefiltered.levels.size(),
-                    double(prefiltered.levels.back().shininess), prefiltered.levels.front().width,
-                    prefiltered.levels.front().height, prefiltered.levels.back().width,
-                    prefiltered.levels.back().height, hemisphere_words(hemisphere), prefiltered.seconds);
+    if (report_ == Report::print) print_prefiltering(maps, hemisphere);
 }
 
 }  // namespace envshadow::app

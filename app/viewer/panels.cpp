@@ -14,6 +14,7 @@
 #include <imgui.h>
 
 #include "env/latlong.h"
+#include "scene/gltf_material.h"
 #include "options.h"
 
 namespace envshadow::app {
@@ -194,10 +195,24 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             ImGui::EndCombo();
         }
         Material m = objects[std::size_t(controls.selected_object)].material;
-        bool changed = ImGui::ColorEdit3("rho_d", &m.rho_d.x);
-        changed |= ImGui::SliderFloat("rho_s", &m.rho_s, 0.0f, 1.0f);
-        changed |=
-            ImGui::SliderFloat("shininess n", &m.shininess, 1.0f, 10000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
+        bool changed = false;
+        if (m.metallic_roughness) {  // glTF's parameters; the Phong stand-in follows them
+            MetallicRoughness p = *m.metallic_roughness;
+            changed |= ImGui::ColorEdit3("base colour", &p.base_color.x);
+            changed |= ImGui::SliderFloat("metallic", &p.metallic, 0.0f, 1.0f);
+            changed |= ImGui::SliderFloat("roughness", &p.roughness, 0.0f, 1.0f);
+            ImGui::TextDisabled("base-colour texture: %s", m.base_color_texture ? "yes" : "no");
+            if (changed) {
+                Material edited = material_from_metallic_roughness(p);
+                edited.base_color_texture = m.base_color_texture;
+                m = std::move(edited);
+            }
+        } else {
+            changed |= ImGui::ColorEdit3("rho_d", &m.rho_d.x);
+            changed |= ImGui::SliderFloat("rho_s", &m.rho_s, 0.0f, 1.0f);
+            changed |=
+                ImGui::SliderFloat("shininess n", &m.shininess, 1.0f, 10000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
+        }
         if (changed) changes.material.emplace(std::size_t(controls.selected_object), m);
     }
 

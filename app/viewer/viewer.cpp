@@ -26,10 +26,10 @@
 #include "env/cell_overlay.h"
 #include "env/cells.h"
 #include "env/environment.h"
-#include "env/prefilter.h"
 #include "gl/context.h"
 #include "gl/readback.h"
 #include "inputs.h"
+#include "prefiltering.h"
 #include "render/display.h"
 #include "render/light_source.h"
 #include "render/renderer.h"
@@ -53,9 +53,9 @@ struct LoadedEnvironment {
     Image8 cells_picture;                       // the map tone-mapped with cell borders (env/cell_overlay.h)
     Image8 map_picture;                         // the map tone-mapped alone (under the GPU sampler's lights)
     // For --shading ratio: the map prefiltered over the directions the scene's objects see
-    // (visible_hemisphere: upper with a ground), made with every new map or ground, off the render
-    // thread; a new N or method keeps it.
-    std::shared_ptr<const PrefilteredEnvironment> prefiltered;
+    // (visible_hemisphere: upper with a ground), for glTF's BRDF too where the scene has its materials; made
+    // with every new map or ground, off the render thread; a new N or method keeps it.
+    std::shared_ptr<const PrefilteredMaps> prefiltered;
     Hemisphere prefiltered_hemisphere = Hemisphere::full;
 };
 
@@ -66,7 +66,7 @@ struct LoadedModel {
 struct AnimatedSky {
     std::string source;  // the spec it animates
     EnvironmentMap map;
-    std::shared_ptr<const PrefilteredEnvironment> prefiltered;  // of map: ratio shading follows the sun too
+    std::shared_ptr<const PrefilteredMaps> prefiltered;  // of map: ratio shading follows the sun too
     Image8 picture;                                             // draw_map(map)
     double time = 0.0;                                          // the animation time (seconds) it was made for
 };
@@ -85,13 +85,13 @@ struct DropQueue {
 };
 
 LoadedEnvironment load_and_decompose(std::string spec, std::shared_ptr<const EnvironmentMap> map,
-                                     DecomposeOptions options, Hemisphere visible,
-                                     std::shared_ptr<const PrefilteredEnvironment> prefiltered = nullptr) {
+                                     DecomposeOptions options, Hemisphere visible, bool ggx,
+                                     std::shared_ptr<const PrefilteredMaps> prefiltered = nullptr) {
     Decomposition decomposition = decompose(*map, options);
     Image8 cells_picture = draw_cells(*map, decomposition);
     Image8 map_picture = draw_map(*map);
     if (!prefiltered)
-        prefiltered = std::make_shared<const PrefilteredEnvironment>(prefilter_environment(*map, visible));
+        prefiltered = std::make_shared<const PrefilteredMaps>(prefilter_maps(*map, visible, ggx));
     return {std::move(spec),
             std::move(map),
             render::LightSource(std::move(decomposition)),
@@ -203,6 +203,12 @@ private:
         controls_.selected_object = 0;
     }
 
+    // Whether the map's prefiltering suits the scene on screen: its hemisphere, and GGX levels where it needs them.
+    bool prefiltering_serves_scene() const {
+        return environment_->prefiltered_hemisphere == visible_hemisphere(scene_) &&
+               (environment_->prefiltered->ggx || !has_metallic_roughness(scene_));
+    }
+
     // The directions the lights come from for the scene on screen (--hemisphere).
     Hemisphere hemisphere() const { return hemisphere_for(options_.common.hemisphere, scene_); }
 
@@ -216,9 +222,10 @@ private:
     void start_environment(const std::string& spec) {
         const DecomposeOptions decompose_options = current_decompose_options();
         environment_job_.start("loading " + spec,
-                               [spec, time = controls_.time, decompose_options, visible = visible_hemisphere(scene_)] {
+                               [spec, time = controls_.time, decompose_options, visible = visible_hemisphere(scene_),
+                                ggx = has_metallic_roughness(scene_)] {
                                    auto map = std::make_shared<const EnvironmentMap>(load_environment_at(spec, time));
-                                   return load_and_decompose(spec, std::move(map), decompose_options, visible);
+                                   return load_and_decompose(spec, std::move(map), decompose_options, visible, ggx);
                                });
     }
 
@@ -228,11 +235,9 @@ private:
         environment_job_.start(std::string("decomposing (") + std::string(to_string(controls_.method)) +
                                    ", N = " + std::to_string(controls_.lights) + ")",
                                [spec = environment_->spec, map = environment_->map, decompose_options,
-                                visible = visible_hemisphere(scene_),
-                                prefiltered = environment_->prefiltered_hemisphere == visible_hemisphere(scene_)
-                                                  ? environment_->prefiltered
-                                                  : nullptr] {
-                                   return load_and_decompose(spec, map, decompose_options, visible, prefiltered);
+                                visible = visible_hemisphere(scene_), ggx = has_metallic_roughness(scene_),
+                                prefiltered = prefiltering_serves_scene() ? environment_->prefiltered : nullptr] {
+                                   return load_and_decompose(spec, map, decompose_options, visible, ggx, prefiltered);
                                });
     }
 
@@ -245,7 +250,7 @@ private:
             const bool new_prefiltered = !environment_ || environment_->prefiltered != loaded->prefiltered;
             environment_ = std::make_unique<LoadedEnvironment>(std::move(*loaded));
             if (new_map) renderer_->set_environment(*environment_->map), animated_sky_time_.reset();
-            if (new_map || new_prefiltered) renderer_->set_prefiltered(*environment_->prefiltered);
+            if (new_map || new_prefiltered) upload(*renderer_, *environment_->prefiltered);
             if (controls_.light_source == render::LightSourceKind::cells) environment_->cells.attach(*renderer_);
             cells_texture_ = render::Display::upload(environment_->cells_picture);
             map_texture_ = render::Display::upload(environment_->map_picture);
@@ -255,9 +260,8 @@ private:
         if (auto model = model_job_.poll(error_)) {
             Scene scene = std::move(model->scene);
             scene.environment = scene_.environment;  // a dropped model keeps the current environment
-            const bool ground_changed = scene.has_ground != scene_.has_ground;
             set_scene(std::move(scene));
-            if (ground_changed) start_decomposition();  // the other hemisphere
+            if (environment_ && !prefiltering_serves_scene()) start_decomposition();  // the other hemisphere, or GGX
             error_.clear();
         }
     }
@@ -456,7 +460,7 @@ private:
             environment_->cells.attach(*renderer_);
             if (animated_sky_time_) {
                 renderer_->set_environment(*environment_->map);
-                renderer_->set_prefiltered(*environment_->prefiltered);
+                upload(*renderer_, *environment_->prefiltered);
                 map_texture_ = render::Display::upload(environment_->map_picture);
                 animated_sky_time_.reset();
             }
@@ -489,7 +493,7 @@ private:
             sky.source != environment_->spec)
             return;
         renderer_->set_environment(sky.map);
-        renderer_->set_prefiltered(*sky.prefiltered);
+        upload(*renderer_, *sky.prefiltered);
         map_texture_ = render::Display::upload(sky.picture);
         animated_sky_time_ = sky.time;
     }
@@ -505,10 +509,10 @@ private:
         if (spec == environment_->map->source && !animated_sky_time_) return;  // not a sky, or still at its time
         if (animated_sky_time_ == time) return;
         sky_job_.start(
-            "sky at " + std::to_string(time) + " s", [source, spec, time, hemisphere = visible_hemisphere(scene_)] {
+            "sky at " + std::to_string(time) + " s",
+            [source, spec, time, hemisphere = visible_hemisphere(scene_), ggx = has_metallic_roughness(scene_)] {
                 AnimatedSky sky{source, load_environment(spec), nullptr, {}, time};
-                sky.prefiltered =
-                    std::make_shared<const PrefilteredEnvironment>(prefilter_environment(sky.map, hemisphere));
+                sky.prefiltered = std::make_shared<const PrefilteredMaps>(prefilter_maps(sky.map, hemisphere, ggx));
                 sky.picture = draw_map(sky.map);
                 return sky;
             });

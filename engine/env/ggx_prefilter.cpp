@@ -94,14 +94,18 @@ glm::vec3 GgxPrefilteredEnvironment::sample(int level, const glm::dvec3& directi
     return prefiltering::sample_grid(g.width, g.height, g.texels.data(), direction);
 }
 
-glm::vec3 GgxPrefilteredEnvironment::radiance(const glm::dvec3& r, float roughness) const {
+LevelPair GgxPrefilteredEnvironment::level_pair(float roughness) const {
     const int last = int(levels.size()) - 1;
     const double clamped = std::clamp(double(roughness), double(kGgxPrefilterMinRoughness), 1.0);
     const double t = std::clamp(5.0 * std::log2(clamped / kGgxPrefilterMinRoughness), 0.0, double(last));
     const int lower = std::min(int(std::floor(t + 1e-9)), std::max(last - 1, 0));
     const int upper = std::min(lower + 1, last);
-    const float weight = float(std::clamp(t - lower, 0.0, 1.0));
-    return sample(lower, r) * (1.0f - weight) + sample(upper, r) * weight;
+    return {lower, upper, float(std::clamp(t - lower, 0.0, 1.0))};
+}
+
+glm::vec3 GgxPrefilteredEnvironment::radiance(const glm::dvec3& r, float roughness) const {
+    const LevelPair pair = level_pair(roughness);
+    return sample(pair.lower, r) * (1.0f - pair.weight) + sample(pair.upper, r) * pair.weight;
 }
 
 }  // namespace envshadow

@@ -14,6 +14,7 @@
 #include "env/environment.h"
 #include "env/importance.h"
 #include "env/level_storage.h"
+#include "env/prefilter.h"
 
 namespace envshadow {
 
@@ -33,10 +34,12 @@ struct GgxPrefilteredEnvironment {
     std::vector<GgxPrefilteredLevel> levels;  // roughness increasing, levels[0] at kGgxPrefilterMinRoughness
     double seconds = 0.0;                     // wall time of prefilter_environment_ggx
 
+    // The two levels about roughness (clamped to [kGgxPrefilterMinRoughness, 1]) and the upper one's weight,
+    // linear in log roughness.
+    LevelPair level_pair(float roughness) const;
     // Bilinear lookup of one level (as GL_LINEAR, GL_REPEAT in u, GL_CLAMP_TO_EDGE in v).
     glm::vec3 sample(int level, const glm::dvec3& direction) const;
-    // P(r, alpha(roughness)) about the unit direction r in map space, roughness clamped to
-    // [kGgxPrefilterMinRoughness, 1], linear in log roughness between levels.
+    // P(r, alpha(roughness)) about the unit direction r in map space, between level_pair's levels.
     glm::vec3 radiance(const glm::dvec3& r, float roughness) const;
 };
 

@@ -71,6 +71,9 @@ struct ObjectFrame {
     float k_s = 0.0f;     // rho_s (n + 2) / (2 pi)
     float shininess = 1.0f;
     glm::vec3 unshadowed{0.0f};  // flat_receiver: sum of L~_i a_i, the same for all its pixels
+    // Ratio shading's unshadowed part by glTF's BRDF (k_d, k_s and shininess stay its Phong stand-in, the
+    // cells' weights).
+    std::optional<MetallicRoughness> metallic_roughness;
 };
 
 struct FramePlan {

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "env/dfg_table.h"
 #include "env/latlong.h"
 #include "env/orientation.h"
 #include "gl/readback.h"
@@ -200,19 +201,53 @@ void Renderer::set_environment(const EnvironmentMap& map) {
     environment_.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);  // u wraps around the sphere, v stops at the poles
 }
 
+namespace {
+
+// One prefiltered level as a lat-long texture, sampled as the map is: u wraps, v stops at the poles.
+template <typename Texels>
+gl::Texture upload_level(int width, int height, const Texels& texels) {
+    gl::Texture texture = gl::Texture::create_2d(GL_RGB32F, width, height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, GL_RGB, GL_FLOAT, texels.data());
+    texture.set_filter(GL_LINEAR, GL_LINEAR);
+    texture.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);
+    return texture;
+}
+
+// Texels of the split sum's DFG table: 32 x 32 keeps its bilinear lookup within 2e-3 of the integrals.
+constexpr int kDfgTableSize = 32;
+
+}  // namespace
+
 void Renderer::set_prefiltered(const PrefilteredEnvironment& prefiltered) {
     prefiltered_.clear();
     prefiltered_levels_ = {};
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     for (const PrefilteredLevel& level : prefiltered.levels) {
-        gl::Texture& texture = prefiltered_.emplace_back(gl::Texture::create_2d(GL_RGB32F, level.width, level.height));
-        glTextureSubImage2D(texture.id(), 0, 0, 0, level.width, level.height, GL_RGB, GL_FLOAT, level.texels.data());
-        texture.set_filter(GL_LINEAR, GL_LINEAR);
-        texture.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);  // as the map: u wraps, v stops at the poles
+        prefiltered_.push_back(upload_level(level.width, level.height, level.texels));
         PrefilteredLevel& kept = prefiltered_levels_.levels.emplace_back();
         kept.shininess = level.shininess;
         kept.width = level.width;
         kept.height = level.height;
+    }
+}
+
+void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered) {
+    ggx_prefiltered_.clear();
+    ggx_levels_ = {};
+    for (const GgxPrefilteredLevel& level : prefiltered.levels) {
+        ggx_prefiltered_.push_back(upload_level(level.width, level.height, level.texels));
+        GgxPrefilteredLevel& kept = ggx_levels_.levels.emplace_back();
+        kept.roughness = level.roughness;
+        kept.width = level.width;
+        kept.height = level.height;
+    }
+    if (!dfg_) {
+        const DfgTable table = compute_dfg_table(kDfgTableSize);
+        dfg_ = gl::Texture::create_2d(GL_RGB32F, table.size, table.size);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTextureSubImage2D(dfg_.id(), 0, 0, 0, table.size, table.size, GL_RGB, GL_FLOAT, table.texels.data());
+        dfg_.set_filter(GL_LINEAR, GL_LINEAR);
+        dfg_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);  // texel centres at (i + 0.5) / size, as DfgTable::lookup
     }
 }
 
@@ -647,12 +682,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         glProgramUniform3f(program, loc::k_d, object.k_d.r, object.k_d.g, object.k_d.b);
         glProgramUniform1f(program, loc::k_s, object.k_s);
         glProgramUniform1f(program, loc::shininess, object.shininess);
-        if (ratio && !prefiltered_.empty()) {  // the two levels about the material's shininess, interpolated in log n
-            const LevelPair pair = prefiltered_levels_.level_pair(object.shininess);
-            prefiltered_[std::size_t(pair.lower)].bind(unit::specular_lower);
-            prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
-            glProgramUniform1f(program, loc::specular_weight, pair.weight);
-        }
+        if (ratio) bind_unshadowed_levels(program, object);
         (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
@@ -661,6 +691,29 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     glBindSampler(unit::atlas_depth, 0);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
+}
+
+void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object) const {
+    // glTF's BRDF by its split sum where the levels for it are there; else the Phong levels about the
+    // shininess. Either way two levels interpolated in log lobe width.
+    const bool gltf = object.metallic_roughness && !ggx_prefiltered_.empty();
+    glProgramUniform1i(program, loc::metallic_roughness, gltf ? 1 : 0);
+    if (gltf) {
+        const MetallicRoughness& m = *object.metallic_roughness;
+        glProgramUniform3f(program, loc::base_color_factor, m.base_color.r, m.base_color.g, m.base_color.b);
+        glProgramUniform1f(program, loc::metallic, m.metallic);
+        glProgramUniform1f(program, loc::roughness, m.roughness);
+        const LevelPair pair = ggx_levels_.level_pair(m.roughness);
+        ggx_prefiltered_[std::size_t(pair.lower)].bind(unit::specular_lower);
+        ggx_prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
+        glProgramUniform1f(program, loc::specular_weight, pair.weight);
+        dfg_.bind(unit::dfg);
+    } else if (!prefiltered_.empty()) {
+        const LevelPair pair = prefiltered_levels_.level_pair(object.shininess);
+        prefiltered_[std::size_t(pair.lower)].bind(unit::specular_lower);
+        prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
+        glProgramUniform1f(program, loc::specular_weight, pair.weight);
+    }
 }
 
 void Renderer::draw_background(const CameraView& view) {

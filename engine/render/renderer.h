@@ -28,6 +28,7 @@
 #include "core/image.h"
 #include "env/cells.h"
 #include "env/environment.h"
+#include "env/ggx_prefilter.h"
 #include "env/prefilter.h"
 #include "gl/objects.h"
 #include "gl/shader.h"
@@ -89,6 +90,10 @@ public:
     // uploaded, one texture per level. Ratio shading without it (a viewer whose first map is still loading)
     // leaves the objects black.
     void set_prefiltered(const PrefilteredEnvironment& prefiltered);
+    // The map prefiltered for glTF's BRDF (env/ggx_prefilter.h, the same hemisphere), uploaded with the split
+    // sum's DFG table (env/dfg_table.h): ratio shading draws materials with metallic-roughness parameters by
+    // them. Without it such materials get their Phong stand-in.
+    void set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered);
     // Rotation of the map about +Y (env/orientation.h); set_scene sets the scene's.
     void set_environment_rotation(float degrees);
     // Cells of a decomposition, at most kMaxLights (std::invalid_argument otherwise); map-space ones
@@ -152,6 +157,8 @@ private:
         const gl::Program* flat_receiver;
     };
     void shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x);
+    // Ratio shading: the object's unshadowed part's uniforms and levels (glsl/shade_ratio.glsl).
+    void bind_unshadowed_levels(GLuint program, const ObjectFrame& object) const;
     // The ratio's shadowed fraction into fraction_ (its own pre-pass and tile lists); leaves target_ bound.
     void draw_shadowed_fraction(const FramePlan& plan, const CameraView& view);
     void draw_background(const CameraView& view);
@@ -227,6 +234,9 @@ private:
     gl::Texture environment_;
     PrefilteredEnvironment prefiltered_levels_;  // the levels' shininess and size (texels dropped)
     std::vector<gl::Texture> prefiltered_;       // per level, RGB32F lat-long
+    GgxPrefilteredEnvironment ggx_levels_;       // the levels' roughness and size (texels dropped)
+    std::vector<gl::Texture> ggx_prefiltered_;   // per level, RGB32F lat-long
+    gl::Texture dfg_;                            // (scale, bias, diffuse), RGB32F over (n.v, roughness)
     // Drawn into target_: colour and depth with samples_ samples per pixel. At one sample color_ is target_'s
     // colour; with more, target_'s is multisample_color_, resolved into color_ through resolved_.
     int samples_ = 1;

@@ -40,6 +40,11 @@ namespace envshadow::render::shader {
     X(loc, specular_weight, 23) /* SHADING_RATIO: weight of u_specular_upper, linear in log n */       \
     X(loc, slope_bias, 24)      /* RenderSettings::slope_bias, of the receiver-plane depth bias */     \
     X(loc, fraction_scale, 25)  /* SHADOWED_FRACTION_IN: fraction texels per pixel */                  \
+    /* SHADING_RATIO: the glTF BRDF's parameters (glsl/shade_metallic_roughness.glsl) */               \
+    X(loc, metallic_roughness, 26) /* whether the object has them */                                   \
+    X(loc, base_color_factor, 27)                                                                      \
+    X(loc, metallic, 28)                                                                               \
+    X(loc, roughness, 29)                                                                              \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -74,6 +79,7 @@ namespace envshadow::render::shader {
     /* shade.frag SHADOWED_FRACTION_IN: the fraction pass's fraction and 1/w, normals */               \
     X(unit, fraction, 8)                                                                               \
     X(unit, fraction_normal, 9)                                                                        \
+    X(unit, dfg, 10) /* shade.frag SHADING_RATIO: env/dfg_table.h, the split sum's second factor */     \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \

@@ -210,6 +210,42 @@ TEST(SceneFile, ModelMaterialComesFromGltfUnlessTheSceneGivesOne) {
     expect_near(s.objects[2].material.rho_d, {0.9f, 0.8f, 0.7f});
     EXPECT_NEAR(s.objects[2].material.rho_s, 0.03875f, 1e-6f);
     EXPECT_EQ(s.objects[0].mesh, s.objects[2].mesh);  // one file, loaded once
+    // glTF's parameters are kept for its BRDF until a Phong key makes the material the paper's.
+    ASSERT_TRUE(s.objects[0].material.metallic_roughness);
+    EXPECT_EQ(*s.objects[0].material.metallic_roughness, (MetallicRoughness{{0.2f, 0.4f, 0.6f}, 0.0f, 0.5f}));
+    EXPECT_FALSE(s.objects[1].material.metallic_roughness);
+    EXPECT_FALSE(s.objects[2].material.metallic_roughness);
+}
+
+TEST(SceneFile, GltfMaterialKeysGiveTheMetallicRoughnessBrdf) {
+    const fs::path dir = test_folder();
+    GltfWriter w;
+    const int mesh = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+    w.doc["meshes"][mesh]["primitives"][0]["material"] = 0;
+    w.doc["materials"] = json::array(
+        {{{"pbrMetallicRoughness",
+           {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.5}}}}});
+    w.scene({w.node({{"mesh", mesh}})});
+    w.write(dir, "tinted");
+    json scene = minimal_scene();
+    scene["objects"] = {{{"mesh", "sphere"}, {"material", {{"base_color", {1.0, 0.78, 0.34}}, {"roughness", 0.3}}}},
+                        {{"model", "tinted.gltf"}, {"material", {{"roughness", 0.2}}}}};
+    const Scene s = load_scene(write_scene(dir, scene));
+    ASSERT_EQ(s.objects.size(), 2u);
+    // Keys not given are glTF's defaults (metallic 1) on a mesh, the file's on a model.
+    ASSERT_TRUE(s.objects[0].material.metallic_roughness);
+    EXPECT_EQ(*s.objects[0].material.metallic_roughness, (MetallicRoughness{{1.0f, 0.78f, 0.34f}, 1.0f, 0.3f}));
+    ASSERT_TRUE(s.objects[1].material.metallic_roughness);
+    EXPECT_EQ(*s.objects[1].material.metallic_roughness, (MetallicRoughness{{0.2f, 0.4f, 0.6f}, 0.0f, 0.2f}));
+    // The stand-in follows: a metal has no diffuse.
+    EXPECT_EQ(s.objects[0].material.rho_d, glm::vec3(0.0f));
+
+    json mixed = minimal_scene();
+    mixed["objects"][0]["material"] = {{"diffuse", 0.5}, {"metallic", 0.0}};
+    expect_scene_error_with(mixed, {"objects[0].material", "not both"});
+    json out_of_range = minimal_scene();
+    out_of_range["objects"][0]["material"] = {{"roughness", 1.5}};
+    expect_scene_error_with(out_of_range, {"objects[0].material.roughness"});
 }
 
 // A model of two materials (a triangle at x in [0, 1], another at x in [3, 4]) as two objects.

@@ -1,0 +1,25 @@
+// The glTF 2.0 metallic-roughness BRDF without shadows, by the split sum (docs/DESIGN.md §11):
+//   L_spec = P(r, alpha) (F0 scale(n.v, roughness) + bias(n.v, roughness))
+//   L_diff = (1 - metallic) (1 - 0.04) baseColor diffuse(n.v) E(n) / pi
+// P from env/ggx_prefilter.h's levels (bound to the units of the Phong levels, which such an object does
+// not read), scale, bias and diffuse from env/dfg_table.h's table (tests/render/metallic_roughness_test.cpp
+// holds the two to the CPU's tables).
+#include "constants.glsl"
+
+layout(location = LOC_METALLIC_ROUGHNESS) uniform bool u_metallic_roughness;
+layout(location = LOC_BASE_COLOR_FACTOR) uniform vec3 u_base_color_factor;  // times the base-colour texture
+layout(location = LOC_METALLIC) uniform float u_metallic;
+layout(location = LOC_ROUGHNESS) uniform float u_roughness;
+// Texel (i, j) at n.v = (i + 0.5) / size, roughness = (j + 0.5) / size: (n.v, roughness) is its coordinate.
+layout(binding = UNIT_DFG) uniform sampler2D u_dfg;
+
+const float kDielectricF0 = 0.04;  // glTF's dielectric reflectance at normal incidence (ior 1.5)
+
+// irradiance_over_pi: E(n) / pi; lobe_mean: P(r, alpha); base_color: the texture's at this pixel.
+vec3 split_sum_radiance(vec3 base_color, float n_dot_v, vec3 irradiance_over_pi, vec3 lobe_mean) {
+    vec3 base = u_base_color_factor * base_color;
+    vec3 dfg = texture(u_dfg, vec2(clamp(n_dot_v, 0.0, 1.0), u_roughness)).rgb;
+    vec3 f0 = mix(vec3(kDielectricF0), base, u_metallic);
+    vec3 diffuse = base * ((1.0 - u_metallic) * (1.0 - kDielectricF0) * dfg.z) * irradiance_over_pi;
+    return diffuse + lobe_mean * (f0 * dfg.x + dfg.y);
+}

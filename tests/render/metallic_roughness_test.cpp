@@ -1,0 +1,153 @@
+// glTF's metallic-roughness BRDF in ratio shading (docs/DESIGN.md §11): under a constant map with nothing to
+// shadow, a sphere's pixel is the BRDF's directional albedo at its n.v, here computed by quadrature of
+// gltf_brdf's lobes, not from the renderer's split-sum tables. That holds the GGX levels (1 under a constant
+// map) and the DFG table's lookup in glsl/shade_metallic_roughness.glsl to the BRDF: coloured metals, and the
+// Fresnel rise towards the rim that the Phong stand-in does not have.
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
+#include "../brdf/ggx_quadrature.h"
+#include "env/cells.h"
+#include "env/environment.h"
+#include "env/ggx_prefilter.h"
+#include "env/gltf_brdf.h"
+#include "env/prefilter.h"
+#include "gl_fixture.h"
+#include "render/frame_plan.h"
+#include "render/renderer.h"
+#include "scene/gltf_material.h"
+#include "scene/meshes.h"
+
+namespace envshadow::testing {
+namespace {
+
+using MetallicRoughnessTest = GlTest;
+
+constexpr int kSize = 64;
+constexpr float kRadius = 0.8f;
+
+Scene sphere(const Material& material) {
+    Scene scene;
+    scene.environment.source = "builtin:constant";
+    scene.camera.position = {0.0f, 0.0f, 3.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.camera.fov_y_degrees = 40.0f;
+    Object object;
+    object.mesh = std::make_shared<Mesh>(make_mesh(SphereShape{kRadius, 96}));
+    object.transform = glm::mat4(1.0f);
+    object.material = material;
+    scene.objects.push_back(std::move(object));
+    return scene;
+}
+
+Image render(const Scene& scene, render::ShadingMode shading) {
+    const EnvironmentMap map = load_environment(scene.environment.source);
+    render::RenderSettings settings;
+    settings.shading = shading;
+    settings.msaa = 1;
+    render::Renderer renderer(settings);
+    renderer.set_scene(scene);
+    renderer.set_environment(map);
+    renderer.set_prefiltered(prefilter_environment(map, Hemisphere::full));
+    renderer.set_ggx_prefiltered(prefilter_environment_ggx(map, Hemisphere::full));
+    renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = 8}).cells);
+    renderer.render(0.0, render::camera_view(scene, kSize, kSize));
+    return renderer.read_back();
+}
+
+// n.v where the ray through pixel (x, y)'s centre meets the analytic sphere (0 where it misses).
+double n_dot_v_at(const Scene& scene, int x, int y) {
+    const render::CameraView view = render::camera_view(scene, kSize, kSize);
+    const glm::dmat4 world_from_clip = glm::inverse(glm::dmat4(view.clip_from_view * view.view_from_world));
+    const glm::dvec4 far = world_from_clip * glm::dvec4((x + 0.5) / kSize * 2.0 - 1.0, (y + 0.5) / kSize * 2.0 - 1.0,
+                                                        1.0, 1.0);
+    const glm::dvec3 eye(view.eye), d = glm::normalize(glm::dvec3(far) / far.w - eye);
+    const double b = glm::dot(eye, d), c = glm::dot(eye, eye) - double(kRadius) * kRadius;
+    if (b * b - c < 0.0) return 0.0;
+    const glm::dvec3 hit = eye + (-b - std::sqrt(b * b - c)) * d;
+    return glm::dot(glm::normalize(hit), -d);
+}
+
+// The BRDF's directional albedo at n_dot_v, per channel: the diffuse lobe over directions, the specular one over
+// GGX half vectors (dl = 4 v.h dh), both by tests/brdf/ggx_quadrature.h's midpoint rules.
+glm::dvec3 albedo(const MetallicRoughness& m, double n_dot_v) {
+    const gltf_brdf::MetallicRoughness p{glm::dvec3(m.base_color), m.metallic, m.roughness};
+    const glm::dvec3 n(0.0, 0.0, 1.0), v = view_at(n_dot_v);
+    const double alpha = gltf_brdf::alpha_from_roughness(p.roughness);
+    glm::dvec3 result(0.0);
+    for (int c = 0; c < 3; ++c) {
+        result[c] = integral_over_hemisphere(200, [&](const glm::dvec3& l) {
+            return gltf_brdf::evaluate_lobes(p, n, v, l).diffuse[c] * l.z;
+        });
+        result[c] += mean_over_ggx_half_vectors(alpha, 400, [&](const glm::dvec3& h) {
+            const glm::dvec3 l = reflected(v, h);
+            if (l.z <= 0.0 || glm::dot(v, h) <= 0.0) return 0.0;
+            const double d = gltf_brdf::ggx_distribution(h.z, alpha);
+            return gltf_brdf::evaluate_lobes(p, n, v, l).specular[c] * l.z * 4.0 * glm::dot(v, h) / (d * h.z);
+        });
+    }
+    return result;
+}
+
+struct Case {
+    std::string name;
+    MetallicRoughness material;
+};
+
+// Every few pixels along the row through the sphere's centre, from the middle to n.v = 0.3: the render within 1%
+// of the albedo (the DFG table's bilinear lookup and the tessellated sphere's normals; measured up to 0.4%).
+TEST_P(MetallicRoughnessTest, WhiteFurnaceReturnsTheBrdfsAlbedo) {
+    const std::vector<Case> cases = {
+        {"white dielectric, rough", {glm::vec3(1.0f), 0.0f, 0.8f}},
+        {"red dielectric", {glm::vec3(0.8f, 0.2f, 0.1f), 0.0f, 0.5f}},
+        {"black dielectric", {glm::vec3(0.0f), 0.0f, 0.4f}},
+        {"white metal", {glm::vec3(1.0f), 1.0f, 0.6f}},
+        {"gold", {glm::vec3(1.0f, 0.78f, 0.34f), 1.0f, 0.4f}},
+        {"half metal", {glm::vec3(0.5f, 0.6f, 0.9f), 0.5f, 0.7f}},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const Scene scene = sphere(material_from_metallic_roughness(c.material));
+        const Image image = render(scene, render::ShadingMode::ratio);
+        int checked = 0;
+        for (int x = kSize / 2; x < kSize; x += 3) {
+            const int y = kSize / 2;
+            const double n_dot_v = n_dot_v_at(scene, x, y);
+            if (n_dot_v < 0.3) break;
+            const glm::dvec3 expected = albedo(c.material, n_dot_v);
+            const glm::vec4 pixel = image.at(x, y);
+            for (int k = 0; k < 3; ++k)
+                EXPECT_NEAR(pixel[k], expected[k], 0.01 * std::max(expected[k], 0.02))
+                    << "x " << x << " n.v " << n_dot_v << " channel " << k;
+            ++checked;
+        }
+        EXPECT_GE(checked, 5);
+    }
+}
+
+// Gold is gold (its F0 is its base colour) and a dielectric's reflection rises towards the rim (Schlick's
+// Fresnel): neither holds for the Phong stand-in that cells shading draws, which reflects grey and evenly.
+TEST_P(MetallicRoughnessTest, GoldReflectsGoldAndTheRimRises) {
+    const Scene gold = sphere(material_from_metallic_roughness({glm::vec3(1.0f, 0.78f, 0.34f), 1.0f, 0.4f}));
+    const glm::vec4 centre = render(gold, render::ShadingMode::ratio).at(kSize / 2, kSize / 2);
+    EXPECT_GT(centre.r, 1.15f * centre.g);
+    EXPECT_GT(centre.g, 1.5f * centre.b);
+    const glm::vec4 stand_in = render(gold, render::ShadingMode::cells).at(kSize / 2, kSize / 2);
+    EXPECT_LT(stand_in.r, 1.05f * stand_in.b);
+
+    const Scene plastic = sphere(material_from_metallic_roughness({glm::vec3(0.0f), 0.0f, 0.4f}));
+    const Image image = render(plastic, render::ShadingMode::ratio);
+    int rim = kSize / 2;
+    while (rim + 1 < kSize && n_dot_v_at(plastic, rim + 1, kSize / 2) > 0.25) ++rim;
+    EXPECT_GT(image.at(rim, kSize / 2).g, 1.5f * image.at(kSize / 2, kSize / 2).g) << "rim at x " << rim;
+}
+
+ENVSHADOW_INSTANTIATE_GL_TEST(MetallicRoughnessTest);
+
+}  // namespace
+}  // namespace envshadow::testing
