@@ -20,6 +20,7 @@
 
 #include "core/error.h"
 #include "env/brdf.h"
+#include "env/gltf_brdf.h"
 #include "env/latlong.h"
 #include "reference/environment_sampler.h"
 #include "reference/ray_tracer.h"
@@ -82,24 +83,35 @@ glm::dvec3 shading_normal(const Hit& hit, const glm::dvec3& view) {
     return n;
 }
 
-// What the shading of one surface point needs.
+// What the shading of one surface point needs: the Phong BRDF's k_d, k_s and shininess (docs/DESIGN.md §2),
+// or, where the material has them, glTF's metallic-roughness parameters (docs/DESIGN.md §11; k_d and k_s 0).
 struct SurfacePoint {
-    glm::dvec3 position, normal, geometric_normal, mirror;
+    glm::dvec3 position, normal, geometric_normal, view, mirror;
     glm::dvec3 normal_b1, normal_b2, mirror_b1, mirror_b2;
-    glm::dvec3 k_d;
+    glm::dvec3 k_d{0.0};
     double k_s = 0.0, shininess = 1.0;
+    std::optional<gltf_brdf::MetallicRoughness> metallic_roughness;  // base_color times the texture's mean
+    double alpha = 1.0;                                              // GGX's, from metallic_roughness->roughness
     double offset = 0.0;  // shadow rays start this far off the triangle, on the side they leave towards
+
+    bool has_diffuse() const {
+        const glm::dvec3 k =
+            metallic_roughness ? (1.0 - metallic_roughness->metallic) * metallic_roughness->base_color : k_d;
+        return k.r > 0.0 || k.g > 0.0 || k.b > 0.0;
+    }
+    // GGX's Fresnel term reflects at grazing angles whatever F0.
+    bool has_specular() const { return metallic_roughness || k_s > 0.0; }
 };
 
 // Sample counts of the strategies per round: the map's light (EnvironmentSampler), the cosine lobe and
-// the Phong lobe (docs/DESIGN.md §2's two terms).
+// the specular lobe (Phong's, docs/DESIGN.md §2, or GGX's visible normals, §11): one per term of the BRDF.
 struct Allocation {
     int grid = kGrid;  // each strategy in use draws grid x grid jittered samples
-    int light = 0, cosine = 0, phong = 0;
-    int total() const { return light + cosine + phong; }
+    int light = 0, cosine = 0, specular = 0;
+    int total() const { return light + cosine + specular; }
     Allocation with_grid(int g) const {
         const auto scale = [&](int count) { return count ? g * g : 0; };
-        return {g, scale(light), scale(cosine), scale(phong)};
+        return {g, scale(light), scale(cosine), scale(specular)};
     }
 };
 
@@ -108,12 +120,14 @@ public:
     PixelIntegrator(const Scene& scene, const EnvironmentSampler& environment, const RayTracer& tracer)
         : scene_(scene), environment_(environment), tracer_(tracer) {}
 
-    enum class Strategy { light, cosine, phong };
+    enum class Strategy { light, cosine, specular };
 
-    // One sample's share of the estimate of L = integral of L_env (k_d cos theta' + k_s cos^n psi) V dw over
-    // cos theta' > 0. The two terms are estimated apart, each by multiple importance sampling (the power
-    // heuristic, Veach 1997, beta = 2) over the strategies that suit it: the diffuse term by the map's light
-    // and the cosine lobe, the specular term by the map's light and the Phong lobe; a sample adds
+    // One sample's share of the estimate of L = integral of L_env (f_d + f_s) cos theta' V dw over
+    // cos theta' > 0: Phong's f_d cos theta' + f_s cos theta' = k_d cos theta' + k_s cos^n psi, or glTF's
+    // diffuse and specular lobes (gltf_brdf::evaluate_lobes) times cos theta'. The two terms are estimated
+    // apart, each by multiple importance sampling (the power heuristic, Veach 1997, beta = 2) over the
+    // strategies that suit it: the diffuse term by the map's light and the cosine lobe, the specular term by
+    // the map's light and the specular lobe (Phong's, or GGX's visible normals); a sample adds
     //   f_term w_s / (N_s p_s),  w_s = (N_s p_s)^2 / sum over the term's strategies k of (N_k p_k)^2,
     // and one shadow ray serves both terms.
     glm::dvec3 contribution(const SurfacePoint& s, const Allocation& a, Strategy strategy, const glm::dvec3& w,
@@ -122,19 +136,32 @@ public:
         if (cos_theta <= 0.0) return glm::dvec3(0.0);
         // The ground plane, when the scene has one, hides everything below the horizon (Scene::ground_height).
         if (scene_.has_ground && w.y < 0.0) return glm::dvec3(0.0);
-        const double cos_psi = s.k_s > 0.0 ? glm::dot(s.mirror, w) : 0.0;
-        const double lobe = cos_psi > 0.0 ? std::pow(cos_psi, s.shininess) : 0.0;
         double light_pdf = 0.0;
         const glm::dvec3 radiance = environment_.radiance_and_pdf(w, light_pdf);
         const double light = a.light * light_pdf;
         const double cosine = a.cosine * cos_theta / kPi;
-        const double phong = a.phong * (s.shininess + 1.0) / (2.0 * kPi) * lobe;
-        const double own = strategy == Strategy::light ? light : strategy == Strategy::cosine ? cosine : phong;
+        // The specular lobe's density, f_d, and f_s cos theta' (without L_env V), by the point's BRDF.
+        double specular = 0.0;
+        glm::dvec3 diffuse_brdf(0.0), specular_term(0.0);
+        if (s.metallic_roughness) {
+            specular = a.specular * gltf_brdf::ggx_reflection_pdf(s.normal, s.view, w, s.alpha);
+            const gltf_brdf::Lobes lobes = gltf_brdf::evaluate_lobes(*s.metallic_roughness, s.normal, s.view, w);
+            diffuse_brdf = lobes.diffuse;
+            specular_term = lobes.specular * cos_theta;
+        } else {
+            const double cos_psi = s.k_s > 0.0 ? glm::dot(s.mirror, w) : 0.0;
+            const double lobe = cos_psi > 0.0 ? std::pow(cos_psi, s.shininess) : 0.0;
+            specular = a.specular * (s.shininess + 1.0) / (2.0 * kPi) * lobe;
+            diffuse_brdf = s.k_d;
+            specular_term = glm::dvec3(s.k_s * lobe);
+        }
+        const double own = strategy == Strategy::light ? light : strategy == Strategy::cosine ? cosine : specular;
         if (!(own > 0.0)) return glm::dvec3(0.0);
         // w_s / (N_s p_s) for each term; a lobe's samples serve only their own term.
-        const double diffuse_weight = strategy == Strategy::phong ? 0.0 : own / (light * light + cosine * cosine);
-        const double specular_weight = strategy == Strategy::cosine ? 0.0 : own / (light * light + phong * phong);
-        const glm::dvec3 weighted = radiance * (s.k_d * (cos_theta * diffuse_weight) + s.k_s * lobe * specular_weight);
+        const double diffuse_weight = strategy == Strategy::specular ? 0.0 : own / (light * light + cosine * cosine);
+        const double specular_weight = strategy == Strategy::cosine ? 0.0 : own / (light * light + specular * specular);
+        const glm::dvec3 weighted =
+            radiance * (diffuse_brdf * (cos_theta * diffuse_weight) + specular_term * specular_weight);
         if (weighted.r <= 0.0 && weighted.g <= 0.0 && weighted.b <= 0.0) return glm::dvec3(0.0);
         const double side = glm::dot(s.geometric_normal, w) >= 0.0 ? 1.0 : -1.0;
         ++rays;
@@ -151,6 +178,8 @@ public:
                                  std::sqrt(std::max(0.0, 1.0 - xi1)) * s.normal;
             return glm::normalize(w);
         }
+        if (s.metallic_roughness)  // GGX's visible normals (gltf_brdf::ggx_reflection_pdf)
+            return gltf_brdf::sample_ggx_reflection(s.normal, s.view, s.alpha, xi1, xi2).direction;
         // density (n + 1)/(2 pi) cos^n psi about the mirror direction
         const double cos_psi = std::pow(1.0 - xi1, 1.0 / (s.shininess + 1.0));
         const double sin_psi = std::sqrt(std::max(0.0, 1.0 - cos_psi * cos_psi)), phi = 2.0 * kPi * xi2;
@@ -169,7 +198,7 @@ public:
         };
         double xi1, xi2;
         for (const auto& [strategy, count] :
-             {std::pair{Strategy::light, a.light}, {Strategy::cosine, a.cosine}, {Strategy::phong, a.phong}}) {
+             {std::pair{Strategy::light, a.light}, {Strategy::cosine, a.cosine}, {Strategy::specular, a.specular}}) {
             for (int k = 0; k < count; ++k) {
                 jittered(k, xi1, xi2);
                 sum += contribution(s, a, strategy, direction(s, strategy, xi1, xi2), rays);
@@ -311,21 +340,33 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
         s.geometric_normal = hit.geometric_normal;
         const glm::dvec3 view = -direction;
         s.normal = shading_normal(hit, view);
+        s.view = view;
         s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
         basis(s.normal, s.normal_b1, s.normal_b2);
         basis(s.mirror, s.mirror_b1, s.mirror_b2);
-        // The base-colour texture scales rho_d at the hit, as shade.frag's k_d, averaged over the ray's
-        // footprint (as the GPU's mip level does over a pixel; docs/DESIGN.md §5.12).
-        glm::vec3 rho_d = material.rho_d;
+        // The base-colour texture scales rho_d (or glTF's base_color) at the hit, as shade.frag's k_d, averaged
+        // over the ray's footprint (as the GPU's mip level does over a pixel; docs/DESIGN.md §5.12).
+        std::optional<glm::vec3> texture;
         if (material.base_color_texture && !scene.objects[hit.object].mesh->texcoords.empty()) {
-            rho_d *= footprint_mean(*material.base_color_texture, hit,
-                                    tracer.texcoord_on_plane(hit, eye, ray(px + footprint, py)),
-                                    tracer.texcoord_on_plane(hit, eye, ray(px, py + footprint)));
+            texture = footprint_mean(*material.base_color_texture, hit,
+                                     tracer.texcoord_on_plane(hit, eye, ray(px + footprint, py)),
+                                     tracer.texcoord_on_plane(hit, eye, ray(px, py + footprint)));
         }
-        s.k_d = glm::dvec3(brdf::diffuse_coefficient(rho_d.r), brdf::diffuse_coefficient(rho_d.g),
-                           brdf::diffuse_coefficient(rho_d.b));
-        s.shininess = std::max(0.0, double(material.shininess));
-        s.k_s = material.rho_s > 0.0f ? brdf::specular_coefficient(material.rho_s, material.shininess) : 0.0;
+        if (const std::optional<MetallicRoughness>& m = material.metallic_roughness) {
+            // glTF's BRDF in place of the Phong stand-in (docs/DESIGN.md §11).
+            glm::vec3 base_color = m->base_color;
+            if (texture) base_color *= *texture;
+            s.metallic_roughness =
+                gltf_brdf::MetallicRoughness{glm::dvec3(base_color), double(m->metallic), double(m->roughness)};
+            s.alpha = gltf_brdf::alpha_from_roughness(m->roughness);
+        } else {
+            glm::vec3 rho_d = material.rho_d;
+            if (texture) rho_d *= *texture;
+            s.k_d = glm::dvec3(brdf::diffuse_coefficient(rho_d.r), brdf::diffuse_coefficient(rho_d.g),
+                               brdf::diffuse_coefficient(rho_d.b));
+            s.shininess = std::max(0.0, double(material.shininess));
+            s.k_s = material.rho_s > 0.0f ? brdf::specular_coefficient(material.rho_s, material.shininess) : 0.0;
+        }
         s.offset = 1e-5 * (tracer.extent() + glm::length(s.position));
         return s;
     };
@@ -334,8 +375,8 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
         Allocation a;
         a.grid = grid;
         a.light = environment.can_sample() ? grid * grid : 0;
-        a.cosine = (s.k_d.r > 0.0 || s.k_d.g > 0.0 || s.k_d.b > 0.0) ? grid * grid : 0;
-        a.phong = s.k_s > 0.0 ? grid * grid : 0;
+        a.cosine = s.has_diffuse() ? grid * grid : 0;
+        a.specular = s.has_specular() ? grid * grid : 0;
         return a;
     };
 
@@ -370,7 +411,7 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                     out.coverage = 1.0;
                     s = surface_at(*hit, direction, x + 0.5, y + 0.5, 1.0);
                     const Allocation allocation = allocation_at(s, kGrid);
-                    if (environment.luminance_integral() <= 0.0 || allocation.cosine + allocation.phong == 0) {
+                    if (environment.luminance_integral() <= 0.0 || allocation.cosine + allocation.specular == 0) {
                         out.dark = true;  // a black map or a black material: 0 exactly
                         continue;
                     }
@@ -431,11 +472,11 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                             ++covered;
                             const SurfacePoint p = surface_at(*hit, direction, px, py, 1.0 / grid);
                             const Allocation a = allocation_at(p, grid);
-                            if (a.cosine + a.phong == 0) continue;  // a black material: 0 exactly
+                            if (a.cosine + a.specular == 0) continue;  // a black material: 0 exactly
                             const std::pair<PixelIntegrator::Strategy, int> in_use[] = {
                                 {PixelIntegrator::Strategy::light, a.light},
                                 {PixelIntegrator::Strategy::cosine, a.cosine},
-                                {PixelIntegrator::Strategy::phong, a.phong}};
+                                {PixelIntegrator::Strategy::specular, a.specular}};
                             for (int i = 0; i < kStrategies; ++i) {
                                 if (in_use[i].second == 0) continue;
                                 const int stratum = strata[i][std::size_t(k)];

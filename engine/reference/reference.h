@@ -1,7 +1,10 @@
 #pragma once
 // Ground truth for the renderer (docs/DESIGN.md §6 `envshadow reference`): per pixel, the full integral
 //   L = integral over the sphere of L_env(w) (k_d cos theta' + k_s cos^n psi) V(x, w) dw   (cos theta' > 0)
-// with the renderer's camera, geometry, shading normals, BRDF (docs/DESIGN.md §2) and environment rotation.
+// with the renderer's camera, geometry, shading normals, BRDF (docs/DESIGN.md §2) and environment rotation;
+// for a material with metallic_roughness, glTF's BRDF in place of its Phong stand-in (docs/DESIGN.md §11):
+//   L = integral of L_env(w) (f_diffuse + f_specular)(v, w) cos theta' V(x, w) dw   (gltf_brdf::evaluate_lobes)
+// with the base-colour texture multiplying base_color as it does rho_d.
 // Each pixel's value is the mean of that radiance over the pixel's square (PixelFilter::box: camera rays
 // spread over the pixel, equal weights, as the renderer's multisample resolve averages its samples), or
 // its value at the pixel's centre (PixelFilter::point: one camera ray, as the renderer at one sample).
@@ -11,10 +14,11 @@
 // horizon (Scene::ground_height: "lights under it see nothing"); the map is constant over each texel
 // (the function the decomposition sums).
 // Monte Carlo with known error: each pixel takes rounds of samples from three strategies (the map's
-// light above its mean, see EnvironmentSampler; the cosine lobe; the Phong lobe; each a jittered grid per
-// round; under the box filter a round spreads over the pixel: each position of a jittered grid over its
-// square takes one sample of each strategy at its own camera ray's hit); the diffuse term combines the
-// map's and the cosine's samples, the specular term the map's and the Phong lobe's (power heuristic).
+// light above its mean, see EnvironmentSampler; the cosine lobe; the specular lobe, Phong's or GGX's visible
+// normals; each a jittered grid per round; under the box filter a round spreads over the pixel: each position
+// of a jittered grid over its square takes one sample of each strategy at its own camera ray's hit); the
+// diffuse term combines the map's and the cosine's samples, the specular term the map's and the specular
+// lobe's (power heuristic).
 // Rounds are independent, so their spread gives the standard error (under the box filter, of the pixel's
 // mean: it holds the variation over the pixel's square too). A pilot of 8 rounds plans how many fresh rounds bring
 // every channel's standard error below `target_error` of its value; the value and its error come from those fresh
