@@ -8,7 +8,8 @@
 namespace envshadow::app {
 
 bool has_metallic_roughness(const Scene& scene) {
-    return std::ranges::any_of(scene.objects, [](const Object& o) { return o.material.metallic_roughness.has_value(); });
+    return std::ranges::any_of(scene.objects,
+                               [](const Object& o) { return o.material.metallic_roughness.has_value(); });
 }
 
 PrefilteredMaps prefilter_maps(const EnvironmentMap& map, Hemisphere hemisphere, bool ggx) {

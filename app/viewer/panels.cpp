@@ -14,8 +14,8 @@
 #include <imgui.h>
 
 #include "env/latlong.h"
-#include "scene/gltf_material.h"
 #include "options.h"
+#include "scene/gltf_material.h"
 
 namespace envshadow::app {
 namespace {

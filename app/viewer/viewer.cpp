@@ -67,8 +67,8 @@ struct AnimatedSky {
     std::string source;  // the spec it animates
     EnvironmentMap map;
     std::shared_ptr<const PrefilteredMaps> prefiltered;  // of map: ratio shading follows the sun too
-    Image8 picture;                                             // draw_map(map)
-    double time = 0.0;                                          // the animation time (seconds) it was made for
+    Image8 picture;                                      // draw_map(map)
+    double time = 0.0;                                   // the animation time (seconds) it was made for
 };
 
 bool same_view(const Camera& a, const Camera& b) {
@@ -90,8 +90,7 @@ LoadedEnvironment load_and_decompose(std::string spec, std::shared_ptr<const Env
     Decomposition decomposition = decompose(*map, options);
     Image8 cells_picture = draw_cells(*map, decomposition);
     Image8 map_picture = draw_map(*map);
-    if (!prefiltered)
-        prefiltered = std::make_shared<const PrefilteredMaps>(prefilter_maps(*map, visible, ggx));
+    if (!prefiltered) prefiltered = std::make_shared<const PrefilteredMaps>(prefilter_maps(*map, visible, ggx));
     return {std::move(spec),
             std::move(map),
             render::LightSource(std::move(decomposition)),

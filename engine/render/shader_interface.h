@@ -79,7 +79,7 @@ namespace envshadow::render::shader {
     /* shade.frag SHADOWED_FRACTION_IN: the fraction pass's fraction and 1/w, normals */               \
     X(unit, fraction, 8)                                                                               \
     X(unit, fraction_normal, 9)                                                                        \
-    X(unit, dfg, 10) /* shade.frag SHADING_RATIO: env/dfg_table.h, the split sum's second factor */     \
+    X(unit, dfg, 10) /* shade.frag SHADING_RATIO: env/dfg_table.h, the split sum's second factor */    \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \

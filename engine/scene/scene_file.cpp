@@ -407,7 +407,8 @@ private:
         const bool phong = value.contains("diffuse") || value.contains("specular") || value.contains("shininess");
         const bool gltf = value.contains("base_color") || value.contains("metallic") || value.contains("roughness");
         if (phong && gltf)
-            fail(where, "give either diffuse/specular/shininess (Phong) or base_color/metallic/roughness (glTF), not both");
+            fail(where,
+                 "give either diffuse/specular/shininess (Phong) or base_color/metallic/roughness (glTF), not both");
         if (gltf) return metallic_roughness_material(value, where, base);
         Material m = base;
         m.metallic_roughness.reset();

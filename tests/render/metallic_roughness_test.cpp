@@ -64,8 +64,8 @@ Image render(const Scene& scene, render::ShadingMode shading) {
 double n_dot_v_at(const Scene& scene, int x, int y) {
     const render::CameraView view = render::camera_view(scene, kSize, kSize);
     const glm::dmat4 world_from_clip = glm::inverse(glm::dmat4(view.clip_from_view * view.view_from_world));
-    const glm::dvec4 far = world_from_clip * glm::dvec4((x + 0.5) / kSize * 2.0 - 1.0, (y + 0.5) / kSize * 2.0 - 1.0,
-                                                        1.0, 1.0);
+    const glm::dvec4 far =
+        world_from_clip * glm::dvec4((x + 0.5) / kSize * 2.0 - 1.0, (y + 0.5) / kSize * 2.0 - 1.0, 1.0, 1.0);
     const glm::dvec3 eye(view.eye), d = glm::normalize(glm::dvec3(far) / far.w - eye);
     const double b = glm::dot(eye, d), c = glm::dot(eye, eye) - double(kRadius) * kRadius;
     if (b * b - c < 0.0) return 0.0;
@@ -81,9 +81,8 @@ glm::dvec3 albedo(const MetallicRoughness& m, double n_dot_v) {
     const double alpha = gltf_brdf::alpha_from_roughness(p.roughness);
     glm::dvec3 result(0.0);
     for (int c = 0; c < 3; ++c) {
-        result[c] = integral_over_hemisphere(200, [&](const glm::dvec3& l) {
-            return gltf_brdf::evaluate_lobes(p, n, v, l).diffuse[c] * l.z;
-        });
+        result[c] = integral_over_hemisphere(
+            200, [&](const glm::dvec3& l) { return gltf_brdf::evaluate_lobes(p, n, v, l).diffuse[c] * l.z; });
         result[c] += mean_over_ggx_half_vectors(alpha, 400, [&](const glm::dvec3& h) {
             const glm::dvec3 l = reflected(v, h);
             if (l.z <= 0.0 || glm::dot(v, h) <= 0.0) return 0.0;
