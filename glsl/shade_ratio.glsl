@@ -19,10 +19,19 @@ vec3 prefiltered(sampler2D level, vec2 uv) {
     return texture(level, vec2(uv.x, (uv.y * (h - 1.0) + 0.5) / h)).rgb;
 }
 
+// For a lobe sharper than the sharpest level, the map itself takes the lower level's place (over the
+// levels' hemisphere: with a ground, nothing below the horizon).
+layout(location = LOC_LOWER_IS_MAP) uniform bool u_lower_is_map;
+layout(location = LOC_UPPER_ONLY) uniform bool u_upper_only;
+layout(binding = UNIT_ENVIRONMENT) uniform sampler2D u_environment;
+
 // The mean of the levels bound about the material's lobe width (its shininess, or its roughness) at r.
 vec3 lobe_mean(vec3 r) {
     vec2 uv = latlong_uv(u_env_from_world * r);
-    return mix(prefiltered(u_specular_lower, uv), prefiltered(u_specular_upper, uv), u_specular_weight);
+    vec3 lower = !u_lower_is_map           ? prefiltered(u_specular_lower, uv)
+                 : u_upper_only && r.y < 0.0 ? vec3(0.0)
+                                             : texture(u_environment, uv).rgb;
+    return mix(lower, prefiltered(u_specular_upper, uv), u_specular_weight);
 }
 
 // k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows, S_n

@@ -85,6 +85,7 @@ GgxPrefilteredEnvironment prefilter_environment_ggx(const EnvironmentMap& map, H
         level.height = grids[std::size_t(k)].height;
         level.texels = std::move(grids[std::size_t(k)].texels);
     }
+    result.hemisphere = hemisphere;
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }
@@ -101,6 +102,11 @@ LevelPair GgxPrefilteredEnvironment::level_pair(float roughness) const {
     const int lower = std::min(int(std::floor(t + 1e-9)), std::max(last - 1, 0));
     const int upper = std::min(lower + 1, last);
     return {lower, upper, float(std::clamp(t - lower, 0.0, 1.0))};
+}
+
+float ggx_sharpest_level_weight(float roughness) {
+    const float t = std::clamp(roughness / kGgxPrefilterMinRoughness, 0.0f, 1.0f);
+    return t * t;
 }
 
 glm::vec3 GgxPrefilteredEnvironment::radiance(const glm::dvec3& r, float roughness) const {

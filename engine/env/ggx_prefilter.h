@@ -31,8 +31,9 @@ struct GgxPrefilteredLevel {
 };
 
 struct GgxPrefilteredEnvironment {
-    std::vector<GgxPrefilteredLevel> levels;  // roughness increasing, levels[0] at kGgxPrefilterMinRoughness
-    double seconds = 0.0;                     // wall time of prefilter_environment_ggx
+    std::vector<GgxPrefilteredLevel> levels;   // roughness increasing, levels[0] at kGgxPrefilterMinRoughness
+    Hemisphere hemisphere = Hemisphere::full;  // the directions it integrates over
+    double seconds = 0.0;                      // wall time of prefilter_environment_ggx
 
     // The two levels about roughness (clamped to [kGgxPrefilterMinRoughness, 1]) and the upper one's weight,
     // linear in log roughness.
@@ -42,6 +43,11 @@ struct GgxPrefilteredEnvironment {
     // P(r, alpha(roughness)) about the unit direction r in map space, between level_pair's levels.
     glm::vec3 radiance(const glm::dvec3& r, float roughness) const;
 };
+
+// Below kGgxPrefilterMinRoughness the lobe is sharper than the sharpest level: the renderer blends that level
+// with the map itself (the mirror, roughness 0), linearly in alpha = roughness^2. The weight of the level, in
+// [0, 1]; 1 from kGgxPrefilterMinRoughness up.
+float ggx_sharpest_level_weight(float roughness);
 
 // Level k's roughness: kGgxPrefilterMinRoughness * 2^(k / 5).
 double ggx_prefilter_level_roughness(int k);

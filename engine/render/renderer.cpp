@@ -234,6 +234,7 @@ void Renderer::set_prefiltered(const PrefilteredEnvironment& prefiltered) {
 void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered) {
     ggx_prefiltered_.clear();
     ggx_levels_ = {};
+    ggx_levels_.hemisphere = prefiltered.hemisphere;
     for (const GgxPrefilteredLevel& level : prefiltered.levels) {
         ggx_prefiltered_.push_back(upload_level(level.width, level.height, level.texels));
         GgxPrefilteredLevel& kept = ggx_levels_.levels.emplace_back();
@@ -698,12 +699,19 @@ void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object)
     // shininess. Either way two levels interpolated in log lobe width.
     const bool gltf = object.metallic_roughness && !ggx_prefiltered_.empty();
     glProgramUniform1i(program, loc::metallic_roughness, gltf ? 1 : 0);
+    const bool mirror = gltf && object.metallic_roughness->roughness < kGgxPrefilterMinRoughness;
+    glProgramUniform1i(program, loc::lower_is_map, mirror ? 1 : 0);
     if (gltf) {
         const MetallicRoughness& m = *object.metallic_roughness;
         glProgramUniform3f(program, loc::base_color_factor, m.base_color.r, m.base_color.g, m.base_color.b);
         glProgramUniform1f(program, loc::metallic, m.metallic);
         glProgramUniform1f(program, loc::roughness, m.roughness);
-        const LevelPair pair = ggx_levels_.level_pair(m.roughness);
+        LevelPair pair = ggx_levels_.level_pair(m.roughness);
+        if (mirror) {  // the map itself, then the sharpest level
+            pair = {0, 0, ggx_sharpest_level_weight(m.roughness)};
+            environment_.bind(unit::environment);
+            glProgramUniform1i(program, loc::upper_only, ggx_levels_.hemisphere == Hemisphere::upper ? 1 : 0);
+        }
         ggx_prefiltered_[std::size_t(pair.lower)].bind(unit::specular_lower);
         ggx_prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
         glProgramUniform1f(program, loc::specular_weight, pair.weight);

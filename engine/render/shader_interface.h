@@ -45,6 +45,8 @@ namespace envshadow::render::shader {
     X(loc, base_color_factor, 27)                                                                      \
     X(loc, metallic, 28)                                                                               \
     X(loc, roughness, 29)                                                                              \
+    X(loc, lower_is_map, 30) /* the lower level is the map itself (the mirror) */                      \
+    X(loc, upper_only, 31)   /* the levels' hemisphere is the upper one */                             \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -65,7 +67,7 @@ namespace envshadow::render::shader {
     X(loc, exposure_scale, 0)                                                                          \
     /* texture units */                                                                                \
     X(unit, atlas, 0)          /* shade.frag (depth compare), atlas_preview.frag */                    \
-    X(unit, environment, 1)    /* background.frag, fs_importance.comp */                               \
+    X(unit, environment, 1)    /* background.frag, fs_importance.comp, shade_ratio.glsl */             \
     X(unit, depth, 2)          /* shadow_tiles.comp: the image's depth after the pre-pass */           \
     X(unit, importance, 0)     /* fs_sampler.geom */                                                   \
     X(unit, radiance, 0)       /* fs_lights.comp, fs_cell_assign.comp, fs_cell_integrate.comp */       \
