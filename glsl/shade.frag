@@ -9,7 +9,7 @@
 //   shade_cell_sums.glsl     the sums and the cells the loop visits (SHADOW_TILE_LISTS, FLAT_RECEIVER)
 //   shade_ratio.glsl         the radiance from the sums (SHADING_RATIO: the ratio estimator; its clipping
 //                            at the tangent plane is the reflectivity's and the visibility's)
-//   shade_metallic_roughness.glsl  glTF's BRDF unshadowed, by the split sum (for shade_ratio.glsl)
+//   shade_metallic_roughness.glsl  glTF's BRDF unshadowed, by the split sum (METALLIC_ROUGHNESS)
 //   shade_shadowed_fraction.glsl  the ratio split in two passes (docs/DESIGN.md §5.14): SHADOWED_FRACTION_OUT
 //                            writes the fraction, SHADOWED_FRACTION_IN shades with it instead of the loop
 #include "shade_cell_sums.glsl"

@@ -1,4 +1,5 @@
-// The glTF 2.0 metallic-roughness BRDF without shadows, by the split sum (docs/DESIGN.md §11):
+// The glTF 2.0 metallic-roughness BRDF without shadows, by the split sum (docs/DESIGN.md §11), in the programs
+// of such materials (METALLIC_ROUGHNESS, with SHADING_RATIO):
 //   L_spec = P(r, alpha) (F0 scale(n.v, roughness) + bias(n.v, roughness))
 //   L_diff = (1 - metallic) (1 - 0.04) baseColor diffuse(n.v) E(n) / pi
 // P from env/ggx_prefilter.h's levels (bound to the units of the Phong levels, which such an object does
@@ -6,12 +7,16 @@
 // holds the two to the CPU's tables).
 #include "constants.glsl"
 
-layout(location = LOC_METALLIC_ROUGHNESS) uniform bool u_metallic_roughness;
 layout(location = LOC_BASE_COLOR_FACTOR) uniform vec3 u_base_color_factor;  // times the base-colour texture
 layout(location = LOC_METALLIC) uniform float u_metallic;
 layout(location = LOC_ROUGHNESS) uniform float u_roughness;
 // Texel (i, j) at n.v = (i + 0.5) / size, roughness = (j + 0.5) / size: (n.v, roughness) is its coordinate.
 layout(binding = UNIT_DFG) uniform sampler2D u_dfg;
+
+// Below the sharpest GGX level the lower level is the map itself (shade_ratio.glsl's lobe_mean); u_upper_only:
+// the levels' hemisphere is the upper one.
+layout(location = LOC_LOWER_IS_MAP) uniform bool u_lower_is_map;
+layout(location = LOC_UPPER_ONLY) uniform bool u_upper_only;
 
 const float kDielectricF0 = 0.04;  // glTF's dielectric reflectance at normal incidence (ior 1.5)
 

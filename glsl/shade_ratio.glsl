@@ -19,19 +19,19 @@ vec3 prefiltered(sampler2D level, vec2 uv) {
     return texture(level, vec2(uv.x, (uv.y * (h - 1.0) + 0.5) / h)).rgb;
 }
 
-// For a lobe sharper than the sharpest level, the map itself takes the lower level's place (over the
-// levels' hemisphere: with a ground, nothing below the horizon).
-layout(location = LOC_LOWER_IS_MAP) uniform bool u_lower_is_map;
-layout(location = LOC_UPPER_ONLY) uniform bool u_upper_only;
-layout(binding = UNIT_ENVIRONMENT) uniform sampler2D u_environment;
-
 // The mean of the levels bound about the material's lobe width (its shininess, or its roughness) at r.
 vec3 lobe_mean(vec3 r) {
     vec2 uv = latlong_uv(u_env_from_world * r);
-    vec3 lower = !u_lower_is_map           ? prefiltered(u_specular_lower, uv)
-                 : u_upper_only && r.y < 0.0 ? vec3(0.0)
-                                             : texture(u_environment, uv).rgb;
-    return mix(lower, prefiltered(u_specular_upper, uv), u_specular_weight);
+    vec3 upper = prefiltered(u_specular_upper, uv);
+#if defined(METALLIC_ROUGHNESS)
+    // For a lobe sharper than the sharpest level the map itself is bound as the lower level (texel centres
+    // at (j + 0.5) / H), over the levels' hemisphere: with a ground, nothing below the horizon.
+    if (u_lower_is_map) {
+        vec3 mirror = u_upper_only && r.y < 0.0 ? vec3(0.0) : texture(u_specular_lower, uv).rgb;
+        return mix(mirror, upper, u_specular_weight);
+    }
+#endif
+    return mix(prefiltered(u_specular_lower, uv), upper, u_specular_weight);
 }
 
 // k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows, S_n
@@ -39,11 +39,9 @@ vec3 lobe_mean(vec3 r) {
 // parameters, that BRDF's split sum instead (its lobe is whole too).
 vec3 unshadowed_radiance(Surface s) {
     vec3 irradiance_over_pi = prefiltered(u_irradiance, latlong_uv(u_env_from_world * s.normal));
-#if !defined(DIFFUSE_ONLY)
-    if (u_metallic_roughness) {
-        float n_dot_v = dot(s.normal, normalize(u_eye - s.position));
-        return split_sum_radiance(s.base_color, n_dot_v, irradiance_over_pi, lobe_mean(s.mirror));
-    }
+#if defined(METALLIC_ROUGHNESS)
+    float n_dot_v = dot(s.normal, normalize(u_eye - s.position));
+    return split_sum_radiance(s.base_color, n_dot_v, irradiance_over_pi, lobe_mean(s.mirror));
 #endif
     vec3 result = s.k_d * (PI * irradiance_over_pi);
 #if !defined(DIFFUSE_ONLY)

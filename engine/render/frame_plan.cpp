@@ -243,9 +243,12 @@ void FramePlanner::shade_objects(const CameraView& view, const RenderSettings& s
         frame.shininess = material.shininess;
         frame.unshadowed = glm::vec3(0.0f);
         frame.metallic_roughness = material.metallic_roughness;
-        // Materials without a specular part get the shader compiled without it (shade.frag DIFFUSE_ONLY); glTF's
-        // BRDF always has one (its Fresnel reaches 1 at grazing angles).
-        const bool diffuse_only = settings.specialise_shaders && !(frame.k_s > 0.0f) && !frame.metallic_roughness;
+        if (frame.metallic_roughness && settings.shading == ShadingMode::ratio) {
+            frame.program = ShadeProgram::metallic_roughness;
+            continue;
+        }
+        // Materials without a specular part get the shader compiled without it (shade.frag DIFFUSE_ONLY).
+        const bool diffuse_only = settings.specialise_shaders && !(frame.k_s > 0.0f);
         frame.program = diffuse_only ? ShadeProgram::diffuse_only : ShadeProgram::full;
         if (!diffuse_only || !settings.flat_receivers || !uses_tile_lists(settings) ||
             settings.diffuse != DiffuseMode::center || !planned.flat_normal)

@@ -60,6 +60,9 @@ enum class ShadeProgram {
     full,
     diffuse_only,   // DIFFUSE_ONLY: k_s = 0
     flat_receiver,  // FLAT_RECEIVER: a diffuse plane, its unshadowed sum from the CPU
+    // METALLIC_ROUGHNESS: ratio shading's unshadowed part by glTF's BRDF (Material::metallic_roughness); the
+    // renderer draws it with `full` while it has no GGX levels.
+    metallic_roughness,
 };
 
 struct ObjectFrame {

@@ -81,6 +81,11 @@ void Renderer::select_programs() {
                                                            {GL_FRAGMENT_SHADER, "shade.frag"}};
         std::vector<std::string> defines = shade_defines(variant_);
         programs.shade = library_.build(shade_stages, defines);
+        if (variant_.ratio && !variant_.fraction_pass) {
+            std::vector<std::string> gltf = defines;
+            gltf.push_back("METALLIC_ROUGHNESS");
+            programs.shade_gltf = library_.build(shade_stages, gltf);
+        }
         defines.push_back("DIFFUSE_ONLY");
         programs.shade_diffuse = library_.build(shade_stages, defines);
         defines.push_back("FLAT_RECEIVER");
@@ -104,11 +109,14 @@ const gl::Program& Renderer::tiles_program(int samples) {
 }
 
 // The shading with the fraction pass's output: no cells, so nothing of the variant's key matters to it.
-const gl::Program& Renderer::fraction_shading_program() {
-    if (!fraction_shading_program_)
-        fraction_shading_program_ = library_.build(
-            {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, {"SHADOWED_FRACTION_IN"});
-    return fraction_shading_program_;
+const gl::Program& Renderer::fraction_shading_program(bool metallic_roughness) {
+    gl::Program& program = metallic_roughness ? fraction_shading_gltf_program_ : fraction_shading_program_;
+    if (!program) {
+        std::vector<std::string> defines = {"SHADOWED_FRACTION_IN"};
+        if (metallic_roughness) defines.push_back("METALLIC_ROUGHNESS");
+        program = library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, defines);
+    }
+    return program;
 }
 
 void Renderer::set_settings(const RenderSettings& settings) {
@@ -597,12 +605,16 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, "depth pre-pass");
     if (variant_.fraction_pass) {
         gl::ScopedPass pass(&timer_, "shading");
-        const gl::Program& shade = fraction_shading_program();
-        glProgramUniform2f(shade.id(), loc::fraction_scale, float(fraction_.width()) / float(view.width),
-                           float(fraction_.height()) / float(view.height));
+        const bool gltf = std::ranges::any_of(
+            plan.objects, [](const ObjectFrame& o) { return o.program == ShadeProgram::metallic_roughness; });
+        const gl::Program& shade = fraction_shading_program(false);
+        const gl::Program& shade_gltf = gltf ? fraction_shading_program(true) : shade;  // built once needed
+        for (const gl::Program* program : {&shade, &shade_gltf})
+            glProgramUniform2f(program->id(), loc::fraction_scale, float(fraction_.width()) / float(view.width),
+                               float(fraction_.height()) / float(view.height));
         fraction_.bind(unit::fraction);
         fraction_normal_.bind(unit::fraction_normal);
-        shade_objects(plan, view, {&shade, &shade, &shade}, screen_tiles_.x);
+        shade_objects(plan, view, {&shade, &shade, &shade, &shade_gltf}, screen_tiles_.x);
         glBindTextureUnit(unit::fraction, 0);
         glBindTextureUnit(unit::fraction_normal, 0);
         return;
@@ -611,7 +623,10 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         build_tile_lists(plan, view, depth_, samples_, tile_lists_, screen_tiles_, "shadow tile lists");
     gl::ScopedPass pass(&timer_, "shading");
     const VariantPrograms& programs = *programs_now_;
-    shade_objects(plan, view, {&programs.shade, &programs.shade_diffuse, &programs.shade_flat}, screen_tiles_.x);
+    shade_objects(plan, view,
+                  {&programs.shade, &programs.shade_diffuse, &programs.shade_flat,
+                   programs.shade_gltf ? &programs.shade_gltf : &programs.shade},
+                  screen_tiles_.x);
 }
 
 // The fraction pass (docs/DESIGN.md §5.14): the variant's programs (SHADOWED_FRACTION_OUT) at one sample per
@@ -632,7 +647,9 @@ void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& v
     {
         gl::ScopedPass pass(&timer_, "shadowed fraction");
         const VariantPrograms& programs = *programs_now_;
-        shade_objects(plan, view, {&programs.shade, &programs.shade_diffuse, &programs.shade_flat}, fraction_tiles_.x);
+        // The fraction is the cells' whatever the material's unshadowed part: glTF's materials take `shade`.
+        shade_objects(plan, view, {&programs.shade, &programs.shade_diffuse, &programs.shade_flat, &programs.shade},
+                      fraction_tiles_.x);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
     glViewport(0, 0, view.width, view.height);
@@ -641,7 +658,8 @@ void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& v
 void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs,
                              int tiles_x) {
     const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
-    for (const gl::Program* shade : {programs.full, programs.diffuse_only, programs.flat_receiver}) {
+    for (const gl::Program* shade :
+         {programs.full, programs.diffuse_only, programs.flat_receiver, programs.metallic_roughness}) {
         const GLuint program = shade->id();
         glProgramUniformMatrix4fv(program, loc::clip_from_world, 1, GL_FALSE, &clip_from_world[0][0]);
         glProgramUniform3f(program, loc::eye, view.eye.x, view.eye.y, view.eye.z);
@@ -655,7 +673,8 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     const bool ratio = settings_.shading == ShadingMode::ratio;
     if (ratio) {
         const glm::mat3 env_from_world = map_from_world(rotation_degrees_);
-        for (const gl::Program* shade : {programs.full, programs.diffuse_only, programs.flat_receiver})
+        for (const gl::Program* shade :
+             {programs.full, programs.diffuse_only, programs.flat_receiver, programs.metallic_roughness})
             glProgramUniformMatrix3fv(shade->id(), loc::env_from_world, 1, GL_FALSE, &env_from_world[0][0]);
         if (!prefiltered_.empty()) prefiltered_[0].bind(unit::irradiance);
     }
@@ -667,8 +686,11 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     glDisable(GL_CULL_FACE);  // two-sided: shade.frag turns the normal by gl_FrontFacing (docs/DESIGN.md §5.4)
     for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
         const ObjectFrame& object = plan.objects[i];
+        // glTF's BRDF needs the GGX levels; without them its Phong stand-in.
+        const bool gltf = object.program == ShadeProgram::metallic_roughness && !ggx_prefiltered_.empty();
         const gl::Program& shade = object.program == ShadeProgram::flat_receiver  ? *programs.flat_receiver
                                    : object.program == ShadeProgram::diffuse_only ? *programs.diffuse_only
+                                   : gltf                                         ? *programs.metallic_roughness
                                                                                   : *programs.full;
         const GLuint program = shade.id();
         shade.use();
@@ -683,7 +705,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         glProgramUniform3f(program, loc::k_d, object.k_d.r, object.k_d.g, object.k_d.b);
         glProgramUniform1f(program, loc::k_s, object.k_s);
         glProgramUniform1f(program, loc::shininess, object.shininess);
-        if (ratio) bind_unshadowed_levels(program, object);
+        if (ratio) bind_unshadowed_levels(program, object, gltf);
         (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
@@ -694,14 +716,12 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     glDepthFunc(GL_LESS);
 }
 
-void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object) const {
-    // glTF's BRDF by its split sum where the levels for it are there; else the Phong levels about the
-    // shininess. Either way two levels interpolated in log lobe width.
-    const bool gltf = object.metallic_roughness && !ggx_prefiltered_.empty();
-    glProgramUniform1i(program, loc::metallic_roughness, gltf ? 1 : 0);
-    const bool mirror = gltf && object.metallic_roughness->roughness < kGgxPrefilterMinRoughness;
-    glProgramUniform1i(program, loc::lower_is_map, mirror ? 1 : 0);
+void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object, bool gltf) const {
+    // glTF's BRDF: the two GGX levels about the roughness, or the map itself and the sharpest level; else the
+    // Phong levels about the shininess. Either way two levels interpolated in log lobe width.
     if (gltf) {
+        const bool mirror = object.metallic_roughness->roughness < kGgxPrefilterMinRoughness;
+        glProgramUniform1i(program, loc::lower_is_map, mirror ? 1 : 0);
         const MetallicRoughness& m = *object.metallic_roughness;
         glProgramUniform3f(program, loc::base_color_factor, m.base_color.r, m.base_color.g, m.base_color.b);
         glProgramUniform1f(program, loc::metallic, m.metallic);
@@ -709,10 +729,9 @@ void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object)
         LevelPair pair = ggx_levels_.level_pair(m.roughness);
         if (mirror) {  // the map itself, then the sharpest level
             pair = {0, 0, ggx_sharpest_level_weight(m.roughness)};
-            environment_.bind(unit::environment);
             glProgramUniform1i(program, loc::upper_only, ggx_levels_.hemisphere == Hemisphere::upper ? 1 : 0);
         }
-        ggx_prefiltered_[std::size_t(pair.lower)].bind(unit::specular_lower);
+        (mirror ? environment_ : ggx_prefiltered_[std::size_t(pair.lower)]).bind(unit::specular_lower);
         ggx_prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
         glProgramUniform1f(program, loc::specular_weight, pair.weight);
         dfg_.bind(unit::dfg);

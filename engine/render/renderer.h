@@ -136,7 +136,8 @@ private:
     void ensure_fraction_target(int width, int height);
     int drawn_samples() const;  // settings_.msaa capped by max_samples_ (a warning, once, where it is)
     const gl::Program& tiles_program(int samples);  // shadow_tiles.comp for a depth of `samples`, built on first use
-    const gl::Program& fraction_shading_program();  // shade.frag SHADOWED_FRACTION_IN, built on first use
+    // shade.frag SHADOWED_FRACTION_IN (with METALLIC_ROUGHNESS for glTF's BRDF), built on first use.
+    const gl::Program& fraction_shading_program(bool metallic_roughness);
     void upload(const FramePlan& plan);
     void draw_atlas(const FramePlan& plan, FrameStats& stats);
     // Draws the casters `which` accepts (by ObjectFrame index) into every tile, over what the atlas holds or
@@ -155,10 +156,12 @@ private:
         const gl::Program* full;
         const gl::Program* diffuse_only;
         const gl::Program* flat_receiver;
+        const gl::Program* metallic_roughness;
     };
     void shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x);
     // Ratio shading: the object's unshadowed part's uniforms and levels (glsl/shade_ratio.glsl).
-    void bind_unshadowed_levels(GLuint program, const ObjectFrame& object) const;
+    // `gltf`: drawn with the METALLIC_ROUGHNESS program.
+    void bind_unshadowed_levels(GLuint program, const ObjectFrame& object, bool gltf) const;
     // The ratio's shadowed fraction into fraction_ (its own pre-pass and tile lists); leaves target_ bound.
     void draw_shadowed_fraction(const FramePlan& plan, const CameraView& view);
     void draw_background(const CameraView& view);
@@ -168,6 +171,7 @@ private:
     // The programs of one shader variant: the atlas's, and shade.frag's full, diffuse-only and flat-receiver ones.
     struct VariantPrograms {
         gl::Program atlas, shade, shade_diffuse, shade_flat;
+        gl::Program shade_gltf;  // METALLIC_ROUGHNESS; ratio shading without the fraction pass only
     };
     ShaderSupport support_;
     ShaderVariant variant_;
@@ -175,6 +179,7 @@ private:
     const VariantPrograms* programs_now_ = nullptr;      // programs_[variant_]
     gl::Program prepass_program_, background_program_;   // the same for every variant
     gl::Program fraction_shading_program_;               // the same for every variant; empty until drawn with
+    gl::Program fraction_shading_gltf_program_;          // the same with METALLIC_ROUGHNESS
     // shadow_tiles.comp per (lights in a uniform block, sample count): tiles_program()
     std::map<std::pair<bool, int>, gl::Program> tiles_programs_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID

@@ -40,8 +40,7 @@ namespace envshadow::render::shader {
     X(loc, specular_weight, 23) /* SHADING_RATIO: weight of u_specular_upper, linear in log n */       \
     X(loc, slope_bias, 24)      /* RenderSettings::slope_bias, of the receiver-plane depth bias */     \
     X(loc, fraction_scale, 25)  /* SHADOWED_FRACTION_IN: fraction texels per pixel */                  \
-    /* SHADING_RATIO: the glTF BRDF's parameters (glsl/shade_metallic_roughness.glsl) */               \
-    X(loc, metallic_roughness, 26) /* whether the object has them */                                   \
+    /* METALLIC_ROUGHNESS: glTF's BRDF (glsl/shade_metallic_roughness.glsl) */                         \
     X(loc, base_color_factor, 27)                                                                      \
     X(loc, metallic, 28)                                                                               \
     X(loc, roughness, 29)                                                                              \
@@ -67,7 +66,7 @@ namespace envshadow::render::shader {
     X(loc, exposure_scale, 0)                                                                          \
     /* texture units */                                                                                \
     X(unit, atlas, 0)          /* shade.frag (depth compare), atlas_preview.frag */                    \
-    X(unit, environment, 1)    /* background.frag, fs_importance.comp, shade_ratio.glsl */             \
+    X(unit, environment, 1)    /* background.frag, fs_importance.comp */                               \
     X(unit, depth, 2)          /* shadow_tiles.comp: the image's depth after the pre-pass */           \
     X(unit, importance, 0)     /* fs_sampler.geom */                                                   \
     X(unit, radiance, 0)       /* fs_lights.comp, fs_cell_assign.comp, fs_cell_integrate.comp */       \
@@ -81,7 +80,7 @@ namespace envshadow::render::shader {
     /* shade.frag SHADOWED_FRACTION_IN: the fraction pass's fraction and 1/w, normals */               \
     X(unit, fraction, 8)                                                                               \
     X(unit, fraction_normal, 9)                                                                        \
-    X(unit, dfg, 10) /* shade.frag SHADING_RATIO: env/dfg_table.h, the split sum's second factor */    \
+    X(unit, dfg, 10) /* shade.frag METALLIC_ROUGHNESS: env/dfg_table.h's table */                      \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \

@@ -254,6 +254,17 @@ TEST(FramePlan, FlatReceiversOnlyWhereTheShaderTakesTheirSum) {
     const ObjectFrame& glossy = planner.last().objects[0];
     EXPECT_NEAR(glossy.k_s, 0.3f * 22.0f / (2.0f * std::numbers::pi_v<float>), 1e-6f);  // rho_s (n + 2) / (2 pi)
     EXPECT_FLOAT_EQ(glossy.shininess, 20.0f);
+    // glTF's parameters: their own program in ratio shading, even without a specular stand-in (a black metal);
+    // cells shading draws the stand-in.
+    Material metal{glm::vec3(0.0f), 0.0f, 1.0f};
+    metal.metallic_roughness = MetallicRoughness{glm::vec3(0.0f), 1.0f, 0.5f};
+    planner.set_material(0, metal);
+    settings = RenderSettings{};
+    settings.shading = ShadingMode::ratio;
+    EXPECT_EQ(program(settings), ShadeProgram::metallic_roughness);
+    EXPECT_EQ(planner.last().objects[0].metallic_roughness, metal.metallic_roughness);
+    settings.shading = ShadingMode::cells;
+    EXPECT_EQ(program(settings), ShadeProgram::flat_receiver);
 }
 
 TEST(FramePlan, BiasesFollowTheSettingsInTexelsOfEachFit) {

@@ -42,6 +42,7 @@ std::vector<BuiltProgram> engine_programs() {
     add("shade (every light, wide PCF, cap, single)", shade, {"PCF_WIDE", "DIFFUSE_CAP", "SPECULAR_SINGLE"});
     add("shade (flat receiver)", shade, {"SHADOW_TILE_LISTS", "DIFFUSE_ONLY", "FLAT_RECEIVER"});
     add("shade (ratio, every light)", shade, {"SHADING_RATIO"});
+    add("shade (ratio, glTF's BRDF)", shade, {"SHADING_RATIO", "SHADOW_TILE_LISTS", "METALLIC_ROUGHNESS"});
     add("shade (ratio, flat receiver)", shade, {"SHADING_RATIO", "SHADOW_TILE_LISTS", "DIFFUSE_ONLY", "FLAT_RECEIVER"});
     add("shade (soft shadows, tile lists, uniform block)", shade,
         {"SOFT_SHADOWS", "SHADOW_TILE_LISTS", "LIGHTS_UNIFORM_BLOCK"});
@@ -51,6 +52,8 @@ std::vector<BuiltProgram> engine_programs() {
         {"SHADING_RATIO", "SOFT_SHADOWS", "SHADOW_TILE_LISTS", "DIFFUSE_ONLY", "FLAT_RECEIVER",
          "SHADOWED_FRACTION_OUT"});
     add("shade (shading from the shadowed fraction)", shade, {"SHADOWED_FRACTION_IN"});
+    add("shade (shading from the shadowed fraction, glTF's BRDF)", shade,
+        {"SHADOWED_FRACTION_IN", "METALLIC_ROUGHNESS"});
     add("depth pre-pass", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
     add("background", {{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
     add("shadow_tiles.comp", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, {"LIGHTS_UNIFORM_BLOCK"});
@@ -174,15 +177,18 @@ TEST_P(ShaderInterfaceTest, ShadeBuildsWithEveryPairOfOptions) {
         std::vector<std::string> defines;
         for (std::size_t bit = 0; bit < options.size(); ++bit)
             if (mask & (1u << bit)) defines.push_back(options[bit]);
-        for (const char* material : {"", "DIFFUSE_ONLY", "FLAT_RECEIVER"}) {
-            if (*material) defines.push_back(material);
+        // The material's programs (Renderer::ShadePrograms).
+        for (const std::vector<std::string>& material : std::vector<std::vector<std::string>>{
+                 {}, {"DIFFUSE_ONLY"}, {"DIFFUSE_ONLY", "FLAT_RECEIVER"}, {"METALLIC_ROUGHNESS"}}) {
+            std::vector<std::string> all_defines = defines;
+            all_defines.insert(all_defines.end(), material.begin(), material.end());
             std::string name;
-            for (const std::string& define : defines) name += define + " ";
-            EXPECT_NO_THROW(library.build(shade, defines)) << name;
+            for (const std::string& define : all_defines) name += define + " ";
+            EXPECT_NO_THROW(library.build(shade, all_defines)) << name;
             ++built;
         }
     }
-    EXPECT_EQ(built, 3 * (1 + 8 + 28 + 1));
+    EXPECT_EQ(built, 4 * (1 + 8 + 28 + 1));
 }
 
 TEST_P(ShaderInterfaceTest, WorkGroupsAreTheTablesSizes) {
