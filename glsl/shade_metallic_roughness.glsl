@@ -18,6 +18,21 @@ layout(binding = UNIT_DFG) uniform sampler2D u_dfg;
 layout(location = LOC_LOWER_IS_MAP) uniform bool u_lower_is_map;
 layout(location = LOC_UPPER_ONLY) uniform bool u_upper_only;
 
+// The sharpest level's weight against the map itself (env/ggx_prefilter.h ggx_sharpest_level_weight: alpha over
+// the level's). With multisampling (u_pixel_footprint) the lobe is widened by the pixel's footprint, alpha^2 plus
+// the mirror direction's variation over the pixel (Kaplanyan et al. 2016's specular anti-aliasing with Filament's
+// constants, 2 x 0.15 |dn|^2, on r = 2 |dn|): one shading sample then stands for the pixel's mean, as the resolve
+// and the box-filtered reference take it, where a mirror's reflection changes within the pixel.
+layout(location = LOC_PIXEL_FOOTPRINT) uniform bool u_pixel_footprint;
+const float kSharpestAlpha = 0.015625;  // kGgxPrefilterMinRoughness^2
+float mirror_level_weight(vec3 r) {
+    vec3 dx = dFdx(r), dy = dFdy(r);
+    float alpha = u_roughness * u_roughness;
+    float footprint = u_pixel_footprint ? 0.075 * (dot(dx, dx) + dot(dy, dy)) : 0.0;
+    float widened = sqrt(alpha * alpha + min(footprint, kSharpestAlpha * kSharpestAlpha));
+    return clamp(widened / kSharpestAlpha, 0.0, 1.0);
+}
+
 const float kDielectricF0 = 0.04;  // glTF's dielectric reflectance at normal incidence (ior 1.5)
 
 // irradiance_over_pi: E(n) / pi; lobe_mean: P(r, alpha); base_color: the texture's at this pixel.

@@ -28,7 +28,7 @@ vec3 lobe_mean(vec3 r) {
     // at (j + 0.5) / H), over the levels' hemisphere: with a ground, nothing below the horizon.
     if (u_lower_is_map) {
         vec3 mirror = u_upper_only && r.y < 0.0 ? vec3(0.0) : texture(u_specular_lower, uv).rgb;
-        return mix(mirror, upper, u_specular_weight);
+        return mix(mirror, upper, mirror_level_weight(r));
     }
 #endif
     return mix(prefiltered(u_specular_lower, uv), upper, u_specular_weight);

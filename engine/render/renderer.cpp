@@ -722,6 +722,7 @@ void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object,
     if (gltf) {
         const bool mirror = object.metallic_roughness->roughness < kGgxPrefilterMinRoughness;
         glProgramUniform1i(program, loc::lower_is_map, mirror ? 1 : 0);
+        glProgramUniform1i(program, loc::pixel_footprint, samples_ > 1 ? 1 : 0);
         const MetallicRoughness& m = *object.metallic_roughness;
         glProgramUniform3f(program, loc::base_color_factor, m.base_color.r, m.base_color.g, m.base_color.b);
         glProgramUniform1f(program, loc::metallic, m.metallic);

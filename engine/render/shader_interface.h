@@ -41,6 +41,7 @@ namespace envshadow::render::shader {
     X(loc, slope_bias, 24)      /* RenderSettings::slope_bias, of the receiver-plane depth bias */     \
     X(loc, fraction_scale, 25)  /* SHADOWED_FRACTION_IN: fraction texels per pixel */                  \
     /* METALLIC_ROUGHNESS: glTF's BRDF (glsl/shade_metallic_roughness.glsl) */                         \
+    X(loc, pixel_footprint, 26) /* widen mirror-like lobes by the pixel (with MSAA) */                 \
     X(loc, base_color_factor, 27)                                                                      \
     X(loc, metallic, 28)                                                                               \
     X(loc, roughness, 29)                                                                              \
