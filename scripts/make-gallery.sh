@@ -17,6 +17,9 @@ done
 # The glossy spheres again with the paper's method (--shading cells --shadows hard): a dot per cell.
 "$envshadow" render --scene assets/scenes/spheres.json --width 960 --height 540 --lights 128 --tile 256 \
   --shading cells --shadows hard --out screenshots/gallery/spheres_cells.png | sed "s/^/spheres_cells: /"
+# glTF's BRDF against the Phong stand-in that cells shading draws (gold reflects grey there).
+"$envshadow" render --scene assets/scenes/metal_roughness.json --width 960 --height 540 --lights 128 --tile 256 \
+  --shading cells --out screenshots/gallery/metal_roughness_cells.png | sed "s/^/metal_roughness_cells: /"
 # A bare glTF box under courtyard with N = 64: each cell's hard edge (a fan of 64 copies) against its
 # penumbra from the cell's cap (--shadows soft, docs/DESIGN.md §5.9).
 box=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb

@@ -338,6 +338,8 @@ def write_accuracy(ctx, path):
     w("")
     w(interiors_section())
     w("")
+    w(gltf_section())
+    w("")
     w(weaknesses(ctx))
     w("")
     w("All results, including render times, are in [`accuracy/results.csv`](accuracy/results.csv).")
@@ -515,6 +517,26 @@ defaults (MSAA 4, the fraction per 2×2 pixels) against a box-filtered reference
 before the bound; the reference's own noise, about 1.4% per pixel, is in the figure); room_window and
 carport at 64×48 are 17–30% and 8.5–9.8% there, most of it sunlit patches smaller than a pixel that MSAA
 shades once per pixel. Not yet part of this script's runs (the room's reference takes 25 minutes on 2 cores)."""
+
+
+def gltf_section():
+    """glTF's BRDF, measured by hand (docs/accuracy/gltf_by_hand.md): not rerun here."""
+    return """## glTF's metallic-roughness BRDF (N = 128, lloyd; measured by hand)
+
+Materials with glTF's parameters in ratio shading (the split sum of docs/DESIGN.md §11) against the reference,
+which traces glTF's BRDF itself; details and commands: [accuracy/gltf_by_hand.md](accuracy/gltf_by_hand.md).
+`assets/scenes/metal_roughness.json` (red plastic and gold over roughness 0.1–0.9 on a ground, city, 192×108):
+
+| | defaults vs box | `--msaa 1` vs point | `--shading cells` (Phong stand-in) vs box |
+| --- | ---: | ---: | ---: |
+| whole image | 7.84% | 7.54% | 37.9% |
+| red plastic spheres (centres) | 1.3–1.8% | 0.75–1.2% | 3.7–7.4% |
+| gold row | 11.4% | | 58.6% |
+
+Without shadows (one sphere, 64×64, the sky without its sun): gold at roughness 0.4 3.7%, a red dielectric
+0.54%, a roughness-0.05 metal 0.75%; under the white furnace within 0.4% of the albedo. The split sum's own
+error grows where the view grazes and where a sun sits in the lobe's tail (gold under `builtin:sky`: 7.8%).
+Not yet part of this script's runs."""
 
 
 def weaknesses(ctx):
