@@ -183,8 +183,8 @@ TEST(SceneFile, RelativePathsAreRelativeToTheSceneFile) {
     EXPECT_EQ(s.objects[0].mesh->triangle_count(), 1u);
 }
 
-TEST(SceneFile, ModelMaterialComesFromGltfUnlessTheSceneGivesOne) {
-    const fs::path dir = test_folder();
+// tinted.gltf in `folder`: one triangle of a rough blue dielectric (base (0.2, 0.4, 0.6), metallic 0, roughness 0.5).
+void write_tinted_model(const fs::path& folder) {
     GltfWriter w;
     const int mesh = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
     w.doc["meshes"][mesh]["primitives"][0]["material"] = 0;
@@ -192,7 +192,12 @@ TEST(SceneFile, ModelMaterialComesFromGltfUnlessTheSceneGivesOne) {
         {{{"pbrMetallicRoughness",
            {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.5}}}}});
     w.scene({w.node({{"mesh", mesh}})});
-    w.write(dir, "tinted");
+    w.write(folder, "tinted");
+}
+
+TEST(SceneFile, ModelMaterialComesFromGltfUnlessTheSceneGivesOne) {
+    const fs::path dir = test_folder();
+    write_tinted_model(dir);
     json scene = minimal_scene();
     scene["objects"] = {{{"model", "tinted.gltf"}},
                         {{"model", "tinted.gltf"}, {"material", {{"specular", 0.3}}}},
@@ -219,14 +224,7 @@ TEST(SceneFile, ModelMaterialComesFromGltfUnlessTheSceneGivesOne) {
 
 TEST(SceneFile, GltfMaterialKeysGiveTheMetallicRoughnessBrdf) {
     const fs::path dir = test_folder();
-    GltfWriter w;
-    const int mesh = w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
-    w.doc["meshes"][mesh]["primitives"][0]["material"] = 0;
-    w.doc["materials"] = json::array(
-        {{{"pbrMetallicRoughness",
-           {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.5}}}}});
-    w.scene({w.node({{"mesh", mesh}})});
-    w.write(dir, "tinted");
+    write_tinted_model(dir);
     json scene = minimal_scene();
     scene["objects"] = {{{"mesh", "sphere"}, {"material", {{"base_color", {1.0, 0.78, 0.34}}, {"roughness", 0.3}}}},
                         {{"model", "tinted.gltf"}, {"material", {{"roughness", 0.2}}}}};
