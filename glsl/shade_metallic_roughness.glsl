@@ -4,7 +4,7 @@
 //   L_diff = (1 - metallic) (1 - 0.04) baseColor diffuse(n.v) E(n) / pi
 // P from env/ggx_prefilter.h's levels (bound to the units of the Phong levels, which such an object does
 // not read), scale, bias and diffuse from env/dfg_table.h's table (tests/render/metallic_roughness_test.cpp
-// holds the two to the CPU's tables).
+// holds the result to the BRDF's albedo by quadrature, and to the reference).
 #include "constants.glsl"
 
 layout(location = LOC_BASE_COLOR_FACTOR) uniform vec3 u_base_color_factor;  // times the base-colour texture

@@ -42,12 +42,13 @@ vec3 unshadowed_radiance(Surface s) {
 #if defined(METALLIC_ROUGHNESS)
     float n_dot_v = dot(s.normal, normalize(u_eye - s.position));
     return split_sum_radiance(s.base_color, n_dot_v, irradiance_over_pi, lobe_mean(s.mirror));
-#endif
+#else
     vec3 result = s.k_d * (PI * irradiance_over_pi);
 #if !defined(DIFFUSE_ONLY)
     if (u_k_s > 0.0) result += u_k_s * (2.0 * PI / (u_shininess + 1.0)) * lobe_mean(s.mirror);
 #endif
     return result;
+#endif
 }
 
 // The shadowed fraction per channel, 1 where no cell reflects (denominator 0).
