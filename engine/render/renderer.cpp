@@ -81,11 +81,6 @@ void Renderer::select_programs() {
                                                            {GL_FRAGMENT_SHADER, "shade.frag"}};
         std::vector<std::string> defines = shade_defines(variant_);
         programs.shade = library_.build(shade_stages, defines);
-        if (variant_.ratio && !variant_.fraction_pass) {
-            std::vector<std::string> gltf = defines;
-            gltf.push_back("METALLIC_ROUGHNESS");
-            programs.shade_gltf = library_.build(shade_stages, gltf);
-        }
         defines.push_back("DIFFUSE_ONLY");
         programs.shade_diffuse = library_.build(shade_stages, defines);
         defines.push_back("FLAT_RECEIVER");
@@ -600,15 +595,20 @@ void Renderer::build_tile_lists(const FramePlan& plan, const CameraView& view, c
     glBindTextureUnit(unit::depth, 0);
 }
 
+// Whether some object is drawn with glTF's BRDF this frame (its program needs the GGX levels).
+bool Renderer::draws_metallic_roughness(const FramePlan& plan) const {
+    return !ggx_prefiltered_.empty() && std::ranges::any_of(plan.objects, [](const ObjectFrame& o) {
+               return o.program == ShadeProgram::metallic_roughness;
+           });
+}
+
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (variant_.fraction_pass) draw_shadowed_fraction(plan, view);
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, "depth pre-pass");
     if (variant_.fraction_pass) {
         gl::ScopedPass pass(&timer_, "shading");
-        const bool gltf = std::ranges::any_of(
-            plan.objects, [](const ObjectFrame& o) { return o.program == ShadeProgram::metallic_roughness; });
         const gl::Program& shade = fraction_shading_program(false);
-        const gl::Program& shade_gltf = gltf ? fraction_shading_program(true) : shade;  // built once needed
+        const gl::Program& shade_gltf = draws_metallic_roughness(plan) ? fraction_shading_program(true) : shade;
         for (const gl::Program* program : {&shade, &shade_gltf})
             glProgramUniform2f(program->id(), loc::fraction_scale, float(fraction_.width()) / float(view.width),
                                float(fraction_.height()) / float(view.height));
@@ -622,7 +622,13 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (uses_tile_lists(settings_))
         build_tile_lists(plan, view, depth_, samples_, tile_lists_, screen_tiles_, "shadow tile lists");
     gl::ScopedPass pass(&timer_, "shading");
-    const VariantPrograms& programs = *programs_now_;
+    VariantPrograms& programs = *programs_now_;
+    if (draws_metallic_roughness(plan) && !programs.shade_gltf) {  // built once a frame needs it
+        std::vector<std::string> defines = shade_defines(variant_);
+        defines.push_back("METALLIC_ROUGHNESS");
+        programs.shade_gltf =
+            library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, defines);
+    }
     shade_objects(plan, view,
                   {&programs.shade, &programs.shade_diffuse, &programs.shade_flat,
                    programs.shade_gltf ? &programs.shade_gltf : &programs.shade},

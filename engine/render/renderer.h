@@ -76,7 +76,7 @@ public:
     // shadowed-fraction texture once, when first drawn with (RenderSettings::shadow_rate).
     const ShaderVariant& shader_variant() const { return variant_; }
     std::size_t programs_built() const { return library_.programs_built(); }
-    static constexpr std::size_t kProgramsPerVariant = 4;  // atlas; shading: full, diffuse-only, flat receiver
+    static constexpr std::size_t kProgramsPerVariant = 4;  // atlas; shading: full, diffuse-only, flat receiver (glTF's when drawn)
 
     // Uploads the meshes (each shared mesh once) and keeps the objects (materials, transforms,
     // animation) and the environment's rotation. The scene may be destroyed afterwards.
@@ -159,6 +159,7 @@ private:
         const gl::Program* metallic_roughness;
     };
     void shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x);
+    bool draws_metallic_roughness(const FramePlan& plan) const;
     // Ratio shading: the object's unshadowed part's uniforms and levels (glsl/shade_ratio.glsl).
     // `gltf`: drawn with the METALLIC_ROUGHNESS program.
     void bind_unshadowed_levels(GLuint program, const ObjectFrame& object, bool gltf) const;
@@ -171,12 +172,12 @@ private:
     // The programs of one shader variant: the atlas's, and shade.frag's full, diffuse-only and flat-receiver ones.
     struct VariantPrograms {
         gl::Program atlas, shade, shade_diffuse, shade_flat;
-        gl::Program shade_gltf;  // METALLIC_ROUGHNESS; ratio shading without the fraction pass only
+        gl::Program shade_gltf;  // METALLIC_ROUGHNESS (ratio without the fraction pass), built once drawn with
     };
     ShaderSupport support_;
     ShaderVariant variant_;
     std::map<ShaderVariant, VariantPrograms> programs_;  // every variant drawn with so far
-    const VariantPrograms* programs_now_ = nullptr;      // programs_[variant_]
+    VariantPrograms* programs_now_ = nullptr;            // programs_[variant_]
     gl::Program prepass_program_, background_program_;   // the same for every variant
     gl::Program fraction_shading_program_;               // the same for every variant; empty until drawn with
     gl::Program fraction_shading_gltf_program_;          // the same with METALLIC_ROUGHNESS

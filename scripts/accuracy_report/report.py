@@ -525,7 +525,7 @@ def gltf_section():
 
 Materials with glTF's parameters in ratio shading (the split sum of docs/DESIGN.md §11) against the reference,
 which traces glTF's BRDF itself; details and commands: [accuracy/gltf_by_hand.md](accuracy/gltf_by_hand.md).
-`assets/scenes/metal_roughness.json` (red plastic and gold over roughness 0.1–0.9 on a ground, city, 192×108):
+`docs/accuracy/scenes/metal_roughness.json` (red plastic and gold over roughness 0.1–0.9 on a ground, city, 192×108):
 
 | | defaults vs box | `--msaa 1` vs point | `--shading cells` (Phong stand-in) vs box |
 | --- | ---: | ---: | ---: |
