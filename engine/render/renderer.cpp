@@ -598,8 +598,8 @@ void Renderer::build_tile_lists(const FramePlan& plan, const CameraView& view, c
 // Whether some object is drawn with glTF's BRDF this frame (its program needs the GGX levels).
 bool Renderer::draws_metallic_roughness(const FramePlan& plan) const {
     return !ggx_prefiltered_.empty() && std::ranges::any_of(plan.objects, [](const ObjectFrame& o) {
-               return o.program == ShadeProgram::metallic_roughness;
-           });
+        return o.program == ShadeProgram::metallic_roughness;
+    });
 }
 
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
