@@ -76,8 +76,8 @@ public:
     // shadowed-fraction texture once, when first drawn with (RenderSettings::shadow_rate).
     const ShaderVariant& shader_variant() const { return variant_; }
     std::size_t programs_built() const { return library_.programs_built(); }
-    static constexpr std::size_t kProgramsPerVariant =
-        4;  // atlas; shading: full, diffuse-only, flat receiver (glTF's when drawn)
+    // atlas; shading: full, diffuse-only, flat receiver (and glTF's, built once drawn with)
+    static constexpr std::size_t kProgramsPerVariant = 4;
 
     // Uploads the meshes (each shared mesh once) and keeps the objects (materials, transforms,
     // animation) and the environment's rotation. The scene may be destroyed afterwards.
