@@ -206,14 +206,14 @@ void Renderer::set_environment(const EnvironmentMap& map) {
 
 namespace {
 
-// One prefiltered level as a lat-long texture, sampled as the map is: u wraps, v stops at the poles.
-template <typename Texels>
-gl::Texture upload_level(int width, int height, const Texels& texels) {
+// An RGB32F table, bilinear, clamped in v. A prefiltered level repeats in u (lat-long, as the map: u wraps,
+// v stops at the poles); the DFG table clamps in both (texel centres at (i + 0.5) / size, as DfgTable::lookup).
+gl::Texture upload_rgb32f(int width, int height, const glm::vec3* texels, GLenum wrap_s = GL_REPEAT) {
     gl::Texture texture = gl::Texture::create_2d(GL_RGB32F, width, height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, GL_RGB, GL_FLOAT, texels.data());
+    glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, GL_RGB, GL_FLOAT, texels);
     texture.set_filter(GL_LINEAR, GL_LINEAR);
-    texture.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);
+    texture.set_wrap(wrap_s, GL_CLAMP_TO_EDGE);
     return texture;
 }
 
@@ -226,7 +226,7 @@ void Renderer::set_prefiltered(const PrefilteredEnvironment& prefiltered) {
     prefiltered_.clear();
     prefiltered_levels_ = {};
     for (const PrefilteredLevel& level : prefiltered.levels) {
-        prefiltered_.push_back(upload_level(level.width, level.height, level.texels));
+        prefiltered_.push_back(upload_rgb32f(level.width, level.height, level.texels.data()));
         PrefilteredLevel& kept = prefiltered_levels_.levels.emplace_back();
         kept.shininess = level.shininess;
         kept.width = level.width;
@@ -239,7 +239,7 @@ void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered)
     ggx_levels_ = {};
     ggx_levels_.hemisphere = prefiltered.hemisphere;
     for (const GgxPrefilteredLevel& level : prefiltered.levels) {
-        ggx_prefiltered_.push_back(upload_level(level.width, level.height, level.texels));
+        ggx_prefiltered_.push_back(upload_rgb32f(level.width, level.height, level.texels.data()));
         GgxPrefilteredLevel& kept = ggx_levels_.levels.emplace_back();
         kept.roughness = level.roughness;
         kept.width = level.width;
@@ -247,11 +247,7 @@ void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered)
     }
     if (!dfg_) {
         const DfgTable table = compute_dfg_table(kDfgTableSize);
-        dfg_ = gl::Texture::create_2d(GL_RGB32F, table.size, table.size);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-        glTextureSubImage2D(dfg_.id(), 0, 0, 0, table.size, table.size, GL_RGB, GL_FLOAT, table.texels.data());
-        dfg_.set_filter(GL_LINEAR, GL_LINEAR);
-        dfg_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);  // texel centres at (i + 0.5) / size, as DfgTable::lookup
+        dfg_ = upload_rgb32f(table.size, table.size, table.texels.data(), GL_CLAMP_TO_EDGE);
     }
 }
 
