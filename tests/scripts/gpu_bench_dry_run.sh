@@ -16,12 +16,13 @@ for run in 1 2; do
   grep -q '^before$' "$doc" && grep -q '^after$' "$doc" || fail "run $run: text around the section lost"
   grep -q stale "$doc" && fail "run $run: the old section was kept"
   grep -q '^### GPU: .*(dry run' "$doc" || fail "run $run: no heading naming the renderer"
-  # Rows: N = 8 and 16 (the sweep) in both shading modes and the GPU sampler at 16, each once with a
-  # positive frame time.
-  for case in "lloyd, cells shading, lights=8 | 8" "lloyd, cells shading, lights=16 | 16" \
-              "lloyd, ratio shading, lights=8 | 8" "lloyd, ratio shading, lights=16 | 16" \
-              "fs-gpu (sampled every frame) | 16"; do
-    rows="$(grep -F "| flyover, $case | " "$doc" | grep -E '\| 96×54 \| [0-9.]+ / [0-9.]+ \| [0-9.]+ \|' || true)"
+  # Rows: N = 8 and 16 (the sweep) for both scenes with the paper's method and the defaults, and the
+  # GPU sampler at 16, each once with a positive frame time.
+  for case in "flyover, paper's method (cells, hard), lights=8 | 8" "flyover, paper's method (cells, hard), lights=16 | 16" \
+              "flyover, defaults (ratio, soft, half), lights=8 | 8" "flyover, defaults (ratio, soft, half), lights=16 | 16" \
+              "default, paper's method (cells, hard), lights=8 | 8" "default, defaults (ratio, soft, half), lights=16 | 16" \
+              "flyover, fs-gpu (sampled every frame) | 16"; do
+    rows="$(grep -F "| $case | " "$doc" | grep -E '\| 96×54 \| [0-9.]+ / [0-9.]+ \| [0-9.]+ \|' || true)"
     [ "$(printf '%s' "$rows" | grep -c .)" = 1 ] || fail "run $run: not one row for \"$case\""
     ms="$(echo "$rows" | awk -F'|' '{split($6, a, "/"); print a[1] + 0}')"
     awk -v ms="$ms" 'BEGIN { exit !(ms > 0) }' || fail "run $run: \"$case\" frame time $ms"
