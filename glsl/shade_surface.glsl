@@ -7,6 +7,9 @@ layout(location = LOC_K_D) uniform vec3 u_k_d;  // rho_d / pi
 layout(binding = UNIT_BASE_COLOR) uniform sampler2D u_base_color;
 layout(location = LOC_K_S) uniform float u_k_s;  // rho_s (n + 2) / (2 pi)
 layout(location = LOC_SHININESS) uniform float u_shininess;
+// Emitted radiance, times the emission texture (linear: sRGB; white without one): seen, lighting nothing.
+layout(location = LOC_EMISSION) uniform vec3 u_emission;
+layout(binding = UNIT_EMISSION_TEXTURE) uniform sampler2D u_emission_texture;
 
 struct Surface {
     vec3 position;      // x, in world space
@@ -15,7 +18,12 @@ struct Surface {
     vec3 mirror;        // r: the direction to the viewer reflected about n
     vec3 base_color;    // the base-colour texture at this pixel
     vec3 k_d;           // u_k_d times base_color
+    vec2 texcoord;
 };
+
+vec3 emitted_radiance(Surface s) {
+    return u_emission * texture(u_emission_texture, s.texcoord).rgb;
+}
 
 // Shading normal at p (docs/DESIGN.md §5.4). The side comes from the triangle: seen from behind (an open
 // mesh), the normal is turned round; the interpolated normal itself may still face away from the viewer
@@ -36,6 +44,7 @@ vec3 shading_normal(vec3 interpolated, vec3 view) {
 // the triangle's edge, on its plane).
 Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal, vec2 texcoord) {
     Surface s;
+    s.texcoord = texcoord;
     s.base_color = texture(u_base_color, texcoord).rgb;
     s.k_d = u_k_d * s.base_color;
     vec3 view = normalize(u_eye - position);

@@ -205,6 +205,8 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             if (changed) {
                 Material edited = material_from_metallic_roughness(p);
                 edited.base_color_texture = m.base_color_texture;
+                edited.emission = m.emission;
+                edited.emission_texture = m.emission_texture;
                 m = std::move(edited);
             }
         } else {
@@ -213,6 +215,8 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             changed |=
                 ImGui::SliderFloat("shininess n", &m.shininess, 1.0f, 10000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
         }
+        changed |= ImGui::ColorEdit3("emission", &m.emission.x, ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
+        ImGui::TextDisabled("emission texture: %s", m.emission_texture ? "yes" : "no");
         if (changed) changes.material.emplace(std::size_t(controls.selected_object), m);
     }
 

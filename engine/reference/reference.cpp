@@ -92,7 +92,8 @@ struct SurfacePoint {
     double k_s = 0.0, shininess = 1.0;
     std::optional<gltf_brdf::MetallicRoughness> metallic_roughness;  // base_color times the texture's mean
     double alpha = 1.0;                                              // GGX's, from metallic_roughness->roughness
-    double offset = 0.0;  // shadow rays start this far off the triangle, on the side they leave towards
+    double offset = 0.0;       // shadow rays start this far off the triangle, on the side they leave towards
+    glm::dvec3 emission{0.0};  // Material::emission times its texture's mean: added, lighting nothing
 
     bool has_diffuse() const {
         const glm::dvec3 k =
@@ -346,12 +347,16 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
         basis(s.mirror, s.mirror_b1, s.mirror_b2);
         // The base-colour texture scales rho_d (or glTF's base_color) at the hit, as shade.frag's k_d, averaged
         // over the ray's footprint (as the GPU's mip level does over a pixel; docs/DESIGN.md §5.12).
+        const bool textured = !scene.objects[hit.object].mesh->texcoords.empty();
+        const auto texture_mean = [&](const MaterialTexture& t) {
+            return footprint_mean(t, hit, tracer.texcoord_on_plane(hit, eye, ray(px + footprint, py)),
+                                  tracer.texcoord_on_plane(hit, eye, ray(px, py + footprint)));
+        };
         std::optional<glm::vec3> texture;
-        if (material.base_color_texture && !scene.objects[hit.object].mesh->texcoords.empty()) {
-            texture = footprint_mean(*material.base_color_texture, hit,
-                                     tracer.texcoord_on_plane(hit, eye, ray(px + footprint, py)),
-                                     tracer.texcoord_on_plane(hit, eye, ray(px, py + footprint)));
-        }
+        if (material.base_color_texture && textured) texture = texture_mean(*material.base_color_texture);
+        s.emission = glm::dvec3(material.emission);
+        if (material.emission_texture && textured && material.emission != glm::vec3(0.0f))
+            s.emission *= glm::dvec3(texture_mean(*material.emission_texture));
         if (const std::optional<MetallicRoughness>& m = material.metallic_roughness) {
             // glTF's BRDF in place of the Phong stand-in (docs/DESIGN.md §11).
             glm::vec3 base_color = m->base_color;
@@ -412,13 +417,14 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                     s = surface_at(*hit, direction, x + 0.5, y + 0.5, 1.0);
                     const Allocation allocation = allocation_at(s, kGrid);
                     if (environment.luminance_integral() <= 0.0 || allocation.cosine + allocation.specular == 0) {
-                        out.dark = true;  // a black map or a black material: 0 exactly
+                        out.value = s.emission;  // a black map or a black material: the emission exactly
+                        out.dark = true;
                         continue;
                     }
                     round = [&, allocation](int grid, long long& samples) {
                         const Allocation a = allocation.with_grid(grid);
                         samples += a.total();
-                        return integrator.round(s, a, random, rays);
+                        return s.emission + integrator.round(s, a, random, rays);
                     };
                     per_round = [allocation](int grid) { return (long long)allocation.with_grid(grid).total(); };
                 } else {
@@ -471,8 +477,9 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                             }
                             ++covered;
                             const SurfacePoint p = surface_at(*hit, direction, px, py, 1.0 / grid);
+                            sum += p.emission / double(n);
                             const Allocation a = allocation_at(p, grid);
-                            if (a.cosine + a.specular == 0) continue;  // a black material: 0 exactly
+                            if (a.cosine + a.specular == 0) continue;  // a black material: reflects nothing
                             const std::pair<PixelIntegrator::Strategy, int> in_use[] = {
                                 {PixelIntegrator::Strategy::light, a.light},
                                 {PixelIntegrator::Strategy::cosine, a.cosine},

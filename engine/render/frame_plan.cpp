@@ -243,6 +243,7 @@ void FramePlanner::shade_objects(const CameraView& view, const RenderSettings& s
         frame.shininess = material.shininess;
         frame.unshadowed = glm::vec3(0.0f);
         frame.metallic_roughness = material.metallic_roughness;
+        frame.emission = material.emission;
         if (frame.metallic_roughness && settings.shading == ShadingMode::ratio) {
             frame.program = ShadeProgram::metallic_roughness;
             continue;

@@ -77,6 +77,7 @@ struct ObjectFrame {
     // Ratio shading's unshadowed part by glTF's BRDF (k_d, k_s and shininess stay its Phong stand-in, the
     // cells' weights).
     std::optional<MetallicRoughness> metallic_roughness;
+    glm::vec3 emission{0.0f};  // Material::emission, times the emission texture in shade.frag
 };
 
 struct FramePlan {

@@ -136,6 +136,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
     instance_of_object_.clear();
     textures_.clear();
     instance_textures_.clear();
+    instance_emission_textures_.clear();
     if (!white_texture_) white_texture_ = white_texture();
     std::vector<PlannedObject> planned;
     std::map<const Mesh*, const GpuMesh*> uploaded;
@@ -166,17 +167,19 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         }
         const GpuMesh& mesh = object.deforms() ? *deforming_.back().mesh : *it->second;
         instance_meshes_.push_back(&mesh);
-        const gl::Texture* texture = &white_texture_;
-        if (const auto& t = object.material.base_color_texture; t && !object.mesh->texcoords.empty()) {
+        // The material's texture, uploaded once per image and sampler state; white without one.
+        const auto texture = [&](const std::optional<MaterialTexture>& t) -> const gl::Texture* {
+            if (!t || object.mesh->texcoords.empty()) return &white_texture_;
             auto [tex, new_texture] =
                 uploaded_textures.emplace(std::tuple(t->image.get(), t->wrap_s, t->wrap_t, t->nearest), nullptr);
             if (new_texture) {
                 textures_.push_back(std::make_unique<gl::Texture>(upload_material_texture(*t)));
                 tex->second = textures_.back().get();
             }
-            texture = tex->second;
-        }
-        instance_textures_.push_back(texture);
+            return tex->second;
+        };
+        instance_textures_.push_back(texture(object.material.base_color_texture));
+        instance_emission_textures_.push_back(texture(object.material.emission_texture));
         PlannedObject& object_plan = planned.emplace_back();
         object_plan.object = object;
         object_plan.object.mesh.reset();  // the GPU copy is enough
@@ -709,6 +712,8 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         glProgramUniform1f(program, loc::shininess, object.shininess);
         if (ratio) bind_unshadowed_levels(program, object, gltf);
         (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
+        glProgramUniform3f(program, loc::emission, object.emission.r, object.emission.g, object.emission.b);
+        instance_emission_textures_[i]->bind(unit::emission_texture);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }

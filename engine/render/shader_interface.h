@@ -47,6 +47,7 @@ namespace envshadow::render::shader {
     X(loc, roughness, 29)                                                                              \
     X(loc, lower_is_map, 30) /* the lower level is the map itself (the mirror) */                      \
     X(loc, upper_only, 31)   /* the levels' hemisphere is the upper one */                             \
+    X(loc, emission, 32)     /* shade.frag: Material::emission (times u_emission_texture) */           \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -81,7 +82,8 @@ namespace envshadow::render::shader {
     /* shade.frag SHADOWED_FRACTION_IN: the fraction pass's fraction and 1/w, normals */               \
     X(unit, fraction, 8)                                                                               \
     X(unit, fraction_normal, 9)                                                                        \
-    X(unit, dfg, 10) /* shade.frag METALLIC_ROUGHNESS: env/dfg_table.h's table */                      \
+    X(unit, dfg, 10)              /* shade.frag METALLIC_ROUGHNESS: env/dfg_table.h's table */         \
+    X(unit, emission_texture, 11) /* shade.frag: the material's emission (white without one) */        \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \

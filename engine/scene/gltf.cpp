@@ -174,7 +174,28 @@ TextureWrap wrap_mode(int gl_wrap) {
     }
 }
 
-// The glTF textures the materials' base colours use, by texture index: their image (decoded by the
+// Texture t (its image decoded by the ImageDecoder, and its sampler) into out[t], unless done or without
+// a PNG/JPEG source.
+void resolve_texture(const std::filesystem::path& path, const tinygltf::Model& model, std::size_t t,
+                     const ImageDecoder& decoder, std::vector<std::optional<MaterialTexture>>& out) {
+    if (out[t]) return;
+    const tinygltf::Texture& texture = model.textures[t];
+    if (texture.source < 0 || !decoder.images[std::size_t(texture.source)]) return;
+    MaterialTexture mt;
+    mt.image = decoder.images[std::size_t(texture.source)];
+    if (texture.sampler >= 0) {
+        if (std::size_t(texture.sampler) >= model.samplers.size())
+            fail(path, "texture " + std::to_string(t) + " refers to sampler " + std::to_string(texture.sampler) +
+                           ", which does not exist");
+        const tinygltf::Sampler& sampler = model.samplers[std::size_t(texture.sampler)];
+        mt.wrap_s = wrap_mode(sampler.wrapS);
+        mt.wrap_t = wrap_mode(sampler.wrapT);
+        mt.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+    }
+    out[t] = std::move(mt);
+}
+
+// The glTF textures the materials' base colours and emissions use, by texture index: their image (decoded by the
 // ImageDecoder) and sampler. A texture without a PNG/JPEG source (only an extension's) is left unset,
 // with a warning: its material shows its factors.
 std::vector<std::optional<MaterialTexture>> resolve_textures(const std::filesystem::path& path,
@@ -182,24 +203,10 @@ std::vector<std::optional<MaterialTexture>> resolve_textures(const std::filesyst
                                                              const std::vector<GltfMaterial>& materials,
                                                              const ImageDecoder& decoder) {
     std::vector<std::optional<MaterialTexture>> out(model.textures.size());
-    for (const GltfMaterial& m : materials) {
-        if (!m.base_color) continue;
-        const auto t = std::size_t(m.base_color->texture);
-        const tinygltf::Texture& texture = model.textures[t];
-        if (texture.source < 0 || !decoder.images[std::size_t(texture.source)]) continue;
-        MaterialTexture mt;
-        mt.image = decoder.images[std::size_t(texture.source)];
-        if (texture.sampler >= 0) {
-            if (std::size_t(texture.sampler) >= model.samplers.size())
-                fail(path, "texture " + std::to_string(t) + " refers to sampler " + std::to_string(texture.sampler) +
-                               ", which does not exist");
-            const tinygltf::Sampler& sampler = model.samplers[std::size_t(texture.sampler)];
-            mt.wrap_s = wrap_mode(sampler.wrapS);
-            mt.wrap_t = wrap_mode(sampler.wrapT);
-            mt.nearest = sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+    for (const GltfMaterial& m : materials)
+        for (const std::optional<GltfTextureRef>& ref : {m.base_color, m.emission}) {
+            if (ref) resolve_texture(path, model, std::size_t(ref->texture), decoder, out);
         }
-        out[t] = std::move(mt);
-    }
     return out;
 }
 
@@ -256,30 +263,31 @@ GltfModel load_gltf(const std::filesystem::path& path) {
 
     GltfMaterials materials = read_gltf_materials(path, document);
 
-    // The images the base-colour textures use, checked to exist before tinygltf reads them.
+    // The images the base-colour and emission textures use, checked to exist before tinygltf reads them.
     const json textures = document.value("textures", json::array());
     const json images = document.value("images", json::array());
     ImageDecoder decoder;
     decoder.wanted.assign(images.size(), false);
     decoder.images.resize(images.size());
-    for (std::size_t i = 0; i < materials.materials.size(); ++i) {
-        const std::optional<GltfTextureRef>& ref = materials.materials[i].base_color;
-        if (!ref) continue;
-        if (std::size_t(ref->texture) >= textures.size())
-            fail(path, "materials[" + std::to_string(i) + "] uses texture " + std::to_string(ref->texture) +
-                           ", which does not exist");
-        const json& texture = textures[std::size_t(ref->texture)];
-        const auto source = texture.find("source");
-        if (source == texture.end()) {
-            log::warn(path.string() + ": texture " + std::to_string(ref->texture) +
-                      " has no PNG or JPEG source: materials[" + std::to_string(i) + "] shows its factors");
-            continue;
+    for (std::size_t i = 0; i < materials.materials.size(); ++i)
+        for (const std::optional<GltfTextureRef>& ref :
+             {materials.materials[i].base_color, materials.materials[i].emission}) {
+            if (!ref) continue;
+            if (std::size_t(ref->texture) >= textures.size())
+                fail(path, "materials[" + std::to_string(i) + "] uses texture " + std::to_string(ref->texture) +
+                               ", which does not exist");
+            const json& texture = textures[std::size_t(ref->texture)];
+            const auto source = texture.find("source");
+            if (source == texture.end()) {
+                log::warn(path.string() + ": texture " + std::to_string(ref->texture) +
+                          " has no PNG or JPEG source: materials[" + std::to_string(i) + "] shows its factors");
+                continue;
+            }
+            if (!source->is_number_unsigned() || source->get<std::size_t>() >= images.size())
+                fail(path, "texture " + std::to_string(ref->texture) + " refers to image " + source->dump() +
+                               ", which does not exist");
+            decoder.wanted[source->get<std::size_t>()] = true;
         }
-        if (!source->is_number_unsigned() || source->get<std::size_t>() >= images.size())
-            fail(path, "texture " + std::to_string(ref->texture) + " refers to image " + source->dump() +
-                           ", which does not exist");
-        decoder.wanted[source->get<std::size_t>()] = true;
-    }
     const std::filesystem::path base_dir = path.parent_path();
     for (std::size_t i = 0; i < document.value("buffers", json::array()).size(); ++i) {
         const json& buffer = document["buffers"][i];

@@ -30,7 +30,7 @@ constexpr int kMaxNodeDepth = 1000;  // node hierarchy levels: the traversal rec
 
 class Flattener {
 public:
-    // textures: by glTF texture index, the base-colour textures the materials use (others unset); rig and
+    // textures: by glTF texture index, the base-colour and emission textures the materials use (others unset); rig and
     // accessors: the animation data (null when nothing is skinned, morphed or animated).
     Flattener(const std::filesystem::path& path, const tinygltf::Model& model, std::vector<GltfMaterial> materials,
               std::vector<std::optional<MaterialTexture>> textures, const GltfRig* rig = nullptr,
@@ -124,11 +124,16 @@ private:
         return m;
     }
 
-    // The base-colour texture reference of glTF material `material`, where it has one that resolved.
+    const GltfTextureRef* resolved(const std::optional<GltfTextureRef>& ref) const {
+        return ref && textures_[std::size_t(ref->texture)] ? &*ref : nullptr;
+    }
+    // The texture reference whose coordinates glTF material `material`'s meshes carry (Mesh has one set):
+    // the base colour's, else the emission's, where one resolved.
     const GltfTextureRef* texture_ref(int material) const {
         if (material < 0) return nullptr;
         const GltfMaterial& m = materials_[std::size_t(material)];
-        return m.base_color && textures_[std::size_t(m.base_color->texture)] ? &*m.base_color : nullptr;
+        const GltfTextureRef* base = resolved(m.base_color);
+        return base ? base : resolved(m.emission);
     }
 
     void add_mesh(std::size_t mesh_index, const glm::dmat4& world, int node_index) {
@@ -224,7 +229,7 @@ private:
                 const std::string set = "TEXCOORD_" + std::to_string(ref->texcoord);
                 const auto it = prim.attributes.find(set);
                 if (it == prim.attributes.end())
-                    geometry_.fail(what + ": its material's base colour texture reads " + set +
+                    geometry_.fail(what + ": its material's textures read " + set +
                                    ", which the primitive does not have");
                 part.texcoords =
                     geometry_.read_texcoords(it->second, what + " " + set, positions.count, source, ref->uv_transform);
@@ -256,10 +261,19 @@ private:
     std::size_t part_for(int material) {
         int& part = part_of_material_[std::size_t(material + 1)];
         if (part >= 0) return std::size_t(part);
-        GltfMaterial mapped =
-            material >= 0 ? materials_[std::size_t(material)] : GltfMaterial{Material{}, "no material", std::nullopt};
-        if (texture_ref(material))
-            mapped.material.base_color_texture = textures_[std::size_t(mapped.base_color->texture)];
+        GltfMaterial mapped = material >= 0 ? materials_[std::size_t(material)]
+                                            : GltfMaterial{Material{}, "no material", std::nullopt, std::nullopt};
+        if (const GltfTextureRef* base = resolved(mapped.base_color))
+            mapped.material.base_color_texture = textures_[std::size_t(base->texture)];
+        if (const GltfTextureRef* emission = resolved(mapped.emission)) {
+            const GltfTextureRef& coords = *texture_ref(material);
+            if (emission->texcoord == coords.texcoord && emission->uv_transform == coords.uv_transform)
+                mapped.material.emission_texture = textures_[std::size_t(emission->texture)];
+            else
+                log::warn(path_.string() + ": " + mapped.name +
+                          ": the emission texture reads other texture coordinates than the base colour's, which "
+                          "is not supported: the emission shows its factor");
+        }
         const auto same = std::find_if(part_materials_.begin(), part_materials_.end(),
                                        [&](const GltfMaterial& m) { return m.material.same_as(mapped.material); });
         part = int(same - part_materials_.begin());

@@ -16,6 +16,7 @@ namespace {
 using nlohmann::json;
 
 constexpr const char* kSpecularGlossiness = "KHR_materials_pbrSpecularGlossiness";
+constexpr const char* kEmissiveStrength = "KHR_materials_emissive_strength";
 
 // rho_s that makes the paper's lobe reflect `albedo` at normal incidence (its albedo there is
 // rho_s (n + 2) / (n + 1), docs/DESIGN.md §2).
@@ -37,10 +38,13 @@ public:
             GltfMaterial g;
             g.name = m.contains("name") ? m["name"].get<std::string>() : "material " + std::to_string(i);
             const json* spec_gloss = nullptr;
+            const json* emissive_strength = nullptr;
             if (const auto ext = m.find("extensions"); ext != m.end())
                 for (const auto& [name, value] : ext->items()) {
                     if (name == kSpecularGlossiness)
                         spec_gloss = &value;
+                    else if (name == kEmissiveStrength)
+                        emissive_strength = &value;
                     else if (std::find(out.ignored_extensions.begin(), out.ignored_extensions.end(), name) ==
                              out.ignored_extensions.end())
                         out.ignored_extensions.push_back(name);
@@ -65,6 +69,18 @@ public:
                     MetallicRoughness{base, unit(pbr, "metallicFactor", at), unit(pbr, "roughnessFactor", at)});
                 g.base_color = texture_ref(pbr, "baseColorTexture", at);
             }
+            // Emission: emissiveFactor (default black) times the extension's emissiveStrength (default 1).
+            if (m.contains("emissiveFactor")) {
+                float strength = 1.0f;
+                if (emissive_strength) {
+                    const std::string at = where + ".extensions." + kEmissiveStrength;
+                    if (!emissive_strength->is_object()) fail(at, "expected an object");
+                    strength = number(*emissive_strength, "emissiveStrength", at, 1.0f);
+                    if (strength < 0.0f) fail(at + ".emissiveStrength", "must not be negative");
+                }
+                g.material.emission = unit_rgb(m, "emissiveFactor", 3, where) * strength;
+            }
+            g.emission = texture_ref(m, "emissiveTexture", where);
             out.materials.push_back(std::move(g));
         }
         return out;

@@ -45,7 +45,7 @@ Material material_from_metallic_roughness(const MetallicRoughness& parameters);
 // roughness = 1 - glossiness, rho_s = luminance(specular) (n + 1) / (n + 2).
 Material material_from_specular_glossiness(const glm::vec3& diffuse, const glm::vec3& specular, float glossiness);
 
-// A material's textureInfo (baseColorTexture, or the extension's diffuseTexture): the texture, its
+// A material's textureInfo (baseColorTexture or the extension's diffuseTexture, emissiveTexture): the texture, its
 // TEXCOORD set and KHR_texture_transform as the affine map uv' = (uv_transform * vec3(uv, 1)).xy.
 struct GltfTextureRef {
     int texture = -1;  // index into the file's "textures" (checked by load_gltf)
@@ -54,9 +54,10 @@ struct GltfTextureRef {
 };
 
 struct GltfMaterial {
-    Material material;  // base_color_texture unset: load_gltf resolves base_color below
+    Material material;  // base_color_texture and emission_texture unset: load_gltf resolves the refs below
     std::string name;   // the glTF material's name, or "material <index>" without one
     std::optional<GltfTextureRef> base_color;
+    std::optional<GltfTextureRef> emission;  // emissiveTexture
 };
 
 struct GltfMaterials {
@@ -66,7 +67,8 @@ struct GltfMaterials {
     std::vector<std::string> ignored_extensions;
 };
 
-// Maps document["materials"] (already type-checked by check_gltf_json). Factors outside [0, 1], where
+// Maps document["materials"] (already type-checked by check_gltf_json), with emissiveFactor and
+// KHR_materials_emissive_strength into Material::emission. Factors outside [0, 1], where
 // the glTF schema bounds them, are an InputError "<file>: materials[i].<path>: <reason>", as are
 // wrongly typed KHR_materials_pbrSpecularGlossiness properties.
 GltfMaterials read_gltf_materials(const std::filesystem::path& file, const nlohmann::json& document);

@@ -37,16 +37,22 @@ struct Material {
     float shininess = 1.0f;
     std::optional<MaterialTexture> base_color_texture = std::nullopt;  // needs Mesh::texcoords
     std::optional<MetallicRoughness> metallic_roughness = std::nullopt;
+    // Emitted radiance (linear RGB, glTF's emissiveFactor times KHR_materials_emissive_strength), times the
+    // emission texture where present (docs/SCENES.md "Emission"). Seen directly; it lights nothing else.
+    glm::vec3 emission{0.0f};
+    std::optional<MaterialTexture> emission_texture = std::nullopt;  // needs Mesh::texcoords
 
     bool same_as(const Material& o) const {
-        const auto image = [](const Material& m) {
-            return m.base_color_texture ? m.base_color_texture->image : nullptr;
-        };
         return rho_d == o.rho_d && rho_s == o.rho_s && shininess == o.shininess &&
-               metallic_roughness == o.metallic_roughness && image(*this) == image(o) &&
-               (!base_color_texture || (base_color_texture->wrap_s == o.base_color_texture->wrap_s &&
-                                        base_color_texture->wrap_t == o.base_color_texture->wrap_t &&
-                                        base_color_texture->nearest == o.base_color_texture->nearest));
+               metallic_roughness == o.metallic_roughness && emission == o.emission &&
+               same_texture(base_color_texture, o.base_color_texture) &&
+               same_texture(emission_texture, o.emission_texture);
+    }
+
+private:
+    static bool same_texture(const std::optional<MaterialTexture>& a, const std::optional<MaterialTexture>& b) {
+        if (!a || !b) return !a && !b;
+        return a->image == b->image && a->wrap_s == b->wrap_s && a->wrap_t == b->wrap_t && a->nearest == b->nearest;
     }
 };
 

@@ -402,14 +402,27 @@ private:
     // The keys given replace those of `base` (a model part's mapped material, or Material{}); "diffuse"
     // replaces its base-colour texture too. Either the paper's Phong parameters ("diffuse", "specular",
     // "shininess", which leave the glTF BRDF) or glTF's ("base_color", "metallic", "roughness").
+    // "emission" (either model) replaces the emitted radiance and its texture.
     Material material(const json& value, const std::string& where, const Material& base) const {
-        expect_keys(value, where, {"diffuse", "specular", "shininess", "base_color", "metallic", "roughness"});
+        expect_keys(value, where,
+                    {"diffuse", "specular", "shininess", "base_color", "metallic", "roughness", "emission"});
         const bool phong = value.contains("diffuse") || value.contains("specular") || value.contains("shininess");
         const bool gltf = value.contains("base_color") || value.contains("metallic") || value.contains("roughness");
         if (phong && gltf)
             fail(where,
                  "give either diffuse/specular/shininess (Phong) or base_color/metallic/roughness (glTF), not both");
-        if (gltf) return metallic_roughness_material(value, where, base);
+        Material m = gltf ? metallic_roughness_material(value, where, base) : phong_material(value, where, base);
+        if (const auto it = value.find("emission"); it != value.end()) {
+            m.emission = scalar_or_vec3(*it, where + ".emission");
+            if (!(std::min({m.emission.r, m.emission.g, m.emission.b}) >= 0.0f) ||
+                !(std::max({m.emission.r, m.emission.g, m.emission.b}) <= 1e6f))
+                fail(where + ".emission", "radiance components must be between 0 and 1e6");
+            m.emission_texture.reset();
+        }
+        return m;
+    }
+
+    Material phong_material(const json& value, const std::string& where, const Material& base) const {
         Material m = base;
         m.metallic_roughness.reset();
         if (const auto it = value.find("diffuse"); it != value.end()) {
@@ -430,20 +443,22 @@ private:
     // has none). "base_color" replaces the base-colour texture, as "diffuse" does.
     Material metallic_roughness_material(const json& value, const std::string& where, const Material& base) const {
         MetallicRoughness p = base.metallic_roughness.value_or(MetallicRoughness{});
-        std::optional<MaterialTexture> texture = base.base_color_texture;
+        bool keeps_texture = true;
         if (const auto it = value.find("base_color"); it != value.end()) {
             p.base_color = scalar_or_vec3(*it, where + ".base_color");
             if (std::min({p.base_color.r, p.base_color.g, p.base_color.b}) < 0.0f ||
                 std::max({p.base_color.r, p.base_color.g, p.base_color.b}) > 1.0f)
                 fail(where + ".base_color", "components must be between 0 and 1");
-            texture.reset();
+            keeps_texture = false;
         }
         if (const auto it = value.find("metallic"); it != value.end())
             p.metallic = number_in(*it, where + ".metallic", 0.0f, 1.0f);
         if (const auto it = value.find("roughness"); it != value.end())
             p.roughness = number_in(*it, where + ".roughness", 0.0f, 1.0f);
         Material m = material_from_metallic_roughness(p);
-        m.base_color_texture = std::move(texture);
+        if (keeps_texture) m.base_color_texture = base.base_color_texture;
+        m.emission = base.emission;
+        m.emission_texture = base.emission_texture;
         return m;
     }
 

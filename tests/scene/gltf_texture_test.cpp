@@ -213,7 +213,7 @@ TEST(SceneGltfTexture, MissingImageFileIsNamed) {
 TEST(SceneGltfTexture, TexCoordSetThePrimitiveLacksIsAnError) {
     TexturedQuad quad;
     quad.material({{"index", 0}, {"texCoord", 1}});
-    expect_input_error(quad.write(), "mesh 0 primitive 0: its material's base colour texture reads TEXCOORD_1");
+    expect_input_error(quad.write(), "mesh 0 primitive 0: its material's textures read TEXCOORD_1");
 }
 
 TEST(SceneGltfTexture, TextureIndexOutOfRangeIsAnError) {
@@ -234,6 +234,64 @@ TEST(SceneGltfTexture, NonFiniteTexcoordsAreAnError) {
     const float nan = NAN;
     std::memcpy(&quad.writer.bin[48 + 4], &nan, 4);  // after 4 positions of 12 bytes: the first uv's v
     expect_input_error(quad.write(), "TEXCOORD_0 0 is not finite");
+}
+
+// Emission (docs/SCENES.md "Emission"): emissiveFactor times KHR_materials_emissive_strength, and
+// emissiveTexture where it reads the base colour's texture coordinates.
+TEST(SceneGltfEmission, FactorTimesStrengthAndTheTextureOnTheBaseColoursCoordinates) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["emissiveFactor"] = {0.5, 0.25, 1.0};
+    quad.writer.doc["materials"][0]["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}};
+    quad.writer.doc["materials"][0]["emissiveTexture"] = {{"index", 0}};
+    const GltfModel model = load_gltf(quad.write());
+    const Material& m = model.parts.at(0).material;
+    EXPECT_EQ(m.emission, glm::vec3(2.0f, 1.0f, 4.0f));
+    ASSERT_TRUE(m.emission_texture.has_value());
+    EXPECT_EQ(m.emission_texture->image, m.base_color_texture->image);  // the one texture both use
+}
+
+TEST(SceneGltfEmission, NoFactorIsBlackAndAStrengthAloneIsBlackToo) {
+    TexturedQuad quad;
+    EXPECT_EQ(load_gltf(quad.write()).parts.at(0).material.emission, glm::vec3(0.0f));
+    quad.writer.doc["materials"][0]["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}}};
+    EXPECT_EQ(load_gltf(quad.write()).parts.at(0).material.emission, glm::vec3(0.0f));
+    quad.writer.doc["materials"][0]["emissiveFactor"] = {1.0, 1.0, 1.0};
+    quad.writer.doc["materials"][0]["extensions"] = json::object();  // strength 1 without the extension
+    EXPECT_EQ(load_gltf(quad.write()).parts.at(0).material.emission, glm::vec3(1.0f));
+}
+
+TEST(SceneGltfEmission, AnEmissionTextureWithoutABaseColourTextureGivesTheMeshItsCoordinates) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"] =
+        json::array({{{"emissiveFactor", {1.0, 1.0, 1.0}}, {"emissiveTexture", {{"index", 0}}}}});
+    const GltfModel model = load_gltf(quad.write());
+    const Material& m = model.parts.at(0).material;
+    EXPECT_FALSE(m.base_color_texture.has_value());
+    ASSERT_TRUE(m.emission_texture.has_value());
+    EXPECT_EQ(model.parts.at(0).mesh->texcoords.size(), 4u);
+}
+
+TEST(SceneGltfEmission, AnEmissionTextureOnOtherCoordinatesShowsItsFactorAlone) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["emissiveFactor"] = {1.0, 1.0, 1.0};
+    quad.writer.doc["materials"][0]["emissiveTexture"] = {
+        {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"scale", {2.0, 2.0}}}}}}};
+    const GltfModel model = load_gltf(quad.write());
+    EXPECT_FALSE(model.parts.at(0).material.emission_texture.has_value());
+    EXPECT_EQ(model.parts.at(0).material.emission, glm::vec3(1.0f));
+}
+
+TEST(SceneGltfEmission, BadEmissionIsAnErrorNamingTheProperty) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["emissiveFactor"] = {1.5, 0.0, 0.0};
+    expect_input_error(quad.write(), "materials[0].emissiveFactor[0]: 1.5 is outside 0");
+    quad.writer.doc["materials"][0]["emissiveFactor"] = {1.0, 0.0, 0.0};
+    quad.writer.doc["materials"][0]["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", -1.0}}}};
+    expect_input_error(
+        quad.write(), "materials[0].extensions.KHR_materials_emissive_strength.emissiveStrength: must not be negative");
+    quad.writer.doc["materials"][0]["extensions"] = json::object();
+    quad.writer.doc["materials"][0]["emissiveTexture"] = {{"index", 7}};
+    expect_input_error(quad.write(), "materials[0] uses texture 7, which does not exist");
 }
 
 }  // namespace

@@ -246,6 +246,25 @@ TEST(SceneFile, GltfMaterialKeysGiveTheMetallicRoughnessBrdf) {
     expect_scene_error_with(out_of_range, {"objects[0].material.roughness"});
 }
 
+// "emission" goes with either kind of material, and keys of the material that do not name it keep it.
+TEST(SceneFile, EmissionIsAKeyOfEitherMaterialKind) {
+    json scene = minimal_scene();
+    scene["objects"] = {{{"mesh", "sphere"}, {"material", {{"diffuse", 0.5}, {"emission", {2.0, 1.0, 0.0}}}}},
+                        {{"mesh", "sphere"}, {"material", {{"roughness", 0.5}, {"emission", 3.0}}}},
+                        {{"mesh", "sphere"}, {"material", {{"roughness", 0.5}}}}};
+    const Scene s = load_scene(write_scene(test_folder(), scene));
+    ASSERT_EQ(s.objects.size(), 3u);
+    EXPECT_EQ(s.objects[0].material.emission, glm::vec3(2.0f, 1.0f, 0.0f));
+    EXPECT_EQ(s.objects[0].material.rho_d, glm::vec3(0.5f));
+    EXPECT_EQ(s.objects[1].material.emission, glm::vec3(3.0f));
+    ASSERT_TRUE(s.objects[1].material.metallic_roughness);
+    EXPECT_EQ(s.objects[2].material.emission, glm::vec3(0.0f));
+
+    json negative = minimal_scene();
+    negative["objects"][0]["material"] = {{"emission", {1.0, -1.0, 0.0}}};
+    expect_scene_error_with(negative, {"objects[0].material.emission", "between 0 and 1e6"});
+}
+
 // A model of two materials (a triangle at x in [0, 1], another at x in [3, 4]) as two objects.
 fs::path two_material_model(const fs::path& dir) {
     GltfWriter w;

@@ -1,0 +1,141 @@
+// Emission (docs/SCENES.md "Emission"): a quad under a unit sky whose emission texture is red, green, blue and
+// white (nearest-filtered) shows in each quadrant what it reflects plus the emission times that texel, worked
+// out by hand. Every shading path adds it the same way (the paper's cells; ratio shading with the shadowed
+// fraction at half rate and MSAA 4, the commands' defaults; glTF's BRDF), the fraction pass leaves it out
+// (else the difference below would not be the emission alone), and the reference agrees.
+#include <memory>
+#include <utility>
+
+#include "env/cells.h"
+#include "env/environment.h"
+#include "env/ggx_prefilter.h"
+#include "env/prefilter.h"
+#include "gl_fixture.h"
+#include "reference/reference.h"
+#include "render/frame_plan.h"
+#include "render/renderer.h"
+#include "scene/gltf_material.h"
+
+namespace envshadow::testing {
+namespace {
+
+using EmissionTest = GlTest;
+
+constexpr int kSize = 64;
+const glm::vec3 kEmission{1.0f, 0.5f, 0.25f};
+
+std::shared_ptr<const TextureImage> four_colours() {
+    auto image = std::make_shared<TextureImage>();
+    image->width = image->height = 2;
+    image->rgba = {255, 0, 0,   255, 0,   255, 0,   255,   // top row: red, green
+                   0,   0, 255, 255, 255, 255, 255, 255};  // bottom row: blue, white
+    return image;
+}
+
+// A 2 m quad facing +Z filling most of the picture, uv (0, 0) at its top-left corner, grey (rho_d = 0.5),
+// emitting kEmission times the four colours.
+Scene emissive_quad(glm::vec3 emission = kEmission) {
+    Scene scene;
+    scene.environment.source = "builtin:constant";
+    scene.camera.position = {0.0f, 0.0f, 3.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.camera.fov_y_degrees = 45.0f;
+    auto mesh = std::make_shared<Mesh>();
+    mesh->positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+    mesh->normals.assign(4, glm::vec3(0, 0, 1));
+    mesh->texcoords = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    mesh->indices = {0, 1, 2, 0, 2, 3};
+    mesh->compute_bounds();
+    Object object;
+    object.mesh = mesh;
+    object.material.rho_d = glm::vec3(0.5f);
+    object.material.emission = emission;
+    object.material.emission_texture =
+        MaterialTexture{four_colours(), TextureWrap::clamp_to_edge, TextureWrap::clamp_to_edge, /*nearest=*/true};
+    scene.objects.push_back(std::move(object));
+    return scene;
+}
+
+Image render_scene(const Scene& scene, const render::RenderSettings& settings) {
+    const EnvironmentMap map = load_environment(scene.environment.source);
+    render::Renderer renderer(settings);
+    renderer.set_scene(scene);
+    renderer.set_environment(map);
+    renderer.set_prefiltered(prefilter_environment(map, Hemisphere::full));
+    renderer.set_ggx_prefiltered(prefilter_environment_ggx(map, Hemisphere::full));
+    renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = 16}).cells);
+    renderer.render(0.0, render::camera_view(scene, kSize, kSize));
+    return renderer.read_back();
+}
+
+// The texel of each quadrant (qx, qy from the top left), times kEmission.
+glm::vec3 emitted(int qx, int qy) {
+    const glm::vec3 texel[2][2] = {{{1, 0, 0}, {0, 0, 1}}, {{0, 1, 0}, {1, 1, 1}}};  // [qx][qy]
+    return kEmission * texel[qx][qy];
+}
+
+glm::vec3 quadrant_centre(const Image& image, int qx, int qy) {
+    return glm::vec3(image.at(kSize * (1 + 2 * qx) / 4, kSize * (1 + 2 * qy) / 4));
+}
+
+render::RenderSettings commands_defaults() {
+    render::RenderSettings s;
+    s.shading = render::ShadingMode::ratio;
+    s.shadows = render::ShadowMode::soft;
+    s.shadow_rate = render::ShadowRate::half;
+    s.msaa = 4;
+    return s;
+}
+
+TEST_P(EmissionTest, EachPathAddsTheEmissionTimesItsTexel) {
+    Scene gltf = emissive_quad();
+    gltf.objects[0].material = material_from_metallic_roughness({glm::vec3(0.5f), 0.0f, 0.6f});
+    gltf.objects[0].material.emission = kEmission;
+    gltf.objects[0].material.emission_texture = emissive_quad().objects[0].material.emission_texture;
+    const struct {
+        const char* name;
+        Scene scene;
+        render::RenderSettings settings;
+    } cases[] = {{"cells", emissive_quad(), {}},
+                 {"ratio, fraction at half rate, MSAA 4", emissive_quad(), commands_defaults()},
+                 {"glTF's BRDF in ratio shading", gltf, commands_defaults()}};
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.name);
+        Scene dark = c.scene;
+        dark.objects[0].material.emission = glm::vec3(0.0f);
+        const Image lit = render_scene(c.scene, c.settings), reflected = render_scene(dark, c.settings);
+        for (int qy = 0; qy < 2; ++qy)
+            for (int qx = 0; qx < 2; ++qx) {
+                const glm::vec3 added = quadrant_centre(lit, qx, qy) - quadrant_centre(reflected, qx, qy);
+                for (int ch = 0; ch < 3; ++ch)
+                    EXPECT_NEAR(added[ch], emitted(qx, qy)[ch], 1e-3f)
+                        << "quadrant " << qx << "," << qy << " channel " << ch;
+            }
+    }
+}
+
+// Grey 0.5 under a unit sky reflects 0.5; the emission adds on top, in both renderers.
+TEST_P(EmissionTest, TheQuadShowsReflectionPlusEmissionAsTheReferenceDoes) {
+    const Scene scene = emissive_quad();
+    const Image raster = render_scene(scene, {});
+    reference::ReferenceOptions options;
+    options.width = options.height = kSize;
+    options.target_error = 0.02;
+    options.pixel_filter = reference::PixelFilter::point;
+    const Image truth = reference::render_reference(scene, load_environment(scene.environment.source), options).image;
+    for (int qy = 0; qy < 2; ++qy)
+        for (int qx = 0; qx < 2; ++qx) {
+            const glm::vec3 expected = glm::vec3(0.5f) + emitted(qx, qy);
+            for (int ch = 0; ch < 3; ++ch) {
+                EXPECT_NEAR(quadrant_centre(truth, qx, qy)[ch], expected[ch], 0.03f * expected[ch])
+                    << "reference, quadrant " << qx << "," << qy << " channel " << ch;
+                EXPECT_NEAR(quadrant_centre(raster, qx, qy)[ch], expected[ch], 0.03f * expected[ch])
+                    << "render, quadrant " << qx << "," << qy << " channel " << ch;
+            }
+        }
+}
+
+ENVSHADOW_INSTANTIATE_GL_TEST(EmissionTest);
+
+}  // namespace
+}  // namespace envshadow::testing
