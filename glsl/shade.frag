@@ -10,12 +10,16 @@
 //   shade_ratio.glsl         the radiance from the sums (SHADING_RATIO: the ratio estimator; its clipping
 //                            at the tangent plane is the reflectivity's and the visibility's)
 //   shade_metallic_roughness.glsl  glTF's BRDF unshadowed, by the split sum (METALLIC_ROUGHNESS)
+//   alpha_mask.glsl          ALPHA_TEST (no depth pre-pass): masked surfaces cut out here
 //   shade_shadowed_fraction.glsl  the ratio split in two passes (docs/DESIGN.md §5.14): SHADOWED_FRACTION_OUT
 //                            writes the fraction, SHADOWED_FRACTION_IN shades with it instead of the loop
 #include "shade_cell_sums.glsl"
 #include "shade_ratio.glsl"
 #include "shade_shadowed_fraction.glsl"
 #include "shade_surface.glsl"
+#if defined(ALPHA_TEST)
+#include "alpha_mask.glsl"
+#endif
 
 // centroid: with MSAA, interpolated inside the triangle (at a covered sample) rather than at the pixel
 // centre, which may lie beyond a silhouette edge; the same as the centre at one sample per pixel.
@@ -29,6 +33,9 @@ layout(location = 0) out vec4 o_color;
 
 void main() {
     Surface s = surface(v_world_position, v_world_position_at_centre, v_world_normal, v_texcoord);
+#if defined(ALPHA_TEST)
+    if (cut_out(s.alpha)) discard;  // without a depth pre-pass, which otherwise keeps these pixels out
+#endif
 #if defined(SHADOWED_FRACTION_IN)
     o_color = vec4(unshadowed_radiance(s) * fraction_at_fragment(s.normal) + emitted_radiance(s), 1.0);
 #else

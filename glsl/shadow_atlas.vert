@@ -14,6 +14,11 @@
 #include "cells.glsl"
 
 layout(location = ATTRIB_POSITION) in vec3 a_position;
+#if defined(ALPHA_MASK)
+// Alpha-masked casters: the texture coordinates for shadow_atlas_mask.frag.
+layout(location = ATTRIB_TEXCOORD) in vec2 a_texcoord;
+layout(location = 0) out vec2 v_texcoord;
+#endif
 
 layout(location = LOC_WORLD_FROM_OBJECT) uniform mat4 u_world_from_object;
 layout(location = LOC_FIRST_TILE) uniform int u_first_tile;
@@ -28,6 +33,9 @@ out gl_PerVertex {
 #endif
 
 void main() {
+#if defined(ALPHA_MASK)
+    v_texcoord = a_texcoord;
+#endif
 #if defined(ATLAS_CLIP_DISTANCES)
     int tile = atlas_tiles[u_first_tile + gl_InstanceID];
 #else

@@ -217,6 +217,8 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         }
         changed |= ImGui::ColorEdit3("emission", &m.emission.x, ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
         ImGui::TextDisabled("emission texture: %s", m.emission_texture ? "yes" : "no");
+        if (m.alpha_mode == AlphaMode::mask)
+            ImGui::TextDisabled("alpha mask: cut below %.2f (factor alpha %.2f)", m.alpha_cutoff, m.base_alpha);
         if (changed) changes.material.emplace(std::size_t(controls.selected_object), m);
     }
 

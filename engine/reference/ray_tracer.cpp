@@ -7,12 +7,44 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
+#include "scene/texture.h"
 
 namespace envshadow::reference {
+namespace {
+
+// An alpha-masked object (Material::masked, docs/SCENES.md "Alpha"): hits where its alpha is below the
+// cutoff do not count, for camera rays and shadow rays alike (an Embree filter function).
+struct AlphaMask {
+    const MaterialTexture* texture = nullptr;  // the base colour, where the mesh has texture coordinates
+    const std::vector<glm::vec2>* texcoords = nullptr;
+    const std::vector<std::uint32_t>* indices = nullptr;
+    float base_alpha = 1.0f, cutoff = 0.0f;
+
+    bool cuts(unsigned triangle, float u, float v) const {
+        float alpha = base_alpha;
+        if (texture) {
+            const std::uint32_t* t = &(*indices)[3 * std::size_t(triangle)];
+            const glm::vec2 uv = (1.0f - u - v) * (*texcoords)[t[0]] + u * (*texcoords)[t[1]] + v * (*texcoords)[t[2]];
+            alpha *= sample_linear_rgba(*texture, uv).a;
+        }
+        return alpha < cutoff;
+    }
+};
+
+void alpha_mask_filter(const RTCFilterFunctionNArguments* args) {
+    const auto& mask = *static_cast<const AlphaMask*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i)
+        if (args->valid[i] == -1 && mask.cuts(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                                              RTCHitN_v(args->hit, args->N, i)))
+            args->valid[i] = 0;
+}
+
+}  // namespace
 
 struct RayTracer::State {
     RTCDevice device = nullptr;
@@ -24,6 +56,7 @@ struct RayTracer::State {
     std::vector<bool> mirrored;                     // per object: world_from_object's determinant < 0
     std::vector<const std::vector<std::uint32_t>*> indices;
     std::vector<const std::vector<glm::vec2>*> texcoords;  // the mesh's, per object (empty: none)
+    std::vector<std::unique_ptr<AlphaMask>> masks;         // per object; null without Material::masked()
 
     ~State() {
         if (casters) rtcReleaseScene(casters);
@@ -40,15 +73,21 @@ void check(RTCDevice device, const char* what) {
         throw PlatformError(std::string("Embree: ") + what + " failed (error " + std::to_string(int(error)) + ")");
 }
 
-// A triangle geometry over `positions` / `indices` (Embree copies nothing: the buffers must outlive it).
+// A triangle geometry over `positions` / `indices` (Embree copies nothing: the buffers must outlive it), its
+// hits filtered by `mask` where given.
 void attach(RTCDevice device, RTCScene scene, const std::vector<glm::vec3>& positions,
-            const std::vector<std::uint32_t>& indices) {
+            const std::vector<std::uint32_t>& indices, const AlphaMask* mask) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree may read 16 bytes from the last vertex: the positions vector is padded by the caller.
     rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions.data(), 0,
                                sizeof(glm::vec3), positions.size() - 1);
     rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, indices.data(), 0,
                                3 * sizeof(std::uint32_t), indices.size() / 3);
+    if (mask) {
+        rtcSetGeometryUserData(geometry, const_cast<AlphaMask*>(mask));
+        rtcSetGeometryIntersectFilterFunction(geometry, alpha_mask_filter);
+        rtcSetGeometryOccludedFilterFunction(geometry, alpha_mask_filter);
+    }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene, geometry);
     rtcReleaseGeometry(geometry);
@@ -71,6 +110,7 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
     s.mirrored.resize(scene.objects.size(), false);
     s.indices.resize(scene.objects.size(), nullptr);
     s.texcoords.resize(scene.objects.size(), nullptr);
+    s.masks.resize(scene.objects.size());
     double extent = 0.0;
     for (std::size_t k = 0; k < scene.objects.size(); ++k) {
         const Object& object = scene.objects[k];
@@ -95,9 +135,20 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
         positions.push_back(glm::vec3(0.0f));  // padding for Embree's 16-byte vertex reads
         s.indices[k] = &object.mesh->indices;
         s.texcoords[k] = &object.mesh->texcoords;  // a pose keeps the bind mesh's texture coordinates
-        attach(s.device, s.everything, positions, object.mesh->indices);
+        if (const Material& material = object.material; material.masked()) {
+            auto mask = std::make_unique<AlphaMask>();
+            if (material.base_color_texture && !object.mesh->texcoords.empty()) {
+                mask->texture = &*material.base_color_texture;
+                mask->texcoords = &object.mesh->texcoords;
+                mask->indices = &object.mesh->indices;
+            }
+            mask->base_alpha = material.base_alpha;
+            mask->cutoff = material.alpha_cutoff;
+            s.masks[k] = std::move(mask);
+        }
+        attach(s.device, s.everything, positions, object.mesh->indices, s.masks[k].get());
         s.object_of_geometry.push_back(k);
-        if (object.casts_shadows) attach(s.device, s.casters, positions, object.mesh->indices);
+        if (object.casts_shadows) attach(s.device, s.casters, positions, object.mesh->indices, s.masks[k].get());
         triangles_ += mesh.triangle_count();
     }
     rtcCommitScene(s.everything);

@@ -78,6 +78,10 @@ struct ObjectFrame {
     // cells' weights).
     std::optional<MetallicRoughness> metallic_roughness;
     glm::vec3 emission{0.0f};  // Material::emission, times the emission texture in shade.frag
+    // Material::masked(): cut out where base_alpha times the base-colour texture's alpha < alpha_cutoff; a
+    // cutoff of 0 cuts nothing.
+    float base_alpha = 1.0f, alpha_cutoff = 0.0f;
+    bool masked() const { return alpha_cutoff > 0.0f; }
 };
 
 struct FramePlan {

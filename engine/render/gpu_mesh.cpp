@@ -49,6 +49,7 @@ void GpuMesh::make_vertex_arrays(const Mesh& mesh, GLbitfield vertex_flags) {
     glVertexArrayElementBuffer(vertex_array_.id(), indices_.id());
     caster_vertex_array_ = gl::VertexArray::create();
     attach(caster_vertex_array_.id(), shader::attrib::position, positions_, 3);
+    if (texcoords_) attach(caster_vertex_array_.id(), shader::attrib::texcoord, texcoords_, 2);  // masked casters
     glVertexArrayElementBuffer(caster_vertex_array_.id(), indices_.id());
 }
 

@@ -41,7 +41,8 @@ public:
 
 private:
     gl::Buffer positions_, normals_, texcoords_, indices_, caster_indices_;
-    // Positions only: with the mesh's index buffer (level 0), and with the simplified levels' (1, 2, ...).
+    // Positions (and at level 0 the texture coordinates, for alpha-masked casters): with the mesh's index
+    // buffer (level 0), and with the simplified levels' (1, 2, ...).
     gl::VertexArray vertex_array_, caster_vertex_array_, simplified_vertex_array_;
     GLsizei index_count_ = 0;
     CasterLod caster_lod_;

@@ -105,10 +105,11 @@ const gl::Program& Renderer::tiles_program(int samples) {
 
 // The shading with the fraction pass's output: no cells, so nothing of the variant's key matters to it.
 const gl::Program& Renderer::fraction_shading_program(bool metallic_roughness) {
-    gl::Program& program = metallic_roughness ? fraction_shading_gltf_program_ : fraction_shading_program_;
+    gl::Program& program = fraction_shading_programs_[{metallic_roughness, variant_.alpha_test}];
     if (!program) {
         std::vector<std::string> defines = {"SHADOWED_FRACTION_IN"};
         if (metallic_roughness) defines.push_back("METALLIC_ROUGHNESS");
+        if (variant_.alpha_test) defines.push_back("ALPHA_TEST");
         program = library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, defines);
     }
     return program;
@@ -440,7 +441,22 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
     glDisable(GL_CULL_FACE);  // both faces cast: open meshes and thin parts stay in the map
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(0.0f, 1.0f);  // the map's depth precision; the rest of the bias is the receiver's (§5.3)
-    programs_now_->atlas.use();
+    VariantPrograms& programs = *programs_now_;
+    if (!programs.atlas_masked && std::ranges::any_of(plan.objects, &ObjectFrame::masked)) {
+        std::vector<std::string> defines = atlas_defines(variant_);
+        defines.push_back("ALPHA_MASK");
+        programs.atlas_masked = library_.build(
+            {{GL_VERTEX_SHADER, "shadow_atlas.vert"}, {GL_FRAGMENT_SHADER, "shadow_atlas_mask.frag"}}, defines);
+    }
+    // Masked casters cut out what their alpha cuts (shadow_atlas_mask.frag), at level 0: the simplified
+    // levels carry no texture coordinates.
+    const auto caster_program = [&](std::size_t i) -> const gl::Program& {
+        return plan.objects[i].masked() ? programs.atlas_masked : programs.atlas;
+    };
+    const auto set_first_tile = [&](GLint first) {
+        for (const gl::Program* p : {&programs.atlas, &programs.atlas_masked})
+            if (*p) glProgramUniform1i(p->id(), loc::first_tile, first);
+    };
     const int tiles = int(plan.lights.size());
 
     // Each caster at the coarsest level of detail within settings_.caster_lod of the texels it is drawn
@@ -454,8 +470,10 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
     const auto set_caster = [&](std::size_t i, int level) {
         const ObjectFrame& object = plan.objects[i];
         const GpuMesh& mesh = *instance_meshes_[i];
-        glProgramUniformMatrix4fv(programs_now_->atlas.id(), loc::world_from_object, 1, GL_FALSE,
-                                  &object.world_from_object[0][0]);
+        const gl::Program& program = caster_program(i);
+        program.use();
+        glProgramUniformMatrix4fv(program.id(), loc::world_from_object, 1, GL_FALSE, &object.world_from_object[0][0]);
+        if (object.masked()) bind_alpha_mask(program.id(), object, i);
         // Closed casters: front faces only (the light frame keeps the winding: right x up = toward,
         // so faces turned to the light are counter-clockwise in the tile; a mirroring transform
         // turns them clockwise).
@@ -482,6 +500,8 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
             if (!draws_caster(i)) continue;
             const CasterLod& lod = instance_meshes_[i]->caster_lod();
             append_caster_tiles(lod, plan.objects[i].world_from_object, texels, settings_.caster_lod, caster_tiles_);
+            if (plan.objects[i].masked())
+                for (std::size_t r = run_begin[i]; r < caster_tiles_.runs.size(); ++r) caster_tiles_.runs[r].level = 0;
             for (std::size_t r = run_begin[i]; r < caster_tiles_.runs.size(); ++r)
                 atlas_triangles_ += std::size_t(lod.levels[std::size_t(caster_tiles_.runs[r].level)].index_count / 3) *
                                     std::size_t(caster_tiles_.runs[r].count);
@@ -502,7 +522,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
                 for (std::size_t r = run_begin[i]; r < run_begin[i + 1]; ++r) {
                     const CasterTileRun& run = caster_tiles_.runs[r];
                     set_caster(i, run.level);
-                    glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, GLint(run.first));
+                    glProgramUniform1i(caster_program(i).id(), loc::first_tile, GLint(run.first));
                     instance_meshes_[i]->draw_caster(run.level, GLsizei(run.count));
                 }
             for (GLenum plane = 0; plane < 4; ++plane) glDisable(GL_CLIP_DISTANCE0 + plane);
@@ -521,14 +541,17 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
                     rects[4 * i + 2] = rects[4 * i + 3] = float(tile.size);
                 }
                 glViewportArrayv(0, batch, rects.data());
-                glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, first);
+                set_first_tile(first);
                 texels_of(first, batch, texels);
                 const float smallest = *std::min_element(texels.begin(), texels.end());
                 for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
                     if (!draws_caster(i)) continue;
                     const CasterLod& lod = instance_meshes_[i]->caster_lod();
-                    const int level = choose_caster_level(
-                        lod, caster_error_budget(plan.objects[i].world_from_object, smallest, settings_.caster_lod));
+                    const int level =
+                        plan.objects[i].masked()
+                            ? 0
+                            : choose_caster_level(lod, caster_error_budget(plan.objects[i].world_from_object, smallest,
+                                                                           settings_.caster_lod));
                     atlas_triangles_ +=
                         std::size_t(lod.levels[std::size_t(level)].index_count / 3) * std::size_t(batch);
                     set_caster(i, level);
@@ -540,7 +563,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
             for (int k = 0; k < tiles; ++k) {
                 const TileRect& tile = layout_.tiles[std::size_t(k)];
                 glViewport(tile.x, tile.y, tile.size, tile.size);
-                glProgramUniform1i(programs_now_->atlas.id(), loc::first_tile, k);
+                set_first_tile(k);
                 group_tiles(k, 1);
                 for (std::size_t i = 0; i < instance_meshes_.size(); ++i)
                     for (std::size_t r = run_begin[i]; r < run_begin[i + 1]; ++r) {
@@ -566,9 +589,19 @@ void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view,
     glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    const bool any_masked = std::ranges::any_of(plan.objects, &ObjectFrame::masked);
+    if (any_masked && !masked_prepass_program_)
+        masked_prepass_program_ = library_.build(
+            {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}}, {"ALPHA_MASK"});
+    if (any_masked)
+        glProgramUniformMatrix4fv(masked_prepass_program_.id(), loc::clip_from_world, 1, GL_FALSE,
+                                  &clip_from_world[0][0]);
     for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
-        glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE,
-                                  &plan.objects[i].world_from_object[0][0]);
+        const ObjectFrame& object = plan.objects[i];
+        const gl::Program& prepass = object.masked() ? masked_prepass_program_ : prepass_program_;
+        prepass.use();
+        glProgramUniformMatrix4fv(prepass.id(), loc::world_from_object, 1, GL_FALSE, &object.world_from_object[0][0]);
+        if (object.masked()) bind_alpha_mask(prepass.id(), object, i);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }
@@ -713,6 +746,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         if (ratio) bind_unshadowed_levels(program, object, gltf);
         (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
         glProgramUniform3f(program, loc::emission, object.emission.r, object.emission.g, object.emission.b);
+        if (variant_.alpha_test) bind_alpha_mask(program, object, i);
         instance_emission_textures_[i]->bind(unit::emission_texture);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
@@ -721,6 +755,12 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     glBindSampler(unit::atlas_depth, 0);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
+}
+
+void Renderer::bind_alpha_mask(GLuint program, const ObjectFrame& object, std::size_t i) const {
+    glProgramUniform1f(program, loc::base_alpha, object.base_alpha);
+    glProgramUniform1f(program, loc::alpha_cutoff, object.alpha_cutoff);
+    (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
 }
 
 void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object, bool gltf) const {

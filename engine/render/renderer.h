@@ -164,6 +164,8 @@ private:
     // Ratio shading: the object's unshadowed part's uniforms and levels (glsl/shade_ratio.glsl).
     // `gltf`: drawn with the METALLIC_ROUGHNESS program.
     void bind_unshadowed_levels(GLuint program, const ObjectFrame& object, bool gltf) const;
+    // The alpha mask's uniforms and the base-colour texture of object i (its cutoff 0 where it has no mask).
+    void bind_alpha_mask(GLuint program, const ObjectFrame& object, std::size_t i) const;
     // The ratio's shadowed fraction into fraction_ (its own pre-pass and tile lists); leaves target_ bound.
     void draw_shadowed_fraction(const FramePlan& plan, const CameraView& view);
     void draw_background(const CameraView& view);
@@ -173,15 +175,17 @@ private:
     // The programs of one shader variant: the atlas's, and shade.frag's full, diffuse-only and flat-receiver ones.
     struct VariantPrograms {
         gl::Program atlas, shade, shade_diffuse, shade_flat;
-        gl::Program shade_gltf;  // METALLIC_ROUGHNESS (ratio without the fraction pass), built once drawn with
+        gl::Program shade_gltf;    // METALLIC_ROUGHNESS (ratio without the fraction pass), built once drawn with
+        gl::Program atlas_masked;  // ALPHA_MASK with shadow_atlas_mask.frag, built once drawn with
     };
     ShaderSupport support_;
     ShaderVariant variant_;
     std::map<ShaderVariant, VariantPrograms> programs_;  // every variant drawn with so far
     VariantPrograms* programs_now_ = nullptr;            // programs_[variant_]
     gl::Program prepass_program_, background_program_;   // the same for every variant
-    gl::Program fraction_shading_program_;               // the same for every variant; empty until drawn with
-    gl::Program fraction_shading_gltf_program_;          // the same with METALLIC_ROUGHNESS
+    gl::Program masked_prepass_program_;                 // ALPHA_MASK; empty until drawn with
+    // SHADOWED_FRACTION_IN per (METALLIC_ROUGHNESS, ALPHA_TEST): fraction_shading_program()
+    std::map<std::pair<bool, bool>, gl::Program> fraction_shading_programs_;
     // shadow_tiles.comp per (lights in a uniform block, sample count): tiles_program()
     std::map<std::pair<bool, int>, gl::Program> tiles_programs_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID

@@ -27,6 +27,7 @@ struct ShaderVariant {
     bool ratio = false;                           // SHADING_RATIO
     bool soft_shadows = false;                    // SOFT_SHADOWS
     bool fraction_pass = false;                   // SHADOWED_FRACTION_OUT: ratio at a reduced shadow rate
+    bool alpha_test = false;  // ALPHA_TEST: no depth pre-pass, so shade.frag cuts masked surfaces out itself
 
     auto operator<=>(const ShaderVariant&) const = default;
 };

@@ -49,12 +49,14 @@ public:
                              out.ignored_extensions.end())
                         out.ignored_extensions.push_back(name);
                 }
+            float base_alpha = 1.0f;
             // The extension, where present, takes the place of the core model (pbrMetallicRoughness is
             // then only a fallback for viewers without it).
             if (spec_gloss) {
                 const std::string at = where + ".extensions." + kSpecularGlossiness;
                 const json& sg = *spec_gloss;
                 const glm::vec3 diffuse = unit_rgb(sg, "diffuseFactor", 4, at);
+                base_alpha = unit_alpha(sg, "diffuseFactor", at);
                 const glm::vec3 specular = unit_rgb(sg, "specularFactor", 3, at);
                 const float glossiness = unit(sg, "glossinessFactor", at);
                 g.material = material_from_specular_glossiness(diffuse, specular, glossiness);
@@ -65,6 +67,7 @@ public:
                 const json& pbr = pbr_it != m.end() ? *pbr_it : kEmpty;
                 const std::string at = where + ".pbrMetallicRoughness";
                 const glm::vec3 base = unit_rgb(pbr, "baseColorFactor", 4, at);
+                base_alpha = unit_alpha(pbr, "baseColorFactor", at);
                 g.material = material_from_metallic_roughness(
                     MetallicRoughness{base, unit(pbr, "metallicFactor", at), unit(pbr, "roughnessFactor", at)});
                 g.base_color = texture_ref(pbr, "baseColorTexture", at);
@@ -81,12 +84,31 @@ public:
                 g.material.emission = unit_rgb(m, "emissiveFactor", 3, where) * strength;
             }
             g.emission = texture_ref(m, "emissiveTexture", where);
+            read_alpha(m, where, base_alpha, g.material, out);
             out.materials.push_back(std::move(g));
         }
         return out;
     }
 
 private:
+    // alphaMode and alphaCutoff. BLEND is drawn as MASK at the default cutoff (no blending: docs/SCENES.md
+    // "Alpha"), with one warning per file.
+    void read_alpha(const json& m, const std::string& where, float base_alpha, Material& material,
+                    GltfMaterials& out) const {
+        material.base_alpha = base_alpha;
+        const std::string mode = m.value("alphaMode", std::string("OPAQUE"));
+        if (mode == "OPAQUE") return;
+        if (mode != "MASK" && mode != "BLEND")
+            fail(where + ".alphaMode", "\"" + mode + "\" is not OPAQUE, MASK or BLEND");
+        material.alpha_mode = AlphaMode::mask;
+        if (mode == "BLEND") {
+            out.blend_as_mask = true;
+            return;
+        }
+        material.alpha_cutoff = number(m, "alphaCutoff", where, 0.5f);
+        if (material.alpha_cutoff < 0.0f) fail(where + ".alphaCutoff", "must not be negative");
+    }
+
     [[noreturn]] void fail(const std::string& where, const std::string& reason) const {
         throw InputError(file_.string() + ": " + where + ": " + reason);
     }
@@ -103,7 +125,14 @@ private:
         const auto it = object.find(key);
         return it == object.end() ? 1.0f : unit_value(*it, where + "." + key);
     }
-    // The RGB of an RGB or RGBA factor (alpha checked, then unused: no blending here).
+    // The alpha of an RGBA factor (checked by unit_rgb), 1 where absent.
+    float unit_alpha(const json& object, const char* key, const std::string& where) const {
+        const auto it = object.find(key);
+        return it == object.end() || !it->is_array() || it->size() != 4
+                   ? 1.0f
+                   : unit_value((*it)[3], where + "." + key + "[3]");
+    }
+    // The RGB of an RGB or RGBA factor (alpha checked; unit_alpha reads it).
     glm::vec3 unit_rgb(const json& object, const char* key, std::size_t length, const std::string& where) const {
         const auto it = object.find(key);
         if (it == object.end()) return glm::vec3(1.0f);

@@ -26,6 +26,11 @@ struct MetallicRoughness {
     bool operator==(const MetallicRoughness&) const = default;
 };
 
+// glTF's alphaMode (docs/SCENES.md "Alpha"): opaque ignores alpha; mask cuts the surface out where its alpha,
+// Material::base_alpha times the base-colour texture's alpha, is below Material::alpha_cutoff: in shading, in
+// the depth pre-pass, in every shadow tile and for the reference's rays.
+enum class AlphaMode { opaque, mask };
+
 // Albedos (docs/DESIGN.md §2): k_d = rho_d / pi, k_s = rho_s (n + 2) / (2 pi).
 // A base-colour texture, where present, multiplies rho_d per pixel (linear RGB; docs/SCENES.md
 // "Textures"): k_d = rho_d texture(uv) / pi.
@@ -41,10 +46,17 @@ struct Material {
     // emission texture where present (docs/SCENES.md "Emission"). Seen directly; it lights nothing else.
     glm::vec3 emission{0.0f};
     std::optional<MaterialTexture> emission_texture = std::nullopt;  // needs Mesh::texcoords
+    AlphaMode alpha_mode = AlphaMode::opaque;
+    float alpha_cutoff = 0.5f;
+    float base_alpha = 1.0f;  // baseColorFactor's alpha
+
+    // Whether some of the surface is cut out (AlphaMode::mask with an alpha that can fall below the cutoff).
+    bool masked() const { return alpha_mode == AlphaMode::mask && (base_color_texture || base_alpha < alpha_cutoff); }
 
     bool same_as(const Material& o) const {
         return rho_d == o.rho_d && rho_s == o.rho_s && shininess == o.shininess &&
-               metallic_roughness == o.metallic_roughness && emission == o.emission &&
+               metallic_roughness == o.metallic_roughness && emission == o.emission && alpha_mode == o.alpha_mode &&
+               alpha_cutoff == o.alpha_cutoff && base_alpha == o.base_alpha &&
                same_texture(base_color_texture, o.base_color_texture) &&
                same_texture(emission_texture, o.emission_texture);
     }

@@ -37,10 +37,11 @@ int wrap_index(long long i, int size, TextureWrap wrap) {
     }
 }
 
-glm::vec3 texel(const TextureImage& image, int x, int y) {
+// Linear RGB (decoded from sRGB) and alpha (linear as stored) of one texel.
+glm::vec4 texel(const TextureImage& image, int x, int y) {
     const std::uint8_t* p = &image.rgba[(std::size_t(y) * std::size_t(image.width) + std::size_t(x)) * 4];
     const auto& table = srgb_table();
-    return {table[p[0]], table[p[1]], table[p[2]]};
+    return {table[p[0]], table[p[1]], table[p[2]], float(p[3]) / 255.0f};
 }
 
 // uv beyond this is folded back by whole periods first, so the texel coordinates stay exact in double
@@ -54,6 +55,10 @@ float srgb8_to_linear(std::uint8_t value) {
 }
 
 glm::vec3 sample_linear_rgb(const MaterialTexture& texture, glm::vec2 uv) {
+    return glm::vec3(sample_linear_rgba(texture, uv));
+}
+
+glm::vec4 sample_linear_rgba(const MaterialTexture& texture, glm::vec2 uv) {
     const TextureImage& image = *texture.image;
     double u = uv.x, v = uv.y;
     if (!std::isfinite(u) || !std::isfinite(v)) return texel(image, 0, 0);
@@ -70,8 +75,8 @@ glm::vec3 sample_linear_rgb(const MaterialTexture& texture, glm::vec2 uv) {
     const int xa = wrap_index(xi, image.width, texture.wrap_s), xb = wrap_index(xi + 1, image.width, texture.wrap_s);
     const int ya = wrap_index(yi, image.height, texture.wrap_t), yb = wrap_index(yi + 1, image.height, texture.wrap_t);
     // Filtered after decoding, as GL does for sRGB textures.
-    const glm::vec3 top = glm::mix(texel(image, xa, ya), texel(image, xb, ya), fx);
-    const glm::vec3 bottom = glm::mix(texel(image, xa, yb), texel(image, xb, yb), fx);
+    const glm::vec4 top = glm::mix(texel(image, xa, ya), texel(image, xb, ya), fx);
+    const glm::vec4 bottom = glm::mix(texel(image, xa, yb), texel(image, xb, yb), fx);
     return glm::mix(top, bottom, fy);
 }
 

@@ -8,6 +8,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace envshadow {
 
@@ -33,5 +34,7 @@ float srgb8_to_linear(std::uint8_t value);
 // resolution with the texture's wrap modes: what the reference renderer reads. The GPU's trilinear
 // mipmapped lookup agrees where a texel covers at least a pixel.
 glm::vec3 sample_linear_rgb(const MaterialTexture& texture, glm::vec2 uv);
+// The same with the texel's alpha (not sRGB-decoded), filtered alike.
+glm::vec4 sample_linear_rgba(const MaterialTexture& texture, glm::vec2 uv);
 
 }  // namespace envshadow

@@ -35,6 +35,9 @@ std::vector<BuiltProgram> engine_programs() {
     };
     add("shadow_atlas.vert (clip distances)", {{GL_VERTEX_SHADER, "shadow_atlas.vert"}}, {"ATLAS_CLIP_DISTANCES"});
     add("shadow_atlas.vert (per tile, storage block)", {{GL_VERTEX_SHADER, "shadow_atlas.vert"}});
+    add("shadow atlas, alpha-masked casters",
+        {{GL_VERTEX_SHADER, "shadow_atlas.vert"}, {GL_FRAGMENT_SHADER, "shadow_atlas_mask.frag"}},
+        {"ATLAS_CLIP_DISTANCES", "ALPHA_MASK"});
     if (GLAD_GL_ARB_shader_viewport_layer_array)
         add("shadow_atlas.vert (viewport array)", {{GL_VERTEX_SHADER, "shadow_atlas.vert"}},
             {"ATLAS_VIEWPORT_ARRAY", "LIGHTS_UNIFORM_BLOCK"});
@@ -55,6 +58,9 @@ std::vector<BuiltProgram> engine_programs() {
     add("shade (shading from the shadowed fraction, glTF's BRDF)", shade,
         {"SHADOWED_FRACTION_IN", "METALLIC_ROUGHNESS"});
     add("depth pre-pass", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
+    add("depth pre-pass, alpha-masked", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}},
+        {"ALPHA_MASK"});
+    add("shade (no pre-pass: the alpha test)", shade, {"ALPHA_TEST"});
     add("background", {{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
     add("shadow_tiles.comp", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, {"LIGHTS_UNIFORM_BLOCK"});
     add("shadow_tiles.comp (MSAA depth)", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}},
@@ -162,14 +168,14 @@ TEST_P(ShaderInterfaceTest, EveryProgramUsesTheTablesNumbers) {
 
 // shade.frag builds with any of the options renderer.cpp's build_programs sets, alone, in every pair and
 // all together, each with the diffuse-only and flat-receiver defines too: each option's #if sits in its
-// own include, so a combination that no other test draws could still break. (All 768 combinations take
+// own include, so a combination that no other test draws could still break. (All 2048 combinations take
 // a minute on llvmpipe; pairs catch an #if that assumes another option on or off.)
 TEST_P(ShaderInterfaceTest, ShadeBuildsWithEveryPairOfOptions) {
     const gl::ShaderLibrary library = render::embedded_shaders();
     const std::vector<gl::ShaderStage> shade = {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}};
     const std::vector<std::string> options = {
-        "LIGHTS_UNIFORM_BLOCK", "DIFFUSE_CAP",   "SPECULAR_SINGLE", "PCF_WIDE",
-        "SHADOW_TILE_LISTS",    "SHADING_RATIO", "SOFT_SHADOWS",    "SHADOWED_FRACTION_OUT"};
+        "LIGHTS_UNIFORM_BLOCK", "DIFFUSE_CAP",  "SPECULAR_SINGLE",       "PCF_WIDE",  "SHADOW_TILE_LISTS",
+        "SHADING_RATIO",        "SOFT_SHADOWS", "SHADOWED_FRACTION_OUT", "ALPHA_TEST"};
     const unsigned all = (1u << options.size()) - 1;
     int built = 0;
     for (unsigned mask = 0; mask <= all; ++mask) {
@@ -188,7 +194,7 @@ TEST_P(ShaderInterfaceTest, ShadeBuildsWithEveryPairOfOptions) {
             ++built;
         }
     }
-    EXPECT_EQ(built, 4 * (1 + 8 + 28 + 1));
+    EXPECT_EQ(built, 4 * (1 + 9 + 36 + 1));
 }
 
 TEST_P(ShaderInterfaceTest, WorkGroupsAreTheTablesSizes) {

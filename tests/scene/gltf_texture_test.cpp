@@ -294,5 +294,42 @@ TEST(SceneGltfEmission, BadEmissionIsAnErrorNamingTheProperty) {
     expect_input_error(quad.write(), "materials[0] uses texture 7, which does not exist");
 }
 
+// Alpha (docs/SCENES.md "Alpha"): alphaMode, alphaCutoff and baseColorFactor's alpha.
+TEST(SceneGltfAlpha, MaskTakesItsCutoffAndTheFactorsAlpha) {
+    TexturedQuad quad;
+    EXPECT_EQ(load_gltf(quad.write()).parts.at(0).material.alpha_mode, AlphaMode::opaque);
+    EXPECT_FALSE(load_gltf(quad.write()).parts.at(0).material.masked());
+    quad.writer.doc["materials"][0]["alphaMode"] = "MASK";
+    quad.writer.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 0.8};
+    Material m = load_gltf(quad.write()).parts.at(0).material;
+    EXPECT_EQ(m.alpha_mode, AlphaMode::mask);
+    EXPECT_EQ(m.alpha_cutoff, 0.5f);  // glTF's default
+    EXPECT_EQ(m.base_alpha, 0.8f);
+    EXPECT_TRUE(m.masked());
+    quad.writer.doc["materials"][0]["alphaCutoff"] = 0.25;
+    EXPECT_EQ(load_gltf(quad.write()).parts.at(0).material.alpha_cutoff, 0.25f);
+}
+
+TEST(SceneGltfAlpha, BlendIsDrawnAsAMaskAtTheDefaultCutoff) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["alphaMode"] = "BLEND";
+    quad.writer.doc["materials"][0]["alphaCutoff"] = 0.9;  // MASK's alone: ignored
+    const Material m = load_gltf(quad.write()).parts.at(0).material;
+    EXPECT_EQ(m.alpha_mode, AlphaMode::mask);
+    EXPECT_EQ(m.alpha_cutoff, 0.5f);
+}
+
+TEST(SceneGltfAlpha, BadAlphaIsAnErrorNamingTheProperty) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["alphaMode"] = "CUTOUT";
+    expect_input_error(quad.write(), "materials[0].alphaMode: \"CUTOUT\" is not OPAQUE, MASK or BLEND");
+    quad.writer.doc["materials"][0]["alphaMode"] = "MASK";
+    quad.writer.doc["materials"][0]["alphaCutoff"] = -0.5;
+    expect_input_error(quad.write(), "materials[0].alphaCutoff: must not be negative");
+    quad.writer.doc["materials"][0]["alphaCutoff"] = 0.5;
+    quad.writer.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 1.5};
+    expect_input_error(quad.write(), "baseColorFactor[3]: 1.5 is outside 0");
+}
+
 }  // namespace
 }  // namespace envshadow

@@ -1,0 +1,11 @@
+#version 450 core
+// Alpha-masked casters into the shadow atlas (with shadow_atlas.vert ALPHA_MASK): what is cut out casts
+// nothing, so a leaf's shadow has the leaf's shape.
+#include "alpha_mask.glsl"
+
+layout(binding = UNIT_BASE_COLOR) uniform sampler2D u_base_color;
+layout(location = 0) in vec2 v_texcoord;
+
+void main() {
+    if (cut_out(texture(u_base_color, v_texcoord).a)) discard;
+}
