@@ -34,7 +34,7 @@ layout(location = 0) out vec4 o_color;
 void main() {
     Surface s = surface(v_world_position, v_world_position_at_centre, v_world_normal, v_texcoord);
 #if defined(ALPHA_TEST)
-    if (cut_out(s.alpha)) discard;  // without a depth pre-pass, which otherwise keeps these pixels out
+    if (cut_out(mask_alpha(u_base_color, v_texcoord))) discard;  // without a depth pre-pass, which keeps them out
 #endif
 #if defined(SHADOWED_FRACTION_IN)
     o_color = vec4(unshadowed_radiance(s) * fraction_at_fragment(s.normal) + emitted_radiance(s), 1.0);

@@ -17,7 +17,6 @@ struct Surface {
     vec3 plane_normal;  // the triangle's plane (either side): the surface the shadow atlas holds
     vec3 mirror;        // r: the direction to the viewer reflected about n
     vec3 base_color;    // the base-colour texture at this pixel
-    float alpha;        // its alpha
     vec3 k_d;           // u_k_d times base_color
     vec2 texcoord;
 };
@@ -46,9 +45,7 @@ vec3 shading_normal(vec3 interpolated, vec3 view) {
 Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal, vec2 texcoord) {
     Surface s;
     s.texcoord = texcoord;
-    vec4 base = texture(u_base_color, texcoord);
-    s.base_color = base.rgb;
-    s.alpha = base.a;
+    s.base_color = texture(u_base_color, texcoord).rgb;
     s.k_d = u_k_d * s.base_color;
     vec3 view = normalize(u_eye - position);
     s.normal = shading_normal(normalize(interpolated_normal), view);

@@ -7,5 +7,5 @@ layout(binding = UNIT_BASE_COLOR) uniform sampler2D u_base_color;
 layout(location = 0) in vec2 v_texcoord;
 
 void main() {
-    if (cut_out(texture(u_base_color, v_texcoord).a)) discard;
+    if (cut_out(mask_alpha(u_base_color, v_texcoord))) discard;
 }

@@ -43,3 +43,6 @@ if command -v xvfb-run >/dev/null; then
   xvfb-run -a -s '-screen 0 1600x900x24' "$envshadow" view --scene assets/scenes/default.json --lights 64 \
     --width 1600 --height 900 --frames 20 --screenshot screenshots/gallery/viewer.png
 fi
+# The leaf cards' truth beside them (envshadow reference: about 3 minutes on 2 cores).
+"$envshadow" reference --scene assets/scenes/leaves.json --width 480 --height 270 --error 0.03 \
+  --exr "$(mktemp -d)/leaves_reference.exr" --png screenshots/gallery/leaves_reference.png | sed "s/^/leaves_reference: /"

@@ -578,7 +578,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
     glFrontFace(GL_CCW);
 }
 
-void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view, const char* pass_name) {
+void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view, int samples, const char* pass_name) {
     gl::ScopedPass pass(&timer_, pass_name);
     const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
     const GLuint program = prepass_program_.id();
@@ -593,17 +593,23 @@ void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view,
     if (any_masked && !masked_prepass_program_)
         masked_prepass_program_ = library_.build(
             {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}}, {"ALPHA_MASK"});
-    if (any_masked)
+    // Masked surfaces' cut edges anti-aliased within the pixel where it has samples to cover.
+    const bool alpha_to_coverage = samples > 1;
+    if (any_masked) {
         glProgramUniformMatrix4fv(masked_prepass_program_.id(), loc::clip_from_world, 1, GL_FALSE,
                                   &clip_from_world[0][0]);
+        glProgramUniform1i(masked_prepass_program_.id(), loc::alpha_to_coverage, alpha_to_coverage ? 1 : 0);
+    }
     for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
         const ObjectFrame& object = plan.objects[i];
         const gl::Program& prepass = object.masked() ? masked_prepass_program_ : prepass_program_;
         prepass.use();
         glProgramUniformMatrix4fv(prepass.id(), loc::world_from_object, 1, GL_FALSE, &object.world_from_object[0][0]);
         if (object.masked()) bind_alpha_mask(prepass.id(), object, i);
+        if (object.masked() && alpha_to_coverage) glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
+        glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
     }
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
@@ -636,7 +642,7 @@ bool Renderer::draws_metallic_roughness(const FramePlan& plan) const {
 
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (variant_.fraction_pass) draw_shadowed_fraction(plan, view);
-    if (settings_.depth_prepass) draw_depth_prepass(plan, view, "depth pre-pass");
+    if (settings_.depth_prepass) draw_depth_prepass(plan, view, samples_, "depth pre-pass");
     if (variant_.fraction_pass) {
         gl::ScopedPass pass(&timer_, "shading");
         const gl::Program& shade = fraction_shading_program(false);
@@ -679,7 +685,7 @@ void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& v
     glClearNamedFramebufferfv(fraction_target_.id(), GL_COLOR, 0, lit_nothing);
     glClearNamedFramebufferfv(fraction_target_.id(), GL_COLOR, 1, no_normal);
     glClearNamedFramebufferfv(fraction_target_.id(), GL_DEPTH, 0, &clear_depth);
-    if (settings_.depth_prepass) draw_depth_prepass(plan, view, "fraction pre-pass");
+    if (settings_.depth_prepass) draw_depth_prepass(plan, view, 1, "fraction pre-pass");
     if (uses_tile_lists(settings_))
         build_tile_lists(plan, view, fraction_depth_, 1, fraction_tile_lists_, fraction_tiles_, "fraction tile lists");
     {

@@ -147,7 +147,8 @@ private:
     void draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, AtlasStart start);
     void draw_objects(const FramePlan& plan, const CameraView& view);
     // The objects' depths into the bound framebuffer, timed as `pass`.
-    void draw_depth_prepass(const FramePlan& plan, const CameraView& view, const char* pass);
+    // Into the bound framebuffer of `samples` samples per pixel.
+    void draw_depth_prepass(const FramePlan& plan, const CameraView& view, int samples, const char* pass);
     // Screen-tile light lists from `depth` (of `samples` per pixel) into `lists`, tiles.x by tiles.y.
     void build_tile_lists(const FramePlan& plan, const CameraView& view, const gl::Texture& depth, int samples,
                           const gl::Buffer& lists, glm::ivec2 tiles, const char* pass);
