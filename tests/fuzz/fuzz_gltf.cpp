@@ -41,6 +41,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 !(std::max({m.rho_d.r, m.rho_d.g, m.rho_d.b}) <= 1.0f) || !(m.rho_s >= 0.0f && m.rho_s <= 1.0f) ||
                 !(m.shininess >= kGltfMinShininess && m.shininess <= kGltfMaxShininess))
                 fuzz::finding("material out of range");
+            if (!fuzz::finite(m.emission) || !(std::min({m.emission.r, m.emission.g, m.emission.b}) >= 0.0f) ||
+                !(m.base_alpha >= 0.0f && m.base_alpha <= 1.0f) || !(m.alpha_cutoff >= 0.0f) ||
+                !std::isfinite(m.alpha_cutoff))
+                fuzz::finding("emission or alpha out of range");
             // An animated part poses, at any time, into a mesh as sound as the rest pose.
             if (model.rig && part.sources) {
                 const MeshDeformation deformation(model.rig, part.sources, part.mesh, 0, true);
@@ -58,8 +62,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 }
             }
             // A texture comes with one finite texture coordinate per vertex and whole RGBA texels.
-            if (m.base_color_texture) {
-                const TextureImage* image = m.base_color_texture->image.get();
+            for (const std::optional<MaterialTexture>& texture : {m.base_color_texture, m.emission_texture}) {
+                if (!texture) continue;
+                const TextureImage* image = texture->image.get();
                 if (!image || image->width <= 0 || image->height <= 0 ||
                     image->rgba.size() != std::size_t(image->width) * std::size_t(image->height) * 4)
                     fuzz::finding("texture image of inconsistent size");
