@@ -103,7 +103,7 @@ const gl::Program& Renderer::tiles_program(int samples) {
     return it->second;
 }
 
-// The shading with the fraction pass's output: no cells, so nothing of the variant's key matters to it.
+// The shading with the fraction pass's output: no cells, so of the variant's key only the alpha test matters.
 const gl::Program& Renderer::fraction_shading_program(bool metallic_roughness) {
     gl::Program& program = fraction_shading_programs_[{metallic_roughness, variant_.alpha_test}];
     if (!program) {

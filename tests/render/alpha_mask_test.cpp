@@ -17,6 +17,7 @@
 #include "reference/reference.h"
 #include "render/frame_plan.h"
 #include "render/renderer.h"
+#include "render_test_util.h"
 #include "scene/meshes.h"
 
 namespace envshadow::testing {
@@ -75,14 +76,8 @@ Scene card_over_ground(Card kind) {
 }
 
 Image render_scene(const Scene& scene, const render::RenderSettings& settings) {
-    const EnvironmentMap map = load_environment(scene.environment.source);
-    render::Renderer renderer(settings);
-    renderer.set_scene(scene);
-    renderer.set_environment(map);
-    renderer.set_prefiltered(prefilter_environment(map, Hemisphere::upper));
-    renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = 32, .hemisphere = Hemisphere::upper}).cells);
-    renderer.render(0.0, render::camera_view(scene, kWidth, kHeight));
-    return renderer.read_back();
+    return testing::render_scene(scene, settings, kWidth, kHeight,
+                                 {.method = Method::lloyd, .lights = 32, .hemisphere = Hemisphere::upper});
 }
 
 // Mean absolute difference of the RGB over the image, relative to b's mean. Masked and half card differ by

@@ -14,6 +14,7 @@
 #include "reference/reference.h"
 #include "render/frame_plan.h"
 #include "render/renderer.h"
+#include "render_test_util.h"
 #include "scene/gltf_material.h"
 
 namespace envshadow::testing {
@@ -24,48 +25,18 @@ using EmissionTest = GlTest;
 constexpr int kSize = 64;
 const glm::vec3 kEmission{1.0f, 0.5f, 0.25f};
 
-std::shared_ptr<const TextureImage> four_colours() {
-    auto image = std::make_shared<TextureImage>();
-    image->width = image->height = 2;
-    image->rgba = {255, 0, 0,   255, 0,   255, 0,   255,   // top row: red, green
-                   0,   0, 255, 255, 255, 255, 255, 255};  // bottom row: blue, white
-    return image;
-}
-
-// A 2 m quad facing +Z filling most of the picture, uv (0, 0) at its top-left corner, grey (rho_d = 0.5),
-// emitting kEmission times the four colours.
+// The quad, grey (rho_d = 0.5), emitting `emission` times the four colours (nearest).
 Scene emissive_quad(glm::vec3 emission = kEmission) {
-    Scene scene;
-    scene.environment.source = "builtin:constant";
-    scene.camera.position = {0.0f, 0.0f, 3.0f};
-    scene.camera.target = {0.0f, 0.0f, 0.0f};
-    scene.camera.fov_y_degrees = 45.0f;
-    auto mesh = std::make_shared<Mesh>();
-    mesh->positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
-    mesh->normals.assign(4, glm::vec3(0, 0, 1));
-    mesh->texcoords = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
-    mesh->indices = {0, 1, 2, 0, 2, 3};
-    mesh->compute_bounds();
-    Object object;
-    object.mesh = mesh;
-    object.material.rho_d = glm::vec3(0.5f);
-    object.material.emission = emission;
-    object.material.emission_texture =
+    Material material;
+    material.rho_d = glm::vec3(0.5f);
+    material.emission = emission;
+    material.emission_texture =
         MaterialTexture{four_colours(), TextureWrap::clamp_to_edge, TextureWrap::clamp_to_edge, /*nearest=*/true};
-    scene.objects.push_back(std::move(object));
-    return scene;
+    return quad_facing_the_camera(material);
 }
 
 Image render_scene(const Scene& scene, const render::RenderSettings& settings) {
-    const EnvironmentMap map = load_environment(scene.environment.source);
-    render::Renderer renderer(settings);
-    renderer.set_scene(scene);
-    renderer.set_environment(map);
-    renderer.set_prefiltered(prefilter_environment(map, Hemisphere::full));
-    renderer.set_ggx_prefiltered(prefilter_environment_ggx(map, Hemisphere::full));
-    renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = 16}).cells);
-    renderer.render(0.0, render::camera_view(scene, kSize, kSize));
-    return renderer.read_back();
+    return testing::render_scene(scene, settings, kSize, kSize, {.method = Method::lloyd, .lights = 16});
 }
 
 // The texel of each quadrant (qx, qy from the top left), times kEmission.

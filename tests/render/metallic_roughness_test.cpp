@@ -23,6 +23,7 @@
 #include "reference/reference.h"
 #include "render/frame_plan.h"
 #include "render/renderer.h"
+#include "render_test_util.h"
 #include "scene/gltf_material.h"
 #include "scene/meshes.h"
 
@@ -52,14 +53,7 @@ Image render(const Scene& scene, const EnvironmentMap& map, render::ShadingMode 
     render::RenderSettings settings;
     settings.shading = shading;
     settings.msaa = 1;
-    render::Renderer renderer(settings);
-    renderer.set_scene(scene);
-    renderer.set_environment(map);
-    renderer.set_prefiltered(prefilter_environment(map, Hemisphere::full));
-    renderer.set_ggx_prefiltered(prefilter_environment_ggx(map, Hemisphere::full));
-    renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = 8}).cells);
-    renderer.render(0.0, render::camera_view(scene, kSize, kSize));
-    return renderer.read_back();
+    return render_scene(scene, map, settings, kSize, kSize, {.method = Method::lloyd, .lights = 8});
 }
 
 Image render(const Scene& scene, render::ShadingMode shading) {

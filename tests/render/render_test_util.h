@@ -1,17 +1,25 @@
 #pragma once
-// What the renderer's GL tests share: a camera looking at a point, and the PSNR of one linear frame
-// against another over the reference's object pixels.
+// What the renderer's GL tests share: a camera looking at a point, a textured quad facing the camera, a
+// scene rendered with its map's lights and prefiltered levels, and the PSNR of one linear frame against
+// another over the reference's object pixels.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <memory>
+#include <utility>
 
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
 #include <glm/trigonometric.hpp>
 
 #include "core/image.h"
+#include "env/cells.h"
+#include "env/environment.h"
+#include "env/ggx_prefilter.h"
+#include "env/prefilter.h"
 #include "render/frame_plan.h"
+#include "render/renderer.h"
 
 namespace envshadow::testing {
 
@@ -23,6 +31,55 @@ inline render::CameraView look_at(glm::vec3 eye, glm::vec3 target, int width, in
     view.width = width;
     view.height = height;
     return view;
+}
+
+// 2x2 texels, for nearest filtering: red, green (top row), blue, white.
+inline std::shared_ptr<const TextureImage> four_colours() {
+    auto image = std::make_shared<TextureImage>();
+    image->width = image->height = 2;
+    image->rgba = {255, 0, 0,   255, 0,   255, 0,   255,   // top row: red, green
+                   0,   0, 255, 255, 255, 255, 255, 255};  // bottom row: blue, white
+    return image;
+}
+
+// A 2 m quad of `material` facing +Z under a unit sky (builtin:constant), filling most of a square picture
+// from the camera at z = 3; uv (0, 0) at its top-left corner.
+inline Scene quad_facing_the_camera(const Material& material) {
+    Scene scene;
+    scene.environment.source = "builtin:constant";
+    scene.camera.position = {0.0f, 0.0f, 3.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.camera.fov_y_degrees = 45.0f;
+    auto mesh = std::make_shared<Mesh>();
+    mesh->positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+    mesh->normals.assign(4, glm::vec3(0, 0, 1));
+    mesh->texcoords = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    mesh->indices = {0, 1, 2, 0, 2, 3};
+    mesh->compute_bounds();
+    Object object;
+    object.mesh = mesh;
+    object.material = material;
+    scene.objects.push_back(std::move(object));
+    return scene;
+}
+
+// `scene` drawn by a Renderer with `settings` at width x height: the lights decomposed from `map` with
+// `cells`, the map prefiltered over the same hemisphere for ratio shading (the Phong and the GGX levels).
+inline Image render_scene(const Scene& scene, const EnvironmentMap& map, const render::RenderSettings& settings,
+                          int width, int height, const DecomposeOptions& cells) {
+    render::Renderer renderer(settings);
+    renderer.set_scene(scene);
+    renderer.set_environment(map);
+    renderer.set_prefiltered(prefilter_environment(map, cells.hemisphere));
+    renderer.set_ggx_prefiltered(prefilter_environment_ggx(map, cells.hemisphere));
+    renderer.set_lights(decompose(map, cells).cells);
+    renderer.render(0.0, render::camera_view(scene, width, height));
+    return renderer.read_back();
+}
+
+inline Image render_scene(const Scene& scene, const render::RenderSettings& settings, int width, int height,
+                          const DecomposeOptions& cells) {
+    return render_scene(scene, load_environment(scene.environment.source), settings, width, height, cells);
 }
 
 // PSNR (dB) of `a` against `reference` over the RGB of the pixels where the reference has alpha 1 (the

@@ -16,6 +16,7 @@
 #include "reference/reference.h"
 #include "render/frame_plan.h"
 #include "render/renderer.h"
+#include "render_test_util.h"
 #include "scene/gltf.h"
 
 namespace envshadow::testing {
@@ -25,34 +26,13 @@ using TextureRenderTest = GlTest;
 
 constexpr int kSize = 64;
 
-std::shared_ptr<const TextureImage> four_colours() {
-    auto image = std::make_shared<TextureImage>();
-    image->width = image->height = 2;
-    image->rgba = {255, 0, 0,   255, 0,   255, 0,   255,   // top row: red, green
-                   0,   0, 255, 255, 255, 255, 255, 255};  // bottom row: blue, white
-    return image;
-}
-
-// A 2 m quad facing +Z, uv (0, 0) at its top-left corner, filling most of the picture.
+// The quad in rho_d 0.8, its texture the four colours (nearest).
 Scene textured_quad() {
-    Scene scene;
-    scene.environment.source = "builtin:constant";
-    scene.camera.position = {0.0f, 0.0f, 3.0f};
-    scene.camera.target = {0.0f, 0.0f, 0.0f};
-    scene.camera.fov_y_degrees = 45.0f;
-    auto mesh = std::make_shared<Mesh>();
-    mesh->positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
-    mesh->normals.assign(4, glm::vec3(0, 0, 1));
-    mesh->texcoords = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
-    mesh->indices = {0, 1, 2, 0, 2, 3};
-    mesh->compute_bounds();
-    Object object;
-    object.mesh = mesh;
-    object.material.rho_d = glm::vec3(0.8f);
-    object.material.base_color_texture =
+    Material material;
+    material.rho_d = glm::vec3(0.8f);
+    material.base_color_texture =
         MaterialTexture{four_colours(), TextureWrap::clamp_to_edge, TextureWrap::clamp_to_edge, /*nearest=*/true};
-    scene.objects.push_back(std::move(object));
-    return scene;
+    return quad_facing_the_camera(material);
 }
 
 // The colour of the quadrant (qx, qy in {0, 1}, from the top-left) at its centre, normalised by its sum.
@@ -72,13 +52,7 @@ void expect_four_colours(const Image& image) {
 }
 
 Image render_scene(const Scene& scene, int width, int height, const render::RenderSettings& settings = {}) {
-    const EnvironmentMap map = load_environment(scene.environment.source);
-    render::Renderer renderer(settings);
-    renderer.set_scene(scene);
-    renderer.set_environment(map);
-    renderer.set_lights(decompose(map, {.method = Method::lloyd, .lights = 16}).cells);
-    renderer.render(0.0, render::camera_view(scene, width, height));
-    return renderer.read_back();
+    return testing::render_scene(scene, settings, width, height, {.method = Method::lloyd, .lights = 16});
 }
 
 TEST_P(TextureRenderTest, EachTexelLandsInItsQuadrantAsInTheReference) {
