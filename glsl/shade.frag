@@ -1,5 +1,6 @@
 #version 450 core
-// Reflected radiance of the environment with shadows (Barsi et al. §2), plus the material's emission:
+// Reflected radiance of the environment with shadows (Barsi et al. §2), times the material's occlusion
+// texture, plus its emission:
 //   L(x, w) ~ sum_i V(x, w_i) L~_i a(dw_i, w),  a = k_d (cos theta average) + k_s (a_s / k_s)
 // One loop over the cells; engine/render/renderer.cpp sets the options as #defines, each handled in the
 // include that owns its concept:
@@ -37,7 +38,8 @@ void main() {
     if (cut_out(mask_alpha(u_base_color, v_texcoord))) discard;  // without a depth pre-pass, which keeps them out
 #endif
 #if defined(SHADOWED_FRACTION_IN)
-    o_color = vec4(unshadowed_radiance(s) * fraction_at_fragment(s.normal) + emitted_radiance(s), 1.0);
+    vec3 reflected = unshadowed_radiance(s) * fraction_at_fragment(s.normal);
+    o_color = vec4(reflected * occlusion(s) + emitted_radiance(s), 1.0);
 #else
     CellSums sums = sums_before_lookups(s);
     LookedUpCells cells = looked_up_cells();
@@ -45,7 +47,8 @@ void main() {
 #if defined(SHADOWED_FRACTION_OUT)
     o_color = fraction_texel(shadowed_fraction(shadowed_sum(sums), sums.whole_lobe), s.normal);
 #else
-    vec3 radiance = reflected_radiance(s, shadowed_sum(sums), sums.whole_lobe) + emitted_radiance(s);
+    vec3 reflected = reflected_radiance(s, shadowed_sum(sums), sums.whole_lobe);
+    vec3 radiance = reflected * occlusion(s) + emitted_radiance(s);
     o_color = vec4(radiance, 1.0);  // alpha 1 marks object pixels (the accuracy comparison masks by it)
 #endif
 #endif

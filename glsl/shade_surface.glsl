@@ -10,6 +10,9 @@ layout(location = LOC_SHININESS) uniform float u_shininess;
 // Emitted radiance, times the emission texture (linear: sRGB; white without one): seen, lighting nothing.
 layout(location = LOC_EMISSION) uniform vec3 u_emission;
 layout(binding = UNIT_EMISSION_TEXTURE) uniform sampler2D u_emission_texture;
+// glTF's occlusion: its texture's R (linear; white without one), blended towards 1 by (1 - strength).
+layout(location = LOC_OCCLUSION_STRENGTH) uniform float u_occlusion_strength;
+layout(binding = UNIT_OCCLUSION_TEXTURE) uniform sampler2D u_occlusion_texture;
 
 struct Surface {
     vec3 position;      // x, in world space
@@ -23,6 +26,12 @@ struct Surface {
 
 vec3 emitted_radiance(Surface s) {
     return u_emission * texture(u_emission_texture, s.texcoord).rgb;
+}
+
+// What the reflected radiance is multiplied by (docs/SCENES.md "Occlusion"): glTF's
+// 1 + strength (occlusion - 1); not the emission.
+float occlusion(Surface s) {
+    return 1.0 + u_occlusion_strength * (texture(u_occlusion_texture, s.texcoord).r - 1.0);
 }
 
 // Shading normal at p (docs/DESIGN.md §5.4). The side comes from the triangle: seen from behind (an open

@@ -202,13 +202,7 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             changed |= ImGui::SliderFloat("metallic", &p.metallic, 0.0f, 1.0f);
             changed |= ImGui::SliderFloat("roughness", &p.roughness, 0.0f, 1.0f);
             ImGui::TextDisabled("base-colour texture: %s", m.base_color_texture ? "yes" : "no");
-            if (changed) {
-                Material edited = material_from_metallic_roughness(p);
-                edited.base_color_texture = m.base_color_texture;
-                edited.emission = m.emission;
-                edited.emission_texture = m.emission_texture;
-                m = std::move(edited);
-            }
+            if (changed) m = with_metallic_roughness(m, p);
         } else {
             changed |= ImGui::ColorEdit3("rho_d", &m.rho_d.x);
             changed |= ImGui::SliderFloat("rho_s", &m.rho_s, 0.0f, 1.0f);
@@ -217,9 +211,20 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         }
         changed |= ImGui::ColorEdit3("emission", &m.emission.x, ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
         ImGui::TextDisabled("emission texture: %s", m.emission_texture ? "yes" : "no");
+        if (m.occlusion_texture)
+            changed |= ImGui::SliderFloat("occlusion strength", &m.occlusion_strength, 0.0f, 1.0f);
+        else
+            ImGui::TextDisabled("occlusion texture: no");
         if (m.alpha_mode == AlphaMode::mask)
             ImGui::TextDisabled("alpha mask: cut below %.2f (factor alpha %.2f)", m.alpha_cutoff, m.base_alpha);
         if (changed) changes.material.emplace(std::size_t(controls.selected_object), m);
+        // Every object's textures of one kind off at once, as glTF viewers' debug views do.
+        ImGui::Separator();
+        ImGui::TextUnformatted("textures of all objects:");
+        bool textures_changed = ImGui::Checkbox("base colour", &settings.base_color_texture);
+        textures_changed |= ImGui::Checkbox("emission", &settings.emission_texture);
+        textures_changed |= ImGui::Checkbox("occlusion", &settings.occlusion_texture);
+        changes.settings |= textures_changed;
     }
 
     if (ImGui::CollapsingHeader("Animation")) {

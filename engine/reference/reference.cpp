@@ -94,6 +94,7 @@ struct SurfacePoint {
     double alpha = 1.0;                                              // GGX's, from metallic_roughness->roughness
     double offset = 0.0;       // shadow rays start this far off the triangle, on the side they leave towards
     glm::dvec3 emission{0.0};  // Material::emission times its texture's mean: added, lighting nothing
+    double occlusion = 1.0;    // the reflected radiance's factor from the occlusion texture (shade.frag's)
 
     bool has_diffuse() const {
         const glm::dvec3 k =
@@ -357,6 +358,8 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
         s.emission = glm::dvec3(material.emission);
         if (material.emission_texture && textured && material.emission != glm::vec3(0.0f))
             s.emission *= glm::dvec3(texture_mean(*material.emission_texture));
+        if (material.occlusion_texture && textured)
+            s.occlusion = 1.0 + material.occlusion_strength * (texture_mean(*material.occlusion_texture).r - 1.0);
         if (const std::optional<MetallicRoughness>& m = material.metallic_roughness) {
             // glTF's BRDF in place of the Phong stand-in (docs/DESIGN.md §11).
             glm::vec3 base_color = m->base_color;
@@ -424,7 +427,7 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                     round = [&, allocation](int grid, long long& samples) {
                         const Allocation a = allocation.with_grid(grid);
                         samples += a.total();
-                        return s.emission + integrator.round(s, a, random, rays);
+                        return s.emission + s.occlusion * integrator.round(s, a, random, rays);
                     };
                     per_round = [allocation](int grid) { return (long long)allocation.with_grid(grid).total(); };
                 } else {
@@ -489,8 +492,9 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                                 const int stratum = strata[i][std::size_t(k)];
                                 const double xi1 = (stratum % grid + random.uniform()) / grid;
                                 const double xi2 = (stratum / grid + random.uniform()) / grid;
-                                sum += integrator.contribution(
-                                    p, a, in_use[i].first, integrator.direction(p, in_use[i].first, xi1, xi2), rays);
+                                sum += p.occlusion * integrator.contribution(
+                                                         p, a, in_use[i].first,
+                                                         integrator.direction(p, in_use[i].first, xi1, xi2), rays);
                                 ++samples;
                             }
                         }

@@ -244,6 +244,7 @@ void FramePlanner::shade_objects(const CameraView& view, const RenderSettings& s
         frame.unshadowed = glm::vec3(0.0f);
         frame.metallic_roughness = material.metallic_roughness;
         frame.emission = material.emission;
+        frame.occlusion_strength = material.occlusion_strength;
         frame.base_alpha = material.masked() ? material.base_alpha : 1.0f;
         frame.alpha_cutoff = material.masked() ? material.alpha_cutoff : 0.0f;
         if (frame.metallic_roughness && settings.shading == ShadingMode::ratio) {

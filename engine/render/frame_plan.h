@@ -77,7 +77,8 @@ struct ObjectFrame {
     // Ratio shading's unshadowed part by glTF's BRDF (k_d, k_s and shininess stay its Phong stand-in, the
     // cells' weights).
     std::optional<MetallicRoughness> metallic_roughness;
-    glm::vec3 emission{0.0f};  // Material::emission, times the emission texture in shade.frag
+    glm::vec3 emission{0.0f};         // Material::emission, times the emission texture in shade.frag
+    float occlusion_strength = 1.0f;  // Material::occlusion_strength (the texture is white without one)
     // Material::masked(): cut out where base_alpha times the base-colour texture's alpha < alpha_cutoff; a
     // cutoff of 0 cuts nothing.
     float base_alpha = 1.0f, alpha_cutoff = 0.0f;

@@ -25,7 +25,8 @@ gl::Texture upload_material_texture(const MaterialTexture& texture) {
     const TextureImage& image = *texture.image;
     const auto largest = std::uint32_t(std::max(image.width, image.height));
     const int levels = std::bit_width(largest);  // down to 1x1
-    gl::Texture out = gl::Texture::create_2d(GL_SRGB8_ALPHA8, image.width, image.height, levels);
+    gl::Texture out =
+        gl::Texture::create_2d(texture.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, image.width, image.height, levels);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage2D(out.id(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
     glGenerateTextureMipmap(out.id());

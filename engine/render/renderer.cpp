@@ -138,11 +138,13 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
     textures_.clear();
     instance_textures_.clear();
     instance_emission_textures_.clear();
+    instance_occlusion_textures_.clear();
     if (!white_texture_) white_texture_ = white_texture();
     std::vector<PlannedObject> planned;
     std::map<const Mesh*, const GpuMesh*> uploaded;
     // One upload per image and sampler state.
-    std::map<std::tuple<const TextureImage*, TextureWrap, TextureWrap, bool>, const gl::Texture*> uploaded_textures;
+    std::map<std::tuple<const TextureImage*, TextureWrap, TextureWrap, bool, bool>, const gl::Texture*>
+        uploaded_textures;
     for (const Object& object : scene.objects) {
         instance_of_object_.push_back(-1);
         if (!object.mesh || object.mesh->indices.empty()) continue;
@@ -171,8 +173,8 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         // The material's texture, uploaded once per image and sampler state; white without one.
         const auto texture = [&](const std::optional<MaterialTexture>& t) -> const gl::Texture* {
             if (!t || object.mesh->texcoords.empty()) return &white_texture_;
-            auto [tex, new_texture] =
-                uploaded_textures.emplace(std::tuple(t->image.get(), t->wrap_s, t->wrap_t, t->nearest), nullptr);
+            auto [tex, new_texture] = uploaded_textures.emplace(
+                std::tuple(t->image.get(), t->wrap_s, t->wrap_t, t->nearest, t->srgb), nullptr);
             if (new_texture) {
                 textures_.push_back(std::make_unique<gl::Texture>(upload_material_texture(*t)));
                 tex->second = textures_.back().get();
@@ -181,6 +183,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         };
         instance_textures_.push_back(texture(object.material.base_color_texture));
         instance_emission_textures_.push_back(texture(object.material.emission_texture));
+        instance_occlusion_textures_.push_back(texture(object.material.occlusion_texture));
         PlannedObject& object_plan = planned.emplace_back();
         object_plan.object = object;
         object_plan.object.mesh.reset();  // the GPU copy is enough
@@ -753,7 +756,9 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
         glProgramUniform3f(program, loc::emission, object.emission.r, object.emission.g, object.emission.b);
         if (variant_.alpha_test) bind_alpha_mask(program, object, i);
-        instance_emission_textures_[i]->bind(unit::emission_texture);
+        (settings_.emission_texture ? *instance_emission_textures_[i] : white_texture_).bind(unit::emission_texture);
+        glProgramUniform1f(program, loc::occlusion_strength, object.occlusion_strength);
+        (settings_.occlusion_texture ? *instance_occlusion_textures_[i] : white_texture_).bind(unit::occlusion_texture);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }

@@ -197,11 +197,12 @@ private:
     std::vector<std::unique_ptr<GpuMesh>> meshes_;
     std::vector<const GpuMesh*> instance_meshes_;  // per object of planner_.objects()
     std::vector<int> instance_of_object_;          // index into instance_meshes_ per scene object; -1: no triangles
-    // Base-colour and emission textures, per object of planner_.objects() (white_texture_ without one); fixed
-    // by set_scene (set_material changes the factors only).
+    // Base-colour, emission and occlusion textures, per object of planner_.objects() (white_texture_ without one);
+    // fixed by set_scene (set_material changes the factors only).
     std::vector<std::unique_ptr<gl::Texture>> textures_;
     std::vector<const gl::Texture*> instance_textures_;
     std::vector<const gl::Texture*> instance_emission_textures_;
+    std::vector<const gl::Texture*> instance_occlusion_textures_;
     gl::Texture white_texture_;
     // Objects whose vertices move (glTF skins and morphs): posed into their own GpuMesh every frame.
     struct DeformingInstance {

@@ -50,8 +50,9 @@ namespace envshadow::render::shader {
     X(loc, emission, 32)     /* shade.frag: Material::emission (times u_emission_texture) */           \
     /* alpha_mask.glsl: shade.frag ALPHA_TEST, depth_prepass.frag, shadow_atlas_mask.frag */           \
     X(loc, base_alpha, 33)                                                                             \
-    X(loc, alpha_cutoff, 34)      /* 0: nothing cut out */                                             \
-    X(loc, alpha_to_coverage, 35) /* depth_prepass.frag ALPHA_MASK at MSAA */                          \
+    X(loc, alpha_cutoff, 34)       /* 0: nothing cut out */                                            \
+    X(loc, alpha_to_coverage, 35)  /* depth_prepass.frag ALPHA_MASK at MSAA */                         \
+    X(loc, occlusion_strength, 36) /* shade.frag: Material::occlusion_strength */                      \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -86,8 +87,9 @@ namespace envshadow::render::shader {
     /* shade.frag SHADOWED_FRACTION_IN: the fraction pass's fraction and 1/w, normals */               \
     X(unit, fraction, 8)                                                                               \
     X(unit, fraction_normal, 9)                                                                        \
-    X(unit, dfg, 10)              /* shade.frag METALLIC_ROUGHNESS: env/dfg_table.h's table */         \
-    X(unit, emission_texture, 11) /* shade.frag: the material's emission (white without one) */        \
+    X(unit, dfg, 10)               /* shade.frag METALLIC_ROUGHNESS: env/dfg_table.h's table */        \
+    X(unit, emission_texture, 11)  /* shade.frag: the material's emission (white without one) */       \
+    X(unit, occlusion_texture, 12) /* shade.frag: the material's occlusion (R, linear; white) */       \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \

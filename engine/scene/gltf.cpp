@@ -195,16 +195,16 @@ void resolve_texture(const std::filesystem::path& path, const tinygltf::Model& m
     out[t] = std::move(mt);
 }
 
-// The glTF textures the materials' base colours and emissions use, by texture index: their image (decoded by the
-// ImageDecoder) and sampler. A texture without a PNG/JPEG source (only an extension's) is left unset,
-// with a warning: its material shows its factors.
+// The glTF textures the materials use (base colour, emission, occlusion), by texture index: their image
+// (decoded by the ImageDecoder) and sampler. A texture without a PNG/JPEG source (only an extension's) is
+// left unset, with a warning: its material shows its factors.
 std::vector<std::optional<MaterialTexture>> resolve_textures(const std::filesystem::path& path,
                                                              const tinygltf::Model& model,
                                                              const std::vector<GltfMaterial>& materials,
                                                              const ImageDecoder& decoder) {
     std::vector<std::optional<MaterialTexture>> out(model.textures.size());
     for (const GltfMaterial& m : materials)
-        for (const std::optional<GltfTextureRef>& ref : {m.base_color, m.emission}) {
+        for (const std::optional<GltfTextureRef>& ref : {m.base_color, m.emission, m.occlusion}) {
             if (ref) resolve_texture(path, model, std::size_t(ref->texture), decoder, out);
         }
     return out;
@@ -263,7 +263,8 @@ GltfModel load_gltf(const std::filesystem::path& path) {
 
     GltfMaterials materials = read_gltf_materials(path, document);
 
-    // The images the base-colour and emission textures use, checked to exist before tinygltf reads them.
+    // The images the base-colour, emission and occlusion textures use, checked to exist before tinygltf
+    // reads them.
     const json textures = document.value("textures", json::array());
     const json images = document.value("images", json::array());
     ImageDecoder decoder;
@@ -271,7 +272,7 @@ GltfModel load_gltf(const std::filesystem::path& path) {
     decoder.images.resize(images.size());
     for (std::size_t i = 0; i < materials.materials.size(); ++i)
         for (const std::optional<GltfTextureRef>& ref :
-             {materials.materials[i].base_color, materials.materials[i].emission}) {
+             {materials.materials[i].base_color, materials.materials[i].emission, materials.materials[i].occlusion}) {
             if (!ref) continue;
             if (std::size_t(ref->texture) >= textures.size())
                 fail(path, "materials[" + std::to_string(i) + "] uses texture " + std::to_string(ref->texture) +

@@ -128,12 +128,13 @@ private:
         return ref && textures_[std::size_t(ref->texture)] ? &*ref : nullptr;
     }
     // The texture reference whose coordinates glTF material `material`'s meshes carry (Mesh has one set):
-    // the base colour's, else the emission's, where one resolved.
+    // the base colour's, else the emission's, else the occlusion's, where one resolved.
     const GltfTextureRef* texture_ref(int material) const {
         if (material < 0) return nullptr;
         const GltfMaterial& m = materials_[std::size_t(material)];
-        const GltfTextureRef* base = resolved(m.base_color);
-        return base ? base : resolved(m.emission);
+        for (const std::optional<GltfTextureRef>* ref : {&m.base_color, &m.emission, &m.occlusion})
+            if (const GltfTextureRef* r = resolved(*ref)) return r;
+        return nullptr;
     }
 
     void add_mesh(std::size_t mesh_index, const glm::dmat4& world, int node_index) {
@@ -261,18 +262,26 @@ private:
     std::size_t part_for(int material) {
         int& part = part_of_material_[std::size_t(material + 1)];
         if (part >= 0) return std::size_t(part);
-        GltfMaterial mapped = material >= 0 ? materials_[std::size_t(material)]
-                                            : GltfMaterial{Material{}, "no material", std::nullopt, std::nullopt};
+        GltfMaterial mapped = material >= 0
+                                  ? materials_[std::size_t(material)]
+                                  : GltfMaterial{Material{}, "no material", std::nullopt, std::nullopt, std::nullopt};
         if (const GltfTextureRef* base = resolved(mapped.base_color))
             mapped.material.base_color_texture = textures_[std::size_t(base->texture)];
-        if (const GltfTextureRef* emission = resolved(mapped.emission)) {
+        // The other textures are used only where they read the base colour's coordinates (Mesh has one set).
+        const auto on_mesh_coordinates = [&](const GltfTextureRef* ref, const char* what) {
+            if (!ref) return false;
             const GltfTextureRef& coords = *texture_ref(material);
-            if (emission->texcoord == coords.texcoord && emission->uv_transform == coords.uv_transform)
-                mapped.material.emission_texture = textures_[std::size_t(emission->texture)];
-            else
-                log::warn(path_.string() + ": " + mapped.name +
-                          ": the emission texture reads other texture coordinates than the base colour's, which "
-                          "is not supported: the emission shows its factor");
+            if (ref->texcoord == coords.texcoord && ref->uv_transform == coords.uv_transform) return true;
+            log::warn(path_.string() + ": " + mapped.name + ": the " + what +
+                      " texture reads other texture coordinates than the base colour's, which is not supported: "
+                      "it is ignored");
+            return false;
+        };
+        if (const GltfTextureRef* emission = resolved(mapped.emission); on_mesh_coordinates(emission, "emission"))
+            mapped.material.emission_texture = textures_[std::size_t(emission->texture)];
+        if (const GltfTextureRef* occlusion = resolved(mapped.occlusion); on_mesh_coordinates(occlusion, "occlusion")) {
+            mapped.material.occlusion_texture = textures_[std::size_t(occlusion->texture)];
+            mapped.material.occlusion_texture->srgb = false;  // data: the R channel as stored
         }
         const auto same = std::find_if(part_materials_.begin(), part_materials_.end(),
                                        [&](const GltfMaterial& m) { return m.material.same_as(mapped.material); });

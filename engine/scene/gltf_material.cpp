@@ -84,6 +84,9 @@ public:
                 g.material.emission = unit_rgb(m, "emissiveFactor", 3, where) * strength;
             }
             g.emission = texture_ref(m, "emissiveTexture", where);
+            g.occlusion = texture_ref(m, "occlusionTexture", where);
+            if (g.occlusion)
+                g.material.occlusion_strength = unit(m.at("occlusionTexture"), "strength", where + ".occlusionTexture");
             read_alpha(m, where, base_alpha, g.material, out);
             out.materials.push_back(std::move(g));
         }
@@ -232,6 +235,15 @@ Material material_from_metallic_roughness(const MetallicRoughness& parameters) {
     const glm::vec3 f0 = glm::mix(glm::vec3(kDielectricF0), base_color, metallic);
     m.rho_s = lobe_rho_s(luminance(f0), m.shininess);
     return m;
+}
+
+Material with_metallic_roughness(Material material, const MetallicRoughness& parameters) {
+    const Material brdf = material_from_metallic_roughness(parameters);
+    material.rho_d = brdf.rho_d;
+    material.rho_s = brdf.rho_s;
+    material.shininess = brdf.shininess;
+    material.metallic_roughness = brdf.metallic_roughness;
+    return material;
 }
 
 Material material_from_specular_glossiness(const glm::vec3& diffuse, const glm::vec3& specular, float glossiness) {

@@ -40,13 +40,17 @@ float shininess_from_roughness(float roughness);
 // §2), equal to luminance(F0). Then rho_d + specular albedo <= 1 in every channel. The material keeps the
 // parameters themselves too (Material::metallic_roughness).
 Material material_from_metallic_roughness(const MetallicRoughness& parameters);
+// `material` with its BRDF (rho_d, rho_s, shininess, metallic_roughness) from `parameters`; its textures,
+// emission, occlusion and alpha kept: an edit of the factors (the scene file's keys, the viewer's sliders).
+Material with_metallic_roughness(Material material, const MetallicRoughness& parameters);
 
 // KHR_materials_pbrSpecularGlossiness: rho_d = diffuse (1 - max(specular)) (the extension's c_diff),
 // roughness = 1 - glossiness, rho_s = luminance(specular) (n + 1) / (n + 2).
 Material material_from_specular_glossiness(const glm::vec3& diffuse, const glm::vec3& specular, float glossiness);
 
-// A material's textureInfo (baseColorTexture or the extension's diffuseTexture, emissiveTexture): the texture, its
-// TEXCOORD set and KHR_texture_transform as the affine map uv' = (uv_transform * vec3(uv, 1)).xy.
+// A material's textureInfo (baseColorTexture or the extension's diffuseTexture, emissiveTexture,
+// occlusionTexture): the texture, its TEXCOORD set and KHR_texture_transform as the affine map
+// uv' = (uv_transform * vec3(uv, 1)).xy.
 struct GltfTextureRef {
     int texture = -1;  // index into the file's "textures" (checked by load_gltf)
     int texcoord = 0;  // TEXCOORD_<texcoord>
@@ -54,10 +58,11 @@ struct GltfTextureRef {
 };
 
 struct GltfMaterial {
-    Material material;  // base_color_texture and emission_texture unset: load_gltf resolves the refs below
+    Material material;  // the textures unset (occlusion_strength set): load_gltf resolves the refs below
     std::string name;   // the glTF material's name, or "material <index>" without one
     std::optional<GltfTextureRef> base_color;
-    std::optional<GltfTextureRef> emission;  // emissiveTexture
+    std::optional<GltfTextureRef> emission;   // emissiveTexture
+    std::optional<GltfTextureRef> occlusion;  // occlusionTexture
 };
 
 struct GltfMaterials {
@@ -69,9 +74,10 @@ struct GltfMaterials {
 };
 
 // Maps document["materials"] (already type-checked by check_gltf_json), with emissiveFactor and
-// KHR_materials_emissive_strength into Material::emission. Factors outside [0, 1], where
-// the glTF schema bounds them, are an InputError "<file>: materials[i].<path>: <reason>", as are
-// wrongly typed KHR_materials_pbrSpecularGlossiness properties.
+// KHR_materials_emissive_strength into Material::emission, occlusionTexture.strength into
+// Material::occlusion_strength. Factors outside [0, 1], where the glTF schema bounds them, are an
+// InputError "<file>: materials[i].<path>: <reason>", as are wrongly typed
+// KHR_materials_pbrSpecularGlossiness properties.
 GltfMaterials read_gltf_materials(const std::filesystem::path& file, const nlohmann::json& document);
 
 }  // namespace envshadow

@@ -46,6 +46,10 @@ struct Material {
     // emission texture where present (docs/SCENES.md "Emission"). Seen directly; it lights nothing else.
     glm::vec3 emission{0.0f};
     std::optional<MaterialTexture> emission_texture = std::nullopt;  // needs Mesh::texcoords
+    // glTF's occlusionTexture (its R channel, linear): the reflected light is scaled by
+    // 1 + occlusion_strength (R - 1) (docs/SCENES.md "Occlusion"); not the emission.
+    std::optional<MaterialTexture> occlusion_texture = std::nullopt;  // needs Mesh::texcoords; srgb false
+    float occlusion_strength = 1.0f;                                  // 0..1
     AlphaMode alpha_mode = AlphaMode::opaque;
     float alpha_cutoff = 0.5f;
     float base_alpha = 1.0f;  // baseColorFactor's alpha
@@ -58,13 +62,15 @@ struct Material {
                metallic_roughness == o.metallic_roughness && emission == o.emission && alpha_mode == o.alpha_mode &&
                alpha_cutoff == o.alpha_cutoff && base_alpha == o.base_alpha &&
                same_texture(base_color_texture, o.base_color_texture) &&
-               same_texture(emission_texture, o.emission_texture);
+               same_texture(emission_texture, o.emission_texture) &&
+               same_texture(occlusion_texture, o.occlusion_texture) && occlusion_strength == o.occlusion_strength;
     }
 
 private:
     static bool same_texture(const std::optional<MaterialTexture>& a, const std::optional<MaterialTexture>& b) {
         if (!a || !b) return !a && !b;
-        return a->image == b->image && a->wrap_s == b->wrap_s && a->wrap_t == b->wrap_t && a->nearest == b->nearest;
+        return a->image == b->image && a->wrap_s == b->wrap_s && a->wrap_t == b->wrap_t && a->nearest == b->nearest &&
+               a->srgb == b->srgb;
     }
 };
 

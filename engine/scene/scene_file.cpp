@@ -455,10 +455,8 @@ private:
             p.metallic = number_in(*it, where + ".metallic", 0.0f, 1.0f);
         if (const auto it = value.find("roughness"); it != value.end())
             p.roughness = number_in(*it, where + ".roughness", 0.0f, 1.0f);
-        Material m = material_from_metallic_roughness(p);
-        if (keeps_texture) m.base_color_texture = base.base_color_texture;
-        m.emission = base.emission;
-        m.emission_texture = base.emission_texture;
+        Material m = with_metallic_roughness(base, p);
+        if (!keeps_texture) m.base_color_texture.reset();
         return m;
     }
 

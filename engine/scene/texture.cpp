@@ -37,9 +37,10 @@ int wrap_index(long long i, int size, TextureWrap wrap) {
     }
 }
 
-// Linear RGB (decoded from sRGB) and alpha (linear as stored) of one texel.
-glm::vec4 texel(const TextureImage& image, int x, int y) {
+// Linear RGB (decoded from sRGB where `srgb`) and alpha (linear as stored) of one texel.
+glm::vec4 texel(const TextureImage& image, bool srgb, int x, int y) {
     const std::uint8_t* p = &image.rgba[(std::size_t(y) * std::size_t(image.width) + std::size_t(x)) * 4];
+    if (!srgb) return glm::vec4(p[0], p[1], p[2], p[3]) / 255.0f;
     const auto& table = srgb_table();
     return {table[p[0]], table[p[1]], table[p[2]], float(p[3]) / 255.0f};
 }
@@ -60,14 +61,15 @@ glm::vec3 sample_linear_rgb(const MaterialTexture& texture, glm::vec2 uv) {
 
 glm::vec4 sample_linear_rgba(const MaterialTexture& texture, glm::vec2 uv) {
     const TextureImage& image = *texture.image;
+    const auto at = [&](int x, int y) { return texel(image, texture.srgb, x, y); };
     double u = uv.x, v = uv.y;
-    if (!std::isfinite(u) || !std::isfinite(v)) return texel(image, 0, 0);
+    if (!std::isfinite(u) || !std::isfinite(v)) return at(0, 0);
     if (std::abs(u) > kFoldPeriods) u = std::fmod(u, 2.0);
     if (std::abs(v) > kFoldPeriods) v = std::fmod(v, 2.0);
     const double x = u * image.width - 0.5, y = v * image.height - 0.5;
     if (texture.nearest) {
         const auto xi = static_cast<long long>(std::floor(x + 0.5)), yi = static_cast<long long>(std::floor(y + 0.5));
-        return texel(image, wrap_index(xi, image.width, texture.wrap_s), wrap_index(yi, image.height, texture.wrap_t));
+        return at(wrap_index(xi, image.width, texture.wrap_s), wrap_index(yi, image.height, texture.wrap_t));
     }
     const double x0 = std::floor(x), y0 = std::floor(y);
     const auto fx = float(x - x0), fy = float(y - y0);
@@ -75,8 +77,8 @@ glm::vec4 sample_linear_rgba(const MaterialTexture& texture, glm::vec2 uv) {
     const int xa = wrap_index(xi, image.width, texture.wrap_s), xb = wrap_index(xi + 1, image.width, texture.wrap_s);
     const int ya = wrap_index(yi, image.height, texture.wrap_t), yb = wrap_index(yi + 1, image.height, texture.wrap_t);
     // Filtered after decoding, as GL does for sRGB textures.
-    const glm::vec4 top = glm::mix(texel(image, xa, ya), texel(image, xb, ya), fx);
-    const glm::vec4 bottom = glm::mix(texel(image, xa, yb), texel(image, xb, yb), fx);
+    const glm::vec4 top = glm::mix(at(xa, ya), at(xb, ya), fx);
+    const glm::vec4 bottom = glm::mix(at(xa, yb), at(xb, yb), fx);
     return glm::mix(top, bottom, fy);
 }
 

@@ -43,8 +43,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 fuzz::finding("material out of range");
             if (!fuzz::finite(m.emission) || !(std::min({m.emission.r, m.emission.g, m.emission.b}) >= 0.0f) ||
                 !(m.base_alpha >= 0.0f && m.base_alpha <= 1.0f) || !(m.alpha_cutoff >= 0.0f) ||
-                !std::isfinite(m.alpha_cutoff))
-                fuzz::finding("emission or alpha out of range");
+                !std::isfinite(m.alpha_cutoff) || !(m.occlusion_strength >= 0.0f && m.occlusion_strength <= 1.0f))
+                fuzz::finding("emission, occlusion or alpha out of range");
+            if (m.occlusion_texture && m.occlusion_texture->srgb) fuzz::finding("occlusion read as sRGB colour");
             // An animated part poses, at any time, into a mesh as sound as the rest pose.
             if (model.rig && part.sources) {
                 const MeshDeformation deformation(model.rig, part.sources, part.mesh, 0, true);
@@ -62,7 +63,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 }
             }
             // A texture comes with one finite texture coordinate per vertex and whole RGBA texels.
-            for (const std::optional<MaterialTexture>& texture : {m.base_color_texture, m.emission_texture}) {
+            for (const std::optional<MaterialTexture>& texture :
+                 {m.base_color_texture, m.emission_texture, m.occlusion_texture}) {
                 if (!texture) continue;
                 const TextureImage* image = texture->image.get();
                 if (!image || image->width <= 0 || image->height <= 0 ||

@@ -45,19 +45,6 @@ glm::vec3 emitted(int qx, int qy) {
     return kEmission * texel[qx][qy];
 }
 
-glm::vec3 quadrant_centre(const Image& image, int qx, int qy) {
-    return glm::vec3(image.at(kSize * (1 + 2 * qx) / 4, kSize * (1 + 2 * qy) / 4));
-}
-
-render::RenderSettings commands_defaults() {
-    render::RenderSettings s;
-    s.shading = render::ShadingMode::ratio;
-    s.shadows = render::ShadowMode::soft;
-    s.shadow_rate = render::ShadowRate::half;
-    s.msaa = 4;
-    return s;
-}
-
 TEST_P(EmissionTest, EachPathAddsTheEmissionTimesItsTexel) {
     Scene gltf = emissive_quad();
     gltf.objects[0].material = material_from_metallic_roughness({glm::vec3(0.5f), 0.0f, 0.6f});

@@ -1,7 +1,7 @@
 #pragma once
-// What the renderer's GL tests share: a camera looking at a point, a textured quad facing the camera, a
-// scene rendered with its map's lights and prefiltered levels, and the PSNR of one linear frame against
-// another over the reference's object pixels.
+// What the renderer's GL tests share: a camera looking at a point, a textured quad facing the camera (and
+// its quadrants' centres), the commands' default settings, a scene rendered with its map's lights and prefiltered
+// levels, and the PSNR of one linear frame against another over the reference's object pixels.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -61,6 +61,22 @@ inline Scene quad_facing_the_camera(const Material& material) {
     object.material = material;
     scene.objects.push_back(std::move(object));
     return scene;
+}
+
+// The centre of quadrant (qx, qy), from the top left, of a square `image` (as quad_facing_the_camera fills it).
+inline glm::vec3 quadrant_centre(const Image& image, int qx, int qy) {
+    return glm::vec3(image.at(image.width * (1 + 2 * qx) / 4, image.height * (1 + 2 * qy) / 4));
+}
+
+// The settings the commands start from (app/setting_options.h): ratio shading, soft shadows, the
+// shadowed fraction at half rate, MSAA 4.
+inline render::RenderSettings commands_defaults() {
+    render::RenderSettings s;
+    s.shading = render::ShadingMode::ratio;
+    s.shadows = render::ShadowMode::soft;
+    s.shadow_rate = render::ShadowRate::half;
+    s.msaa = 4;
+    return s;
 }
 
 // `scene` drawn by a Renderer with `settings` at width x height: the lights decomposed from `map` with

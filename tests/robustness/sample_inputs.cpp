@@ -375,6 +375,7 @@ void write_sample_gltf_textured(const std::filesystem::path& path, const std::st
     doc["materials"][0]["emissiveTexture"] = doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"];
     doc["materials"][0]["emissiveFactor"] = {0.2, 0.1, 0.0};
     doc["materials"][0]["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", 2.0}}}};
+    doc["materials"][0]["occlusionTexture"] = {{"index", 0}, {"strength", 0.5}};
     doc["materials"][0]["alphaMode"] = "MASK";
     doc["materials"][0]["alphaCutoff"] = 0.3;
     doc["samplers"] = json::array({{{"magFilter", 9728}, {"wrapS", 33648}, {"wrapT", 33071}}});

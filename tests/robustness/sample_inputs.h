@@ -38,8 +38,8 @@ void write_sample_gltf_embedded(const std::filesystem::path& path);
 void write_sample_gltf_external(const std::filesystem::path& path);
 void write_sample_gltf_interleaved_strip(const std::filesystem::path& path);
 // The box with texture coordinates and a base-colour texture (a 4x4 PNG; KHR_texture_transform on
-// its textureInfo), the same texture its emission's (emissiveFactor, KHR_materials_emissive_strength) and
-// its alpha MASK's: the image in a
+// its textureInfo), the same texture its emission's (emissiveFactor, KHR_materials_emissive_strength), its
+// occlusion's (with a strength) and its alpha MASK's: the image in a
 // data: URI when `image_file` is empty, else written to that file (beside `path`) and named by it. A strip of two quads
 // on a two-joint skin, its second joint turned by a LINEAR rotation channel, with a morph target on the strip and a
 // CUBICSPLINE weights channel and a STEP translation of the root: every kind of glTF animation data, buffers in a data:

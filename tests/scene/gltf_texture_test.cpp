@@ -294,6 +294,44 @@ TEST(SceneGltfEmission, BadEmissionIsAnErrorNamingTheProperty) {
     expect_input_error(quad.write(), "materials[0] uses texture 7, which does not exist");
 }
 
+// Occlusion (docs/SCENES.md "Occlusion"): occlusionTexture with its strength, read as stored (linear),
+// where it reads the base colour's texture coordinates.
+TEST(SceneGltfOcclusion, TheTextureIsDataWithItsStrength) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["occlusionTexture"] = {{"index", 0}, {"strength", 0.25}};
+    const GltfModel model = load_gltf(quad.write());
+    const Material& m = model.parts.at(0).material;
+    ASSERT_TRUE(m.occlusion_texture.has_value());
+    EXPECT_FALSE(m.occlusion_texture->srgb);
+    EXPECT_TRUE(m.base_color_texture->srgb);  // the same image, decoded as colour there
+    EXPECT_EQ(m.occlusion_texture->image, m.base_color_texture->image);
+    EXPECT_EQ(m.occlusion_strength, 0.25f);
+    quad.writer.doc["materials"][0]["occlusionTexture"] = {{"index", 0}};
+    EXPECT_EQ(load_gltf(quad.write()).parts.at(0).material.occlusion_strength, 1.0f);  // glTF's default
+}
+
+TEST(SceneGltfOcclusion, AnOcclusionTextureAloneGivesTheMeshItsCoordinates) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"] = json::array({{{"occlusionTexture", {{"index", 0}}}}});
+    const GltfModel model = load_gltf(quad.write());
+    EXPECT_TRUE(model.parts.at(0).material.occlusion_texture.has_value());
+    EXPECT_EQ(model.parts.at(0).mesh->texcoords.size(), 4u);
+}
+
+TEST(SceneGltfOcclusion, AnOcclusionTextureOnOtherCoordinatesIsIgnored) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["occlusionTexture"] = {{"index", 0}, {"texCoord", 1}};
+    EXPECT_FALSE(load_gltf(quad.write()).parts.at(0).material.occlusion_texture.has_value());
+}
+
+TEST(SceneGltfOcclusion, BadOcclusionIsAnErrorNamingTheProperty) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["occlusionTexture"] = {{"index", 0}, {"strength", 1.5}};
+    expect_input_error(quad.write(), "materials[0].occlusionTexture.strength: 1.5 is outside 0");
+    quad.writer.doc["materials"][0]["occlusionTexture"] = {{"index", 3}};
+    expect_input_error(quad.write(), "materials[0] uses texture 3, which does not exist");
+}
+
 // Alpha (docs/SCENES.md "Alpha"): alphaMode, alphaCutoff and baseColorFactor's alpha.
 TEST(SceneGltfAlpha, MaskTakesItsCutoffAndTheFactorsAlpha) {
     TexturedQuad quad;

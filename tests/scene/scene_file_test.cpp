@@ -319,6 +319,34 @@ TEST(SceneFile, AModelOfTwoMaterialsIsTwoObjectsThatTheSceneMaterialOverrides) {
     }
 }
 
+// An override of glTF's factors replaces those alone: the part's emission, alpha mask and occlusion
+// strength stay (they are not the BRDF's).
+TEST(SceneFile, AGltfFactorOverrideKeepsThePartsAlphaAndEmission) {
+    const fs::path dir = test_folder();
+    GltfWriter w;
+    w.mesh(w.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+    w.doc["meshes"][0]["primitives"][0]["material"] = 0;
+    w.doc["materials"] = json::array({{{"name", "card"},
+                                       {"alphaMode", "MASK"},
+                                       {"alphaCutoff", 0.3},
+                                       {"emissiveFactor", {0.5, 0.25, 0.0}},
+                                       {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.2}}}}}});
+    w.scene({w.node({{"mesh", 0}})});
+    w.write(dir, "card");
+    json scene = minimal_scene();
+    scene["objects"] = {{{"model", "card.gltf"}, {"material", {{"roughness", 0.25}}}}};
+    const Scene s = load_scene(write_scene(dir, scene));
+    ASSERT_EQ(s.objects.size(), 1u);
+    const Material& m = s.objects[0].material;
+    ASSERT_TRUE(m.metallic_roughness);
+    EXPECT_EQ(m.metallic_roughness->roughness, 0.25f);
+    EXPECT_EQ(m.alpha_mode, AlphaMode::mask);
+    EXPECT_EQ(m.alpha_cutoff, 0.3f);
+    EXPECT_EQ(m.base_alpha, 0.2f);
+    EXPECT_TRUE(m.masked());
+    EXPECT_EQ(m.emission, glm::vec3(0.5f, 0.25f, 0.0f));
+}
+
 TEST(SceneFile, ABareModelOfTwoMaterialsStandsOnTheGroundAsTwoObjects) {
     const Scene s = load_scene(two_material_model(test_folder()));
     ASSERT_EQ(s.objects.size(), 3u);

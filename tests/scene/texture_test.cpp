@@ -1,5 +1,5 @@
-// scene/texture.h: the sRGB decode and the reference's bilinear lookup with glTF's wrap modes, on
-// textures small enough to work out by hand.
+// scene/texture.h: the sRGB decode (and data textures read as stored) and the reference's bilinear lookup with glTF's
+// wrap modes, on textures small enough to work out by hand.
 #include "scene/texture.h"
 
 #include <cmath>
@@ -35,6 +35,15 @@ TEST(Texture, TexelCentresGiveTheTexelAndMidpointsTheMeanOfTheDecodedPair) {
     EXPECT_NEAR(sample_linear_rgb(t, {0.75f, 0.5f}).r, 1.0, 1e-6);
     // Filtered after decoding, as GL filters sRGB textures: the mean of 0 and 1, not of the codes.
     EXPECT_NEAR(sample_linear_rgb(t, {0.5f, 0.5f}).g, 0.5, 1e-6);
+}
+
+TEST(Texture, DataTexturesAreReadAsStored) {
+    MaterialTexture t = row({128, 188});
+    t.srgb = false;  // occlusion: R / 255, no decode
+    EXPECT_NEAR(sample_linear_rgb(t, {0.25f, 0.5f}).r, 128.0 / 255.0, 1e-6);
+    EXPECT_NEAR(sample_linear_rgb(t, {0.5f, 0.5f}).g, (128.0 + 188.0) / 2.0 / 255.0, 1e-6);
+    t.srgb = true;
+    EXPECT_NEAR(sample_linear_rgb(t, {0.75f, 0.5f}).r, srgb8_to_linear(188), 1e-6);
 }
 
 TEST(Texture, WrapModesBeyondTheEdges) {
