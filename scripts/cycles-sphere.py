@@ -1,18 +1,24 @@
-# Renders an envshadow scene of one sphere under an environment with Blender's Cycles, direct light only,
-# as an independent check of `envshadow reference` (docs/accuracy/cycles_by_hand.md).
+# Renders an envshadow scene (spheres, planes, glTF models) under its environment with Blender's Cycles,
+# direct light only, as an independent check of `envshadow reference` (docs/accuracy/cycles_by_hand.md).
 #
 #   blender -b --factory-startup --python scripts/cycles-sphere.py -- render SCENE.json OUT.exr \
 #       [--width 96] [--height 96] [--samples 2048] [--threads 2] [--seed 0]
 #   blender -b --factory-startup --python scripts/cycles-sphere.py -- stats REF.exr CYCLES.exr [--png SIDE.png]
 #   blender -b --factory-startup --python scripts/cycles-sphere.py -- decompose LAMBERT_DIR WHITE_DIR BLACK_DIR
+#   blender -b --factory-startup --python scripts/cycles-sphere.py -- png IN.exr OUT.png [--exposure 0]
+#   blender -b --factory-startup --python scripts/cycles-sphere.py -- mask REF.exr OUT.png
 #
-# `render` reads the envshadow scene file itself (camera, environment, one sphere object), so both
-# renderers see the same numbers. Supported: a map file or builtin:constant[:R]; objects of mesh type
-# sphere (radius, segments, translation only); materials with base_color/metallic/roughness (Principled
-# BSDF, GGX, specular 0.5 = F0 0.04) or a pure Lambert {"diffuse": d} (Diffuse BSDF, roughness 0).
+# `render` reads the envshadow scene file itself (camera, environment, objects), so both renderers see
+# the same numbers. Supported: a map file or builtin:constant[:R]; objects of mesh type sphere (radius,
+# segments) or plane (size; a "ground" plane is made 2 km wide, so that it acts as infinite as envshadow's
+# ground does: docs/SCENES.md), and glTF models (Blender's own importer, its materials as it maps them:
+# alpha MASK included), each with a transform (translation, rotation as Euler angles or axis and angle,
+# scale; no "fit"); materials with base_color/metallic/roughness (Principled BSDF, GGX, specular 0.5 =
+# F0 0.04) or a pure Lambert {"diffuse": d} (Diffuse BSDF, roughness 0).
 # `stats` prints per-channel mean ratios CYCLES/REF over REF's object pixels (alpha > 0.5) and the
 # relative difference of the background; --png writes REF | CYCLES | relative difference (red = 10%).
-# `decompose` takes three case folders (ref.exr, cycles.exr in each) and splits the white dielectric into
+# `png` tone-maps an EXR as `envshadow render --out` does (ACES); `mask` writes REF's object pixels as the
+# white-on-black PNG `envshadow compare --mask` takes. `decompose` takes three case folders (ref.exr, cycles.exr in each) and splits the white dielectric into
 # diffuse (white - black base colour: the BRDF is linear in it) and specular, each against Lambert.
 #
 # Conventions (docs/DESIGN.md §2):
@@ -31,11 +37,35 @@ import sys
 
 import bpy
 import numpy as np
-from mathutils import Vector
+from mathutils import Matrix, Vector
+
+# Debian 12's Blender 3.4 glTF importer still writes np.bool, which Debian's numpy 1.24 removed.
+if not hasattr(np, "bool"):
+    np.bool = bool
 
 
 def to_blender(p):
     return Vector((p[0], -p[2], p[1]))
+
+
+# envshadow's world to Blender's: (x, y, z) -> (x, -z, y).
+TO_BLENDER = Matrix(((1, 0, 0, 0), (0, 0, -1, 0), (0, 1, 0, 0), (0, 0, 0, 1)))
+
+
+def transform_matrix(t):
+    """An envshadow transform (docs/SCENES.md `transform`) as a Blender matrix: C T C^-1."""
+    translation = Matrix.Translation(Vector(t.get("translation", [0, 0, 0])))
+    r = t.get("rotation")
+    rotation = Matrix.Identity(4)
+    if isinstance(r, dict):
+        rotation = Matrix.Rotation(math.radians(r["angle"]), 4, Vector(r["axis"]).normalized())
+    elif r is not None:  # fixed axes, X first, then Y, then Z
+        for angle, axis in zip(r, "XYZ"):
+            rotation = Matrix.Rotation(math.radians(angle), 4, axis) @ rotation
+    sc = t.get("scale", 1.0)
+    sc = [sc] * 3 if isinstance(sc, (int, float)) else sc
+    scale = Matrix.Diagonal(Vector((*sc, 1.0)))
+    return TO_BLENDER @ translation @ rotation @ scale @ TO_BLENDER.inverted()
 
 
 def parse(argv, flags):
@@ -126,6 +156,26 @@ def build_material(m):
     return mat
 
 
+def clip_alpha(mat):
+    """glTF's alpha MASK in Cycles: Blender's importer sets the clip threshold for Eevee alone (Cycles
+    reads the alpha as a fraction), so the Principled BSDF's alpha is put through alpha > cutoff here."""
+    if mat.blend_method != "CLIP" or not mat.use_nodes:
+        return
+    nt = mat.node_tree
+    for node in nt.nodes:
+        if node.type != "BSDF_PRINCIPLED":
+            continue
+        alpha = node.inputs["Alpha"]
+        clip = nt.nodes.new("ShaderNodeMath")
+        clip.operation = "GREATER_THAN"
+        clip.inputs[1].default_value = mat.alpha_threshold
+        if alpha.is_linked:
+            nt.links.new(alpha.links[0].from_socket, clip.inputs[0])
+        else:
+            clip.inputs[0].default_value = alpha.default_value
+        nt.links.new(clip.outputs[0], alpha)
+
+
 def render(argv):
     pos, o = parse(argv, {"width", "height", "samples", "threads", "seed"})
     scene_path, out_path = pos
@@ -136,16 +186,35 @@ def render(argv):
     sc.world = build_world(scene_dir, desc.get("environment", "builtin:sky"))
 
     for obj in desc["objects"]:
+        if "fit" in obj:
+            sys.exit("cycles-sphere.py: \"fit\" is not supported")
+        placement = transform_matrix(obj.get("transform", {}))
+        if "model" in obj:
+            path = obj["model"] if os.path.isabs(obj["model"]) else os.path.join(scene_dir, obj["model"])
+            before = set(bpy.data.objects)
+            bpy.ops.import_scene.gltf(filepath=path)
+            if "material" in obj:
+                sys.exit("cycles-sphere.py: a model's material override is not supported")
+            for imported in set(bpy.data.objects) - before:
+                if imported.parent is None:
+                    imported.matrix_world = placement @ imported.matrix_world
+                for slot in imported.material_slots:
+                    if slot.material is not None:
+                        clip_alpha(slot.material)
+            continue
         mesh = obj["mesh"]
         mesh = {"type": mesh} if isinstance(mesh, str) else mesh
-        if mesh["type"] != "sphere" or set(obj.get("transform", {})) - {"translation"}:
-            sys.exit("cycles-sphere.py: only translated spheres are supported")
-        seg = int(mesh.get("segments", 64))
-        t = obj.get("transform", {}).get("translation", [0, 0, 0])
-        bpy.ops.mesh.primitive_uv_sphere_add(segments=seg, ring_count=seg // 2,
-                                             radius=mesh.get("radius", 0.5), location=to_blender(t))
+        if mesh["type"] == "sphere":
+            seg = int(mesh.get("segments", 64))
+            bpy.ops.mesh.primitive_uv_sphere_add(segments=seg, ring_count=seg // 2, radius=mesh.get("radius", 0.5))
+            bpy.ops.object.shade_smooth()
+        elif mesh["type"] == "plane":
+            size = 2000.0 if obj.get("ground") else float(mesh.get("size", 1.0))
+            bpy.ops.mesh.primitive_plane_add(size=size)  # in Blender's XY plane: envshadow's XZ, facing +Y
+        else:
+            sys.exit(f"cycles-sphere.py: mesh type {mesh['type']} is not supported")
         s = bpy.context.active_object
-        bpy.ops.object.shade_smooth()
+        s.matrix_world = placement @ s.matrix_world
         s.data.materials.append(build_material(obj.get("material", {"diffuse": 0.8})))
 
     cam = desc["camera"]
@@ -185,7 +254,8 @@ def render(argv):
     # reach the background, MIS), and nothing bounces further.
     c.max_bounces = 0
     c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = 0
-    c.volume_bounces = c.transparent_max_bounces = 0
+    c.volume_bounces = 0
+    c.transparent_max_bounces = 16  # through alpha-masked cut-outs (not a bounce of light)
     c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
     c.caustics_reflective = c.caustics_refractive = False
     c.blur_glossy = 0.0
@@ -258,13 +328,37 @@ def stats(argv):
         h, w = mask.shape
         side = np.concatenate([tm(ref), np.ones((h, 2, 3)), tm(cyc), np.ones((h, 2, 3)), diff], 1)
         side = np.repeat(np.repeat(side, 3, 0), 3, 1)  # nearest, x3, to be seen
-        out = bpy.data.images.new("side", side.shape[1], side.shape[0], alpha=True)
-        px = np.concatenate([side, np.ones(side.shape[:2] + (1,))], -1).astype(np.float32)
-        out.colorspace_settings.name = "Non-Color"
-        out.pixels.foreach_set(px.ravel())
-        out.filepath_raw = os.path.abspath(o["png"])
-        out.file_format = "PNG"
-        out.save()
+        save_png(side, o["png"])
+
+
+def png(argv):
+    """EXR -> PNG as `envshadow render --out` writes one: times 2^exposure, ACES (Narkowicz 2015, per
+    channel, as engine/core/tonemap.cpp), sRGB-encoded."""
+    pos, o = parse(argv, {"exposure"})
+    img = load(pos[0])
+    x = img[..., :3] * 2.0 ** float(o.get("exposure", 0.0))
+    a, b, c, d, e = 2.51, 0.03, 2.43, 0.59, 0.14
+    y = np.clip((x * (a * x + b)) / (x * (c * x + d) + e), 0.0, 1.0)
+    save_png(srgb8(y), pos[1])
+
+
+def mask(argv):
+    """The pixels REF.exr's alpha marks (> 0.5) as a white-on-black PNG, for `envshadow compare --mask`."""
+    ref = load(argv[0])
+    m = (ref[..., 3] > 0.5).astype(np.float32)
+    save_png(np.stack([m, m, m], -1), argv[1])
+
+
+def save_png(rgb, path):
+    """RGB in 0..1, bottom row first (Blender's order), to an 8-bit PNG as stored (no colour transform)."""
+    h, w = rgb.shape[:2]
+    out = bpy.data.images.new("png", w, h, alpha=True)
+    out.colorspace_settings.name = "Non-Color"
+    px = np.concatenate([rgb, np.ones((h, w, 1))], -1).astype(np.float32)
+    out.pixels.foreach_set(px.ravel())
+    out.filepath_raw = os.path.abspath(path)
+    out.file_format = "PNG"
+    out.save()
 
 
 def decompose(argv):
@@ -293,7 +387,7 @@ def decompose(argv):
 
 if __name__ == "__main__":
     args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    modes = {"render": render, "stats": stats, "decompose": decompose}
+    modes = {"render": render, "stats": stats, "decompose": decompose, "png": png, "mask": mask}
     if not args or args[0] not in modes:
         sys.exit("usage: see the header of cycles-sphere.py")
     modes[args[0]](args[1:])
