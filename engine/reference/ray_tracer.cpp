@@ -12,18 +12,22 @@
 #include <vector>
 
 #include "core/error.h"
+#include "scene/mesh_topology.h"
 #include "scene/texture.h"
 
 namespace envshadow::reference {
 namespace {
 
-// An alpha-masked object (Material::masked, docs/SCENES.md "Alpha"): hits where its alpha is below the
-// cutoff do not count, for camera rays and shadow rays alike (an Embree filter function).
-struct AlphaMask {
+// The hits on an object that do not count (Embree filter functions): where its alpha mask cuts it out
+// (Material::masked, docs/SCENES.md "Alpha"), for camera and shadow rays alike; and, on a closed
+// single-sided object (glTF's doubleSided false, docs/SCENES.md "Sides"), its back faces, for camera rays.
+struct HitFilter {
     const MaterialTexture* texture = nullptr;  // the base colour, where the mesh has texture coordinates
     const std::vector<glm::vec2>* texcoords = nullptr;
     const std::vector<std::uint32_t>* indices = nullptr;
-    float base_alpha = 1.0f, cutoff = 0.0f;
+    float base_alpha = 1.0f, cutoff = 0.0f;         // cutoff 0: nothing cut out
+    const std::vector<glm::vec3>* front = nullptr;  // world positions where back faces are culled, else null
+    bool mirrored = false;                          // world_from_object turns the winding round
 
     bool cuts(unsigned triangle, float u, float v) const {
         float alpha = base_alpha;
@@ -34,14 +38,29 @@ struct AlphaMask {
         }
         return alpha < cutoff;
     }
+    bool back_facing(unsigned triangle, const glm::vec3& direction) const {
+        const std::uint32_t* t = &(*indices)[3 * std::size_t(triangle)];
+        const glm::vec3 p0 = (*front)[t[0]], p1 = (*front)[t[1]], p2 = (*front)[t[2]];
+        const float facing = glm::dot(glm::cross(p1 - p0, p2 - p0), direction);
+        return mirrored ? facing < 0.0f : facing > 0.0f;
+    }
 };
 
-void alpha_mask_filter(const RTCFilterFunctionNArguments* args) {
-    const auto& mask = *static_cast<const AlphaMask*>(args->geometryUserPtr);
-    for (unsigned i = 0; i < args->N; ++i)
-        if (args->valid[i] == -1 && mask.cuts(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
-                                              RTCHitN_v(args->hit, args->N, i)))
+template <bool camera>
+void hit_filter(const RTCFilterFunctionNArguments* args) {
+    const auto& filter = *static_cast<const HitFilter*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const unsigned triangle = RTCHitN_primID(args->hit, args->N, i);
+        if (filter.cutoff > 0.0f &&
+            filter.cuts(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)))
             args->valid[i] = 0;
+        else if (camera && filter.front &&
+                 filter.back_facing(triangle,
+                                    {RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                                     RTCRayN_dir_z(args->ray, args->N, i)}))
+            args->valid[i] = 0;
+    }
 }
 
 }  // namespace
@@ -56,7 +75,7 @@ struct RayTracer::State {
     std::vector<bool> mirrored;                     // per object: world_from_object's determinant < 0
     std::vector<const std::vector<std::uint32_t>*> indices;
     std::vector<const std::vector<glm::vec2>*> texcoords;  // the mesh's, per object (empty: none)
-    std::vector<std::unique_ptr<AlphaMask>> masks;         // per object; null without Material::masked()
+    std::vector<std::unique_ptr<HitFilter>> filters;       // per object; null where every hit counts
 
     ~State() {
         if (casters) rtcReleaseScene(casters);
@@ -74,19 +93,19 @@ void check(RTCDevice device, const char* what) {
 }
 
 // A triangle geometry over `positions` / `indices` (Embree copies nothing: the buffers must outlive it), its
-// hits filtered by `mask` where given.
+// hits filtered by `filter` where given (intersect: camera rays; occluded: shadow rays).
 void attach(RTCDevice device, RTCScene scene, const std::vector<glm::vec3>& positions,
-            const std::vector<std::uint32_t>& indices, const AlphaMask* mask) {
+            const std::vector<std::uint32_t>& indices, const HitFilter* filter) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree may read 16 bytes from the last vertex: the positions vector is padded by the caller.
     rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions.data(), 0,
                                sizeof(glm::vec3), positions.size() - 1);
     rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, indices.data(), 0,
                                3 * sizeof(std::uint32_t), indices.size() / 3);
-    if (mask) {
-        rtcSetGeometryUserData(geometry, const_cast<AlphaMask*>(mask));
-        rtcSetGeometryIntersectFilterFunction(geometry, alpha_mask_filter);
-        rtcSetGeometryOccludedFilterFunction(geometry, alpha_mask_filter);
+    if (filter) {
+        rtcSetGeometryUserData(geometry, const_cast<HitFilter*>(filter));
+        rtcSetGeometryIntersectFilterFunction(geometry, hit_filter<true>);
+        rtcSetGeometryOccludedFilterFunction(geometry, hit_filter<false>);
     }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(scene, geometry);
@@ -110,7 +129,7 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
     s.mirrored.resize(scene.objects.size(), false);
     s.indices.resize(scene.objects.size(), nullptr);
     s.texcoords.resize(scene.objects.size(), nullptr);
-    s.masks.resize(scene.objects.size());
+    s.filters.resize(scene.objects.size());
     double extent = 0.0;
     for (std::size_t k = 0; k < scene.objects.size(); ++k) {
         const Object& object = scene.objects[k];
@@ -135,20 +154,26 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
         positions.push_back(glm::vec3(0.0f));  // padding for Embree's 16-byte vertex reads
         s.indices[k] = &object.mesh->indices;
         s.texcoords[k] = &object.mesh->texcoords;  // a pose keeps the bind mesh's texture coordinates
-        if (const Material& material = object.material; material.masked()) {
-            auto mask = std::make_unique<AlphaMask>();
-            if (material.base_color_texture && !object.mesh->texcoords.empty()) {
-                mask->texture = &*material.base_color_texture;
-                mask->texcoords = &object.mesh->texcoords;
-                mask->indices = &object.mesh->indices;
+        const Material& material = object.material;
+        const bool culled = !material.double_sided && is_closed_surface(*object.mesh);
+        if (material.masked() || culled) {
+            auto filter = std::make_unique<HitFilter>();
+            filter->indices = &object.mesh->indices;
+            if (material.masked()) {
+                if (material.base_color_texture && !object.mesh->texcoords.empty()) {
+                    filter->texture = &*material.base_color_texture;
+                    filter->texcoords = &object.mesh->texcoords;
+                }
+                filter->base_alpha = material.base_alpha;
+                filter->cutoff = material.alpha_cutoff;
             }
-            mask->base_alpha = material.base_alpha;
-            mask->cutoff = material.alpha_cutoff;
-            s.masks[k] = std::move(mask);
+            if (culled) filter->front = &positions;
+            filter->mirrored = s.mirrored[k];
+            s.filters[k] = std::move(filter);
         }
-        attach(s.device, s.everything, positions, object.mesh->indices, s.masks[k].get());
+        attach(s.device, s.everything, positions, object.mesh->indices, s.filters[k].get());
         s.object_of_geometry.push_back(k);
-        if (object.casts_shadows) attach(s.device, s.casters, positions, object.mesh->indices, s.masks[k].get());
+        if (object.casts_shadows) attach(s.device, s.casters, positions, object.mesh->indices, s.filters[k].get());
         triangles_ += mesh.triangle_count();
     }
     rtcCommitScene(s.everything);

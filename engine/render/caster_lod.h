@@ -16,6 +16,8 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include "scene/mesh_topology.h"  // is_closed
+
 namespace envshadow::render {
 
 struct CasterLevel {
@@ -51,10 +53,6 @@ struct CasterLodChunks {
 // "Large models").
 CasterLod build_caster_lod(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
                            const std::function<void(double fraction)>& progress = {}, CasterLodChunks chunks = {});
-
-// Whether the triangles form closed surfaces, consistently wound: every directed edge (a, b) occurs
-// once and its reverse (b, a) once. Degenerate triangles make it false.
-bool is_closed(std::span<const std::uint32_t> indices);
 
 // The coarsest level whose error is at most `max_error` (object space); level 0 when max_error <= 0.
 int choose_caster_level(const CasterLod& lod, float max_error);

@@ -21,6 +21,7 @@
 #include "render/embedded_shaders.h"
 #include "render/gpu_texture.h"
 #include "render/shader_interface.h"
+#include "scene/mesh_topology.h"
 
 namespace envshadow::render {
 
@@ -139,6 +140,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
     instance_textures_.clear();
     instance_emission_textures_.clear();
     instance_occlusion_textures_.clear();
+    instance_front_only_.clear();
     if (!white_texture_) white_texture_ = white_texture();
     std::vector<PlannedObject> planned;
     std::map<const Mesh*, const GpuMesh*> uploaded;
@@ -184,6 +186,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         instance_textures_.push_back(texture(object.material.base_color_texture));
         instance_emission_textures_.push_back(texture(object.material.emission_texture));
         instance_occlusion_textures_.push_back(texture(object.material.occlusion_texture));
+        instance_front_only_.push_back(!object.material.double_sided && is_closed_surface(*object.mesh));
         PlannedObject& object_plan = planned.emplace_back();
         object_plan.object = object;
         object_plan.object.mesh.reset();  // the GPU copy is enough
@@ -610,10 +613,13 @@ void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view,
         glProgramUniformMatrix4fv(prepass.id(), loc::world_from_object, 1, GL_FALSE, &object.world_from_object[0][0]);
         if (object.masked()) bind_alpha_mask(prepass.id(), object, i);
         if (object.masked() && alpha_to_coverage) glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+        set_sides(object, i);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
         glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
     }
+    glDisable(GL_CULL_FACE);
+    glFrontFace(GL_CCW);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
@@ -730,7 +736,8 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     // shade.vert's gl_Position is invariant), so the light loop runs once per pixel.
     glDepthFunc(settings_.depth_prepass ? GL_EQUAL : GL_LESS);
     glDepthMask(settings_.depth_prepass ? GL_FALSE : GL_TRUE);
-    glDisable(GL_CULL_FACE);  // two-sided: shade.frag turns the normal by gl_FrontFacing (docs/DESIGN.md §5.4)
+    // Two-sided but for closed single-sided objects (set_sides): shade.frag turns the normal by
+    // gl_FrontFacing (docs/DESIGN.md §5.4).
     for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
         const ObjectFrame& object = plan.objects[i];
         // glTF's BRDF needs the GGX levels; without them its Phong stand-in.
@@ -746,9 +753,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         glProgramUniformMatrix4fv(program, loc::world_from_object, 1, GL_FALSE, &object.world_from_object[0][0]);
         glProgramUniformMatrix3fv(program, loc::world_normal_from_object, 1, GL_FALSE,
                                   &object.world_normal_from_object[0][0]);
-        // Counter-clockwise in object space is the front (the vertex normals' side); a mirroring transform
-        // turns it clockwise on screen.
-        glFrontFace(glm::determinant(glm::mat3(object.world_from_object)) < 0.0f ? GL_CW : GL_CCW);
+        set_sides(object, i);
         glProgramUniform3f(program, loc::k_d, object.k_d.r, object.k_d.g, object.k_d.b);
         glProgramUniform1f(program, loc::k_s, object.k_s);
         glProgramUniform1f(program, loc::shininess, object.shininess);
@@ -762,10 +767,21 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }
+    glDisable(GL_CULL_FACE);
     glFrontFace(GL_CCW);
     glBindSampler(unit::atlas_depth, 0);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
+}
+
+void Renderer::set_sides(const ObjectFrame& object, std::size_t i) const {
+    // Counter-clockwise in object space is the front (the vertex normals' side); a mirroring transform
+    // turns it clockwise on screen.
+    glFrontFace(glm::determinant(glm::mat3(object.world_from_object)) < 0.0f ? GL_CW : GL_CCW);
+    if (instance_front_only_[i])
+        glEnable(GL_CULL_FACE);
+    else
+        glDisable(GL_CULL_FACE);
 }
 
 void Renderer::bind_alpha_mask(GLuint program, const ObjectFrame& object, std::size_t i) const {

@@ -167,6 +167,8 @@ private:
     void bind_unshadowed_levels(GLuint program, const ObjectFrame& object, bool gltf) const;
     // The alpha mask's uniforms and the base-colour texture of object i (its cutoff 0 where it has no mask).
     void bind_alpha_mask(GLuint program, const ObjectFrame& object, std::size_t i) const;
+    // The front face's winding and whether back faces are culled, for object i drawn for the camera.
+    void set_sides(const ObjectFrame& object, std::size_t i) const;
     // The ratio's shadowed fraction into fraction_ (its own pre-pass and tile lists); leaves target_ bound.
     void draw_shadowed_fraction(const FramePlan& plan, const CameraView& view);
     void draw_background(const CameraView& view);
@@ -203,6 +205,9 @@ private:
     std::vector<const gl::Texture*> instance_textures_;
     std::vector<const gl::Texture*> instance_emission_textures_;
     std::vector<const gl::Texture*> instance_occlusion_textures_;
+    // Per object of planner_.objects(): closed and single-sided (Material::double_sided false), so drawn
+    // for the camera with back faces culled; fixed by set_scene.
+    std::vector<bool> instance_front_only_;
     gl::Texture white_texture_;
     // Objects whose vertices move (glTF skins and morphs): posed into their own GpuMesh every frame.
     struct DeformingInstance {

@@ -88,6 +88,7 @@ public:
             if (g.occlusion)
                 g.material.occlusion_strength = unit(m.at("occlusionTexture"), "strength", where + ".occlusionTexture");
             read_alpha(m, where, base_alpha, g.material, out);
+            g.material.double_sided = m.value("doubleSided", false);  // type-checked by check_gltf_json
             out.materials.push_back(std::move(g));
         }
         return out;

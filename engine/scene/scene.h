@@ -53,6 +53,9 @@ struct Material {
     AlphaMode alpha_mode = AlphaMode::opaque;
     float alpha_cutoff = 0.5f;
     float base_alpha = 1.0f;  // baseColorFactor's alpha
+    // false (glTF's doubleSided false): where the mesh is closed, its back faces are not drawn (a camera
+    // inside sees out); open meshes show both sides whatever this says (docs/SCENES.md "Sides").
+    bool double_sided = true;
 
     // Whether some of the surface is cut out (AlphaMode::mask with an alpha that can fall below the cutoff).
     bool masked() const { return alpha_mode == AlphaMode::mask && (base_color_texture || base_alpha < alpha_cutoff); }
@@ -60,7 +63,7 @@ struct Material {
     bool same_as(const Material& o) const {
         return rho_d == o.rho_d && rho_s == o.rho_s && shininess == o.shininess &&
                metallic_roughness == o.metallic_roughness && emission == o.emission && alpha_mode == o.alpha_mode &&
-               alpha_cutoff == o.alpha_cutoff && base_alpha == o.base_alpha &&
+               alpha_cutoff == o.alpha_cutoff && base_alpha == o.base_alpha && double_sided == o.double_sided &&
                same_texture(base_color_texture, o.base_color_texture) &&
                same_texture(emission_texture, o.emission_texture) &&
                same_texture(occlusion_texture, o.occlusion_texture) && occlusion_strength == o.occlusion_strength;

@@ -124,6 +124,13 @@ TEST(GltfMaterial, TheSchemaDefaultsAndPrimitivesWithoutAMaterial) {
     expect_material(model.parts[0].material, {0, 0, 0}, 2.0f / 3.0f, 1.0f);
     EXPECT_EQ(model.parts[1].name, "no material");
     expect_material(model.parts[1].material, Material{}.rho_d, Material{}.rho_s, Material{}.shininess);
+    EXPECT_FALSE(model.parts[0].material.double_sided);  // glTF's doubleSided defaults to false
+}
+
+TEST(GltfMaterial, DoubleSidedIsRead) {
+    GltfWriter w = two_primitives(0, -1);
+    w.doc["materials"] = json::array({{{"doubleSided", true}}});
+    EXPECT_TRUE(load_gltf(w.write(test_folder(), "sides")).parts.at(0).material.double_sided);
 }
 
 TEST(GltfMaterial, SpecularGlossinessExtensionTakesThePlaceOfMetallicRoughness) {

@@ -1,11 +1,13 @@
 #include "scene/meshes.h"
 
 #include <cmath>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <glm/gtc/constants.hpp>
 
 #include "mesh_checks.h"
+#include "scene/mesh_topology.h"
 
 namespace envshadow {
 namespace {
@@ -23,6 +25,20 @@ void expect_well_formed(const Mesh& m) {
     for (const std::uint32_t i : m.indices) ASSERT_LT(i, m.positions.size());
     EXPECT_LT(worst_normal_length_error(m), 1e-5);
     EXPECT_EQ(normals_against_faces(m), 0u);
+}
+
+// Closed once welded: the box's faces have vertices of their own (flat normals), which is_closed alone
+// sees as twelve separate triangles; the plane stays open; a turned triangle breaks the box.
+TEST(SceneMeshTopology, ClosedSurfacesAreClosedOnceWeldedByPosition) {
+    const Mesh box = make_mesh(BoxShape{});
+    EXPECT_FALSE(is_closed(box.indices));
+    EXPECT_TRUE(is_closed_surface(box));
+    EXPECT_TRUE(is_closed_surface(make_mesh(SphereShape{})));
+    EXPECT_FALSE(is_closed_surface(make_mesh(PlaneShape{})));
+    Mesh turned = box;
+    std::swap(turned.indices[1], turned.indices[2]);
+    EXPECT_FALSE(is_closed_surface(turned));
+    EXPECT_FALSE(is_closed_surface(Mesh{}));
 }
 
 TEST(SceneBuiltinMeshes, PlaneIsTwoUpwardTrianglesOfTheGivenSize) {
