@@ -201,7 +201,6 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             changed |= ImGui::ColorEdit3("base colour", &p.base_color.x);
             changed |= ImGui::SliderFloat("metallic", &p.metallic, 0.0f, 1.0f);
             changed |= ImGui::SliderFloat("roughness", &p.roughness, 0.0f, 1.0f);
-            ImGui::TextDisabled("base-colour texture: %s", m.base_color_texture ? "yes" : "no");
             if (changed) m = with_metallic_roughness(m, p);
         } else {
             changed |= ImGui::ColorEdit3("rho_d", &m.rho_d.x);
@@ -209,6 +208,8 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             changed |=
                 ImGui::SliderFloat("shininess n", &m.shininess, 1.0f, 10000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
         }
+        ImGui::TextDisabled("base-colour texture: %s; %s-sided", m.base_color_texture ? "yes" : "no",
+                            m.double_sided ? "double" : "single");
         changed |= ImGui::ColorEdit3("emission", &m.emission.x, ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
         ImGui::TextDisabled("emission texture: %s", m.emission_texture ? "yes" : "no");
         if (m.occlusion_texture)
