@@ -90,8 +90,9 @@ void GpuMesh::set_bounds(const Mesh& mesh) {
 
 GpuMesh::GpuMesh(const Mesh& mesh, Deforming) : deforming_(true) {
     make_vertex_arrays(mesh, GL_DYNAMIC_STORAGE_BIT);
-    // The casters draw the full mesh (one level): the posed shape changes every frame.
-    caster_lod_.levels.push_back({0, std::uint32_t(mesh.indices.size()), 0.0f, is_closed(mesh.indices)});
+    // The casters draw the full mesh (one level): the posed shape changes every frame. Closed as the rest
+    // pose is, welded by position as build_caster_lod welds a still mesh.
+    caster_lod_.levels.push_back({0, std::uint32_t(mesh.indices.size()), 0.0f, is_closed_surface(mesh)});
     set_bounds(mesh);
 }
 

@@ -21,7 +21,6 @@
 #include "render/embedded_shaders.h"
 #include "render/gpu_texture.h"
 #include "render/shader_interface.h"
-#include "scene/mesh_topology.h"
 
 namespace envshadow::render {
 
@@ -186,7 +185,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         instance_textures_.push_back(texture(object.material.base_color_texture));
         instance_emission_textures_.push_back(texture(object.material.emission_texture));
         instance_occlusion_textures_.push_back(texture(object.material.occlusion_texture));
-        instance_front_only_.push_back(!object.material.double_sided && is_closed_surface(*object.mesh));
+        instance_front_only_.push_back(!object.material.double_sided && mesh.caster_lod().levels[0].closed);
         PlannedObject& object_plan = planned.emplace_back();
         object_plan.object = object;
         object_plan.object.mesh.reset();  // the GPU copy is enough

@@ -204,9 +204,8 @@ std::vector<std::optional<MaterialTexture>> resolve_textures(const std::filesyst
                                                              const ImageDecoder& decoder) {
     std::vector<std::optional<MaterialTexture>> out(model.textures.size());
     for (const GltfMaterial& m : materials)
-        for (const std::optional<GltfTextureRef>& ref : {m.base_color, m.emission, m.occlusion}) {
-            if (ref) resolve_texture(path, model, std::size_t(ref->texture), decoder, out);
-        }
+        for (const std::optional<GltfTextureRef>* ref : m.texture_refs())
+            if (*ref) resolve_texture(path, model, std::size_t((*ref)->texture), decoder, out);
     return out;
 }
 
@@ -271,8 +270,8 @@ GltfModel load_gltf(const std::filesystem::path& path) {
     decoder.wanted.assign(images.size(), false);
     decoder.images.resize(images.size());
     for (std::size_t i = 0; i < materials.materials.size(); ++i)
-        for (const std::optional<GltfTextureRef>& ref :
-             {materials.materials[i].base_color, materials.materials[i].emission, materials.materials[i].occlusion}) {
+        for (const std::optional<GltfTextureRef>* texture_ref : materials.materials[i].texture_refs()) {
+            const std::optional<GltfTextureRef>& ref = *texture_ref;
             if (!ref) continue;
             if (std::size_t(ref->texture) >= textures.size())
                 fail(path, "materials[" + std::to_string(i) + "] uses texture " + std::to_string(ref->texture) +

@@ -132,7 +132,7 @@ private:
     const GltfTextureRef* texture_ref(int material) const {
         if (material < 0) return nullptr;
         const GltfMaterial& m = materials_[std::size_t(material)];
-        for (const std::optional<GltfTextureRef>* ref : {&m.base_color, &m.emission, &m.occlusion})
+        for (const std::optional<GltfTextureRef>* ref : m.texture_refs())
             if (const GltfTextureRef* r = resolved(*ref)) return r;
         return nullptr;
     }

@@ -1,6 +1,7 @@
 #pragma once
 // glTF 2.0 materials mapped onto the paper's modified Phong BRDF (docs/DESIGN.md §2; the mapping and its
 // limits: docs/SCENES.md "Materials from glTF"). Factors, and which texture gives the base colour.
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -63,6 +64,11 @@ struct GltfMaterial {
     std::optional<GltfTextureRef> base_color;
     std::optional<GltfTextureRef> emission;   // emissiveTexture
     std::optional<GltfTextureRef> occlusion;  // occlusionTexture
+
+    // Every reference above, the base colour's first (whose coordinates the mesh carries where it has one).
+    std::array<const std::optional<GltfTextureRef>*, 3> texture_refs() const {
+        return {&base_color, &emission, &occlusion};
+    }
 };
 
 struct GltfMaterials {

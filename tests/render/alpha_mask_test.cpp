@@ -119,15 +119,7 @@ TEST_P(AlphaMaskTest, AMaskedCardLooksAndCastsLikeTheHalfItKeeps) {
 }
 
 TEST(AlphaMaskReferenceTest, AMaskedCardLooksAndCastsLikeTheHalfItKeeps) {
-    const auto trace = [](Card kind) {
-        const Scene scene = card_over_ground(kind);
-        reference::ReferenceOptions options;
-        options.width = kWidth;
-        options.height = kHeight;
-        options.target_error = 0.03;
-        options.pixel_filter = reference::PixelFilter::point;
-        return reference::render_reference(scene, load_environment(scene.environment.source), options).image;
-    };
+    const auto trace = [](Card kind) { return reference_image(card_over_ground(kind), kWidth, kHeight, 0.03); };
     expect_masked_is_the_half_card(trace(Card::masked), trace(Card::left_half), trace(Card::whole), 0.005);
 }
 

@@ -25,14 +25,19 @@ using EmissionTest = GlTest;
 constexpr int kSize = 64;
 const glm::vec3 kEmission{1.0f, 0.5f, 0.25f};
 
-// The quad, grey (rho_d = 0.5), emitting `emission` times the four colours (nearest).
-Scene emissive_quad(glm::vec3 emission = kEmission) {
-    Material material;
-    material.rho_d = glm::vec3(0.5f);
-    material.emission = emission;
+// `material` emitting kEmission times the four colours (nearest).
+Material emissive(Material material) {
+    material.emission = kEmission;
     material.emission_texture =
         MaterialTexture{four_colours(), TextureWrap::clamp_to_edge, TextureWrap::clamp_to_edge, /*nearest=*/true};
-    return quad_facing_the_camera(material);
+    return material;
+}
+
+// The quad, grey (rho_d = 0.5), emissive.
+Scene emissive_quad() {
+    Material material;
+    material.rho_d = glm::vec3(0.5f);
+    return quad_facing_the_camera(emissive(material));
 }
 
 Image render_scene(const Scene& scene, const render::RenderSettings& settings) {
@@ -46,22 +51,13 @@ glm::vec3 emitted(int qx, int qy) {
 }
 
 TEST_P(EmissionTest, EachPathAddsTheEmissionTimesItsTexel) {
-    Scene gltf = emissive_quad();
-    gltf.objects[0].material = material_from_metallic_roughness({glm::vec3(0.5f), 0.0f, 0.6f});
-    gltf.objects[0].material.emission = kEmission;
-    gltf.objects[0].material.emission_texture = emissive_quad().objects[0].material.emission_texture;
-    const struct {
-        const char* name;
-        Scene scene;
-        render::RenderSettings settings;
-    } cases[] = {{"cells", emissive_quad(), {}},
-                 {"ratio, fraction at half rate, MSAA 4", emissive_quad(), commands_defaults()},
-                 {"glTF's BRDF in ratio shading", gltf, commands_defaults()}};
-    for (const auto& c : cases) {
+    const Material gltf = emissive(material_from_metallic_roughness({glm::vec3(0.5f), 0.0f, 0.6f}));
+    for (const ShadingPath& c : shading_paths(emissive_quad().objects[0].material, gltf)) {
         SCOPED_TRACE(c.name);
-        Scene dark = c.scene;
-        dark.objects[0].material.emission = glm::vec3(0.0f);
-        const Image lit = render_scene(c.scene, c.settings), reflected = render_scene(dark, c.settings);
+        Material dark = c.material;
+        dark.emission = glm::vec3(0.0f);
+        const Image lit = render_scene(quad_facing_the_camera(c.material), c.settings),
+                    reflected = render_scene(quad_facing_the_camera(dark), c.settings);
         for (int qy = 0; qy < 2; ++qy)
             for (int qx = 0; qx < 2; ++qx) {
                 const glm::vec3 added = quadrant_centre(lit, qx, qy) - quadrant_centre(reflected, qx, qy);
@@ -76,11 +72,7 @@ TEST_P(EmissionTest, EachPathAddsTheEmissionTimesItsTexel) {
 TEST_P(EmissionTest, TheQuadShowsReflectionPlusEmissionAsTheReferenceDoes) {
     const Scene scene = emissive_quad();
     const Image raster = render_scene(scene, {});
-    reference::ReferenceOptions options;
-    options.width = options.height = kSize;
-    options.target_error = 0.02;
-    options.pixel_filter = reference::PixelFilter::point;
-    const Image truth = reference::render_reference(scene, load_environment(scene.environment.source), options).image;
+    const Image truth = reference_image(scene, kSize, kSize, 0.02);
     for (int qy = 0; qy < 2; ++qy)
         for (int qx = 0; qx < 2; ++qx) {
             const glm::vec3 expected = glm::vec3(0.5f) + emitted(qx, qy);

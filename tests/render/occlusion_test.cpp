@@ -59,14 +59,7 @@ Image render_scene(const Scene& scene, const render::RenderSettings& settings) {
 
 TEST_P(OcclusionTest, EachPathScalesTheReflectionAndNotTheEmission) {
     const Material gltf = material_from_metallic_roughness({glm::vec3(0.5f), 0.0f, 0.6f});
-    const struct {
-        const char* name;
-        Material material;
-        render::RenderSettings settings;
-    } cases[] = {{"cells", grey(), {}},
-                 {"ratio, fraction at half rate, MSAA 4", grey(), commands_defaults()},
-                 {"glTF's BRDF in ratio shading", gltf, commands_defaults()}};
-    for (const auto& c : cases) {
+    for (const ShadingPath& c : shading_paths(grey(), gltf)) {
         SCOPED_TRACE(c.name);
         Material occluded = with_occlusion(c.material);
         occluded.emission = kEmission;
@@ -95,11 +88,7 @@ TEST_P(OcclusionTest, EachPathScalesTheReflectionAndNotTheEmission) {
 TEST_P(OcclusionTest, TheQuadIsDarkenedAsTheReferenceDarkensIt) {
     const Scene scene = quad_facing_the_camera(with_occlusion(grey()));
     const Image raster = render_scene(scene, {});
-    reference::ReferenceOptions options;
-    options.width = options.height = kSize;
-    options.target_error = 0.02;
-    options.pixel_filter = reference::PixelFilter::point;
-    const Image truth = reference::render_reference(scene, load_environment(scene.environment.source), options).image;
+    const Image truth = reference_image(scene, kSize, kSize, 0.02);
     for (int qy = 0; qy < 2; ++qy)
         for (int qx = 0; qx < 2; ++qx) {
             const float expected = 0.5f * occlusion(qx, qy);

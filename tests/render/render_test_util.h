@@ -1,8 +1,10 @@
 #pragma once
 // What the renderer's GL tests share: a camera looking at a point, a textured quad facing the camera (and
-// its quadrants' centres), the commands' default settings, a scene rendered with its map's lights and prefiltered
-// levels, and the PSNR of one linear frame against another over the reference's object pixels.
+// its quadrants' centres), the commands' default settings and the shading paths, a scene rendered with its
+// map's lights and prefiltered levels or through the reference, and the PSNR of one linear frame against
+// another over the reference's object pixels.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -18,6 +20,7 @@
 #include "env/environment.h"
 #include "env/ggx_prefilter.h"
 #include "env/prefilter.h"
+#include "reference/reference.h"
 #include "render/frame_plan.h"
 #include "render/renderer.h"
 
@@ -79,6 +82,19 @@ inline render::RenderSettings commands_defaults() {
     return s;
 }
 
+// The shading paths a material property must take alike: the paper's cells, ratio shading at the commands'
+// defaults, and glTF's BRDF in ratio shading; `phong` is drawn by the first two, `gltf` by the third.
+struct ShadingPath {
+    const char* name;
+    Material material;
+    render::RenderSettings settings;
+};
+inline std::array<ShadingPath, 3> shading_paths(const Material& phong, const Material& gltf) {
+    return {{{"cells", phong, {}},
+             {"ratio, fraction at half rate, MSAA 4", phong, commands_defaults()},
+             {"glTF's BRDF in ratio shading", gltf, commands_defaults()}}};
+}
+
 // `scene` drawn by a Renderer with `settings` at width x height: the lights decomposed from `map` with
 // `cells`, the map prefiltered over the same hemisphere for ratio shading (the Phong and the GGX levels).
 inline Image render_scene(const Scene& scene, const EnvironmentMap& map, const render::RenderSettings& settings,
@@ -96,6 +112,18 @@ inline Image render_scene(const Scene& scene, const EnvironmentMap& map, const r
 inline Image render_scene(const Scene& scene, const render::RenderSettings& settings, int width, int height,
                           const DecomposeOptions& cells) {
     return render_scene(scene, load_environment(scene.environment.source), settings, width, height, cells);
+}
+
+// `scene` through the reference renderer at width x height (needs envshadow_reference), each pixel to
+// `target_error`, with `filter` (point: the pixel's centre, as --msaa 1 shades it).
+inline Image reference_image(const Scene& scene, int width, int height, double target_error,
+                             reference::PixelFilter filter = reference::PixelFilter::point) {
+    reference::ReferenceOptions options;
+    options.width = width;
+    options.height = height;
+    options.target_error = target_error;
+    options.pixel_filter = filter;
+    return reference::render_reference(scene, load_environment(scene.environment.source), options).image;
 }
 
 // PSNR (dB) of `a` against `reference` over the RGB of the pixels where the reference has alpha 1 (the

@@ -36,10 +36,7 @@ Image render_scene(const Scene& scene, const render::RenderSettings& settings) {
 }
 
 Image reference_of(const Scene& scene) {
-    reference::ReferenceOptions options;
-    options.width = options.height = kSize;
-    options.target_error = 0.05;
-    return reference::render_reference(scene, load_environment(scene.environment.source), options).image;
+    return reference_image(scene, kSize, kSize, 0.05, reference::PixelFilter::box);
 }
 
 float centre(const Image& image) {
