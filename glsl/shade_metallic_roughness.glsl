@@ -6,6 +6,7 @@
 // not read), scale, bias and diffuse from env/dfg_table.h's table (tests/render/metallic_roughness_test.cpp
 // holds the result to the BRDF's albedo by quadrature, and to the reference).
 #include "constants.glsl"
+#include "ggx.glsl"
 
 layout(location = LOC_BASE_COLOR_FACTOR) uniform vec3 u_base_color_factor;  // times the base-colour texture
 layout(location = LOC_METALLIC) uniform float u_metallic;
@@ -18,28 +19,55 @@ layout(binding = UNIT_DFG) uniform sampler2D u_dfg;
 layout(location = LOC_LOWER_IS_MAP) uniform bool u_lower_is_map;
 layout(location = LOC_UPPER_ONLY) uniform bool u_upper_only;
 
-// The sharpest level's weight against the map itself (env/ggx_prefilter.h ggx_sharpest_level_weight: alpha over
-// the level's). With multisampling (u_pixel_footprint) the lobe is widened by the pixel's footprint, alpha^2 plus
-// the mirror direction's variation over the pixel (Kaplanyan et al. 2016's specular anti-aliasing with Filament's
-// constants, 2 x 0.15 |dn|^2, on r = 2 |dn|): one shading sample then stands for the pixel's mean, as the resolve
-// and the box-filtered reference take it, where a mirror's reflection changes within the pixel.
+// With multisampling (u_pixel_footprint) one shading sample stands for the pixel's mean, as the resolve and the
+// box-filtered reference take it: where a mirror's reflection changes within the pixel, the lobe is widened
+// by the pixel's footprint, from |dr/dx|^2 + |dr/dy|^2 (0 without multisampling).
 layout(location = LOC_PIXEL_FOOTPRINT) uniform bool u_pixel_footprint;
-const float kSharpestAlpha = 0.015625;  // kGgxPrefilterMinRoughness^2
-float mirror_level_weight(vec3 r) {
+float mirror_spread(vec3 r) {
     vec3 dx = dFdx(r), dy = dFdy(r);
+    return u_pixel_footprint ? dot(dx, dx) + dot(dy, dy) : 0.0;
+}
+
+// The sharpest level's weight against the map itself (env/ggx_prefilter.h ggx_sharpest_level_weight: alpha over
+// the level's), alpha^2 widened by Kaplanyan et al. 2016's specular anti-aliasing with Filament's constants
+// (2 x 0.15 |dn|^2, on r = 2 |dn|) up to the sharpest level's.
+const float kSharpestAlpha = 0.015625;  // kGgxPrefilterMinRoughness^2
+float mirror_level_weight(float spread) {
     float alpha = u_roughness * u_roughness;
-    float footprint = u_pixel_footprint ? 0.075 * (dot(dx, dx) + dot(dy, dy)) : 0.0;
-    float widened = sqrt(alpha * alpha + min(footprint, kSharpestAlpha * kSharpestAlpha));
+    float widened = sqrt(alpha * alpha + min(0.075 * spread, kSharpestAlpha * kSharpestAlpha));
     return clamp(widened / kSharpestAlpha, 0.0, 1.0);
 }
 
 const float kDielectricF0 = 0.04;  // glTF's dielectric reflectance at normal incidence (ior 1.5)
+const float kMinAlpha = 1e-3;      // env/gltf_brdf.h's floor on alpha = roughness^2
 
-// irradiance_over_pi: E(n) / pi; lobe_mean: P(r, alpha); base_color: the texture's at this pixel.
-vec3 split_sum_radiance(vec3 base_color, float n_dot_v, vec3 irradiance_over_pi, vec3 lobe_mean) {
+// glTF's material at one pixel: what the split sum and the cells' weights share.
+struct GltfPixel {
+    float n_dot_v;
+    float alpha2;          // alpha^2, alpha = roughness^2
+    vec3 f0;               // mix(0.04, baseColor, metallic)
+    vec3 diffuse_albedo;   // (1 - metallic)(1 - 0.04) baseColor diffuse(n.v): L_diff = it E(n) / pi
+    vec3 specular_albedo;  // F0 scale(n.v, roughness) + bias(n.v, roughness): L_spec = it P(r, alpha)
+    float mirror_spread;   // mirror_spread(r)
+};
+
+// base_color: the texture's at this pixel; n_dot_v of the shading normal, r its mirror direction (in uniform
+// control flow: its screen derivatives are taken).
+GltfPixel gltf_pixel(vec3 base_color, float n_dot_v, vec3 r) {
+    GltfPixel p;
+    p.mirror_spread = mirror_spread(r);
+    p.n_dot_v = clamp(n_dot_v, 0.0, 1.0);
+    float alpha = max(u_roughness * u_roughness, kMinAlpha);
+    p.alpha2 = alpha * alpha;
     vec3 base = u_base_color_factor * base_color;
-    vec3 dfg = texture(u_dfg, vec2(clamp(n_dot_v, 0.0, 1.0), u_roughness)).rgb;
-    vec3 f0 = mix(vec3(kDielectricF0), base, u_metallic);
-    vec3 diffuse = base * ((1.0 - u_metallic) * (1.0 - kDielectricF0) * dfg.z) * irradiance_over_pi;
-    return diffuse + lobe_mean * (f0 * dfg.x + dfg.y);
+    vec3 dfg = texture(u_dfg, vec2(p.n_dot_v, u_roughness)).rgb;
+    p.f0 = mix(vec3(kDielectricF0), base, u_metallic);
+    p.diffuse_albedo = base * ((1.0 - u_metallic) * (1.0 - kDielectricF0) * dfg.z);
+    p.specular_albedo = p.f0 * dfg.x + dfg.y;
+    return p;
+}
+
+// irradiance_over_pi: E(n) / pi; lobe_mean: P(r, alpha).
+vec3 split_sum_radiance(GltfPixel p, vec3 irradiance_over_pi, vec3 lobe_mean) {
+    return p.diffuse_albedo * irradiance_over_pi + p.specular_albedo * lobe_mean;
 }

@@ -1,9 +1,11 @@
 // The ratio estimator (SHADING_RATIO, docs/DESIGN.md §4.1): the unshadowed k_d E(n) + k_s S_n(r) from the
 // prefiltered map (or glTF's BRDF by its split sum, docs/DESIGN.md §11), times the cells' shadowed fraction
 //   L(x, w) = [k_d E(n) + k_s S_n(r)] sum_i V_i L~_i a_i / sum_i L~_i a^_i   (1 where the denominator is 0),
-// a^_i with the whole specular lobe (Reflectivity.whole_lobe). Without it the cells' sum itself.
+// a^_i with the whole specular lobe (Reflectivity.whole_lobe; glTF's BRDF: a_i itself). Without it the cells'
+// sum itself.
 #include "latlong.glsl"
 #include "shade_metallic_roughness.glsl"
+#include "shade_reflectivity.glsl"
 #include "shade_surface.glsl"
 
 // env/prefilter.h's levels: the normalised lobe S_n (n + 1) / (2 pi) on lat-long grids in map space.
@@ -19,8 +21,9 @@ vec3 prefiltered(sampler2D level, vec2 uv) {
     return texture(level, vec2(uv.x, (uv.y * (h - 1.0) + 0.5) / h)).rgb;
 }
 
-// The mean of the levels bound about the material's lobe width (its shininess, or its roughness) at r.
-vec3 lobe_mean(vec3 r) {
+// The mean of the levels bound about the material's lobe width (its shininess, or its roughness) at r
+// (spread: glTF's mirror_spread there).
+vec3 lobe_mean(vec3 r, float spread) {
     vec2 uv = latlong_uv(u_env_from_world * r);
     vec3 upper = prefiltered(u_specular_upper, uv);
 #if defined(METALLIC_ROUGHNESS)
@@ -28,7 +31,7 @@ vec3 lobe_mean(vec3 r) {
     // at (j + 0.5) / H), over the levels' hemisphere: with a ground, nothing below the horizon.
     if (u_lower_is_map) {
         vec3 mirror = u_upper_only && r.y < 0.0 ? vec3(0.0) : texture(u_specular_lower, uv).rgb;
-        return mix(mirror, upper, mirror_level_weight(r));
+        return mix(mirror, upper, mirror_level_weight(spread));
     }
 #endif
     return mix(prefiltered(u_specular_lower, uv), upper, u_specular_weight);
@@ -36,16 +39,16 @@ vec3 lobe_mean(vec3 r) {
 
 // k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows, S_n
 // over the whole lobe (the cells' ratio clips it at the tangent plane); for a material with glTF's
-// parameters, that BRDF's split sum instead (its lobe is whole too).
+// parameters, that BRDF's split sum instead (its lobe is whole too) with its compact lights' correction.
 vec3 unshadowed_radiance(Surface s) {
     vec3 irradiance_over_pi = prefiltered(u_irradiance, latlong_uv(u_env_from_world * s.normal));
 #if defined(METALLIC_ROUGHNESS)
-    float n_dot_v = dot(s.normal, normalize(u_eye - s.position));
-    return split_sum_radiance(s.base_color, n_dot_v, irradiance_over_pi, lobe_mean(s.mirror));
+    vec3 split_sum = split_sum_radiance(s.gltf, irradiance_over_pi, lobe_mean(s.mirror, s.gltf.mirror_spread));
+    return max(split_sum + compact_light_correction(s), vec3(0.0));  // the sun's true lobe (docs/DESIGN.md §11)
 #else
     vec3 result = s.k_d * (PI * irradiance_over_pi);
 #if !defined(DIFFUSE_ONLY)
-    if (u_k_s > 0.0) result += u_k_s * (2.0 * PI / (u_shininess + 1.0)) * lobe_mean(s.mirror);
+    if (u_k_s > 0.0) result += u_k_s * (2.0 * PI / (u_shininess + 1.0)) * lobe_mean(s.mirror, 0.0);
 #endif
     return result;
 #endif

@@ -4,6 +4,8 @@
 //   DIFFUSE_ONLY     for materials with k_s = 0: the specular code left out (a uniform branch on u_k_s
 //                    still costs its whole body on SIMD CPU rasterisers such as llvmpipe)
 //   SHADING_RATIO    the ratio estimator's clipping at the tangent plane (docs/DESIGN.md §4.1)
+//   METALLIC_ROUGHNESS (with SHADING_RATIO) glTF's BRDF in place of the paper's, and its compact lights'
+//                    correction of the split sum (docs/DESIGN.md §11)
 #include "brdf.glsl"
 #include "cells.glsl"
 #include "shade_surface.glsl"
@@ -99,14 +101,90 @@ vec3 clipped_reflectivity(vec3 diffuse_part, float specular_part, Surface s, flo
 #endif
 }
 
+#if defined(METALLIC_ROUGHNESS)
+// glTF's specular lobes at a cell (docs/DESIGN.md §11, "The cells"), both widened by the cell's cap (alpha^2 plus
+// r^2 / 8, the cap's spread of the half vector; r^2 = 2 (1 - cos r) for small caps), and cut off beyond
+// tan theta_h = 6 alpha about r, which leaves out 1 / 37 of GGX's projected area.
+const float kLobeCutoffSquared = 36.0;
+
+float widened_alpha2(float alpha2, float cos_r) {
+    return alpha2 + (1.0 - cos_r) / 4.0;
+}
+
+// Whether w (t = r.w) lies beyond the cut-off: tan^2 theta_h = (1 - t) / (1 + t) of the lobe about r.
+bool beyond_lobe(float t, float widened2) {
+    return 1.0 - t > kLobeCutoffSquared * widened2 * (1.0 + t);
+}
+
+// The BRDF's specular lobe, f cos theta at w (cos_theta = n.w): F D V n.l.
+vec3 brdf_lobe(Surface s, vec3 w, float cos_theta, float widened2) {
+    if (cos_theta <= 0.0) return vec3(0.0);
+    vec3 h = normalize(s.view + w);
+    float m = 1.0 - max(dot(s.view, h), 0.0), m2 = m * m;
+    vec3 fresnel = s.gltf.f0 + (1.0 - s.gltf.f0) * (m2 * m2 * m);
+    return fresnel * (ggx_distribution(max(dot(s.normal, h), 0.0), widened2) *
+                      smith_visibility(cos_theta, max(s.gltf.n_dot_v, 1e-4), s.gltf.alpha2) * cos_theta);
+}
+
+// The split sum's specular lobe at w: specular_albedo K(r.w) / integral K, whose sum over the map is
+// specular_albedo P(r, alpha).
+vec3 split_sum_lobe(Surface s, float t, float widened2) {
+    return s.gltf.specular_albedo * reflection_lobe(t, widened2);
+}
+
+// A cell's weight for glTF's BRDF, the same in both sums: the fraction is the BRDF's own, its diffuse
+// lobe (1 - metallic)(1 - 0.04) baseColor diffuse(n.v) / pi times the cosine's average and its specular lobe.
+Reflectivity gltf_reflectivity(Surface s, vec3 w, float cos_r, float cos_theta) {
+    vec3 a = s.gltf.diffuse_albedo * (diffuse_average(cos_theta, cos_r) / PI);
+    float widened2 = widened_alpha2(s.gltf.alpha2, cos_r);
+    if (!beyond_lobe(dot(s.mirror, w), widened2)) a += brdf_lobe(s, w, cos_theta, widened2);
+    return Reflectivity(a, a);
+}
+
+// FramePlan::compact_lights (render/lights.h): cells much brighter than the map's mean, a sun.
+layout(location = LOC_COMPACT_LIGHT_COUNT) uniform int u_compact_light_count;
+layout(location = LOC_COMPACT_LIGHTS) uniform ivec4 u_compact_lights;
+
+// The width the split sum's lookup gave a lobe of widened2: the levels about the roughness, or the map and the
+// sharpest level widened by the pixel's footprint up to that level's (lobe_mean, mirror_level_weight).
+float split_sum_alpha2(Surface s, float widened2) {
+    return widened2 + (u_lower_is_map ? min(0.075 * s.gltf.mirror_spread, kSharpestAlpha * kSharpestAlpha) : 0.0);
+}
+
+// What the split sum misses of the compact lights' reflection: sum over them of L~_i (BRDF lobe - split sum's
+// lobe). The split sum's lobe is round about r; the BRDF's, seen off the normal, is narrower and higher (by
+// about 1 / n.v at its peak), so a sun's highlight needs its true shape; over a smooth map the split sum is
+// close and the rest of the cells are left to it. The BRDF's lobe is widened by the pixel's footprint, the
+// variance of a pixel-wide box in the half vector, (|dn/dx|^2 + |dn/dy|^2) / 12 = mirror_spread / 48: a glint
+// smaller than the pixel is its mean over the pixel, not its value at the sample.
+vec3 compact_light_correction(Surface s) {
+    vec3 correction = vec3(0.0);
+    for (int k = 0; k < u_compact_light_count; ++k) {
+        int i = u_compact_lights[k];
+        vec3 w = lights[i].direction.xyz;
+        float widened2 = widened_alpha2(s.gltf.alpha2, lights[i].direction.w);
+        float brdf2 = widened2 + s.gltf.mirror_spread / 48.0;
+        float t = dot(s.mirror, w);
+        if (beyond_lobe(t, brdf2)) continue;
+        vec3 lobes = brdf_lobe(s, w, dot(s.normal, w), brdf2) - split_sum_lobe(s, t, split_sum_alpha2(s, widened2));
+        correction += lights[i].radiance.rgb * lobes;
+    }
+    return correction;
+}
+#endif
+
 // a(dw_i, w) of cell i, whose direction w_i and cap R = cos r_i come from its light record.
 Reflectivity reflectivity(Surface s, int i) {
     vec3 w = lights[i].direction.xyz;
     float cos_r = lights[i].direction.w;
     float cos_theta = dot(s.normal, w);
+#if defined(METALLIC_ROUGHNESS) && defined(SHADING_RATIO)
+    return gltf_reflectivity(s, w, cos_r, cos_theta);
+#else
     float specular = u_k_s > 0.0 && specular_needed(cos_theta) ? specular_average(dot(w, s.mirror), cos_r) : 0.0;
     vec3 diffuse_part = s.k_d * diffuse_average(cos_theta, cos_r);
     float specular_part = u_k_s * specular;
     return Reflectivity(clipped_reflectivity(diffuse_part, specular_part, s, cos_theta, cos_r),
                         diffuse_part + specular_part);
+#endif
 }

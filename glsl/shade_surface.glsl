@@ -1,5 +1,9 @@
 // The surface point a fragment of shade.frag shades, and its material (the paper's modified Phong BRDF:
-// k_d, k_s and the shininess n, Barsi et al. §2.3). Fragment stage only (screen derivatives, gl_FrontFacing).
+// k_d, k_s and the shininess n, Barsi et al. §2.3; or glTF's, METALLIC_ROUGHNESS). Fragment stage only (screen
+// derivatives, gl_FrontFacing).
+#if defined(METALLIC_ROUGHNESS)
+#include "shade_metallic_roughness.glsl"
+#endif
 
 layout(location = LOC_EYE) uniform vec3 u_eye;
 layout(location = LOC_K_D) uniform vec3 u_k_d;  // rho_d / pi
@@ -22,6 +26,10 @@ struct Surface {
     vec3 base_color;    // the base-colour texture at this pixel
     vec3 k_d;           // u_k_d times base_color
     vec2 texcoord;
+    vec3 view;          // towards the eye
+#if defined(METALLIC_ROUGHNESS)
+    GltfPixel gltf;     // glTF's BRDF at this pixel
+#endif
 };
 
 vec3 emitted_radiance(Surface s) {
@@ -72,5 +80,9 @@ Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal
     s.position = has_plane ? position - s.plane_normal * dot(position - position_at_centre, s.plane_normal)
                            : position;
     s.mirror = reflect(-view, s.normal);
+    s.view = view;
+#if defined(METALLIC_ROUGHNESS)
+    s.gltf = gltf_pixel(s.base_color, dot(s.normal, view), s.mirror);
+#endif
     return s;
 }

@@ -74,8 +74,8 @@ struct ObjectFrame {
     float k_s = 0.0f;     // rho_s (n + 2) / (2 pi)
     float shininess = 1.0f;
     glm::vec3 unshadowed{0.0f};  // flat_receiver: sum of L~_i a_i, the same for all its pixels
-    // Ratio shading's unshadowed part by glTF's BRDF (k_d, k_s and shininess stay its Phong stand-in, the
-    // cells' weights).
+    // Ratio shading by glTF's BRDF, the unshadowed part and the cells' weights (k_d, k_s and shininess stay
+    // its Phong stand-in, for cells shading).
     std::optional<MetallicRoughness> metallic_roughness;
     glm::vec3 emission{0.0f};         // Material::emission, times the emission texture in shade.frag
     float occlusion_strength = 1.0f;  // Material::occlusion_strength (the texture is white without one)
@@ -88,6 +88,7 @@ struct ObjectFrame {
 struct FramePlan {
     std::vector<ObjectFrame> objects;  // one per PlannedObject
     std::vector<LightRecord> lights;   // one per light: the GPU's light buffer
+    std::vector<int> compact_lights;   // render/lights.h compact_lights of them
     // Per light, caster_rects_per_light rectangles in its clip space (xy lower left, zw upper right),
     // each caster's box widened by 2 texels; never empty (one zero rectangle without lights).
     std::vector<glm::vec4> caster_rects;

@@ -102,4 +102,25 @@ std::vector<LightNeighbourhood> light_neighbourhoods(std::span<const WorldLight>
     return neighbourhoods;
 }
 
+std::vector<int> compact_lights(std::span<const WorldLight> lights) {
+    const auto cap = [](float cos_radius) { return 2.0 * std::numbers::pi * (1.0 - double(cos_radius)); };
+    std::vector<double> radiance(lights.size());  // mean luminance over the radiance-weighted cap
+    double total_luminance = 0.0, total_solid_angle = 0.0;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const double luminance = std::max(0.0, latlong::luminance(glm::dvec3(lights[i].radiance)));
+        const double weighted = cap(lights[i].cos_radius_weighted);
+        radiance[i] = weighted > 0.0 ? luminance / weighted : 0.0;
+        total_luminance += luminance;
+        total_solid_angle += cap(lights[i].cos_radius);
+    }
+    std::vector<int> compact;
+    if (total_solid_angle <= 0.0) return compact;
+    const double threshold = kCompactRadianceFactor * total_luminance / total_solid_angle;
+    for (std::size_t i = 0; i < lights.size(); ++i)
+        if (radiance[i] > threshold) compact.push_back(int(i));
+    std::ranges::sort(compact, [&](int a, int b) { return radiance[std::size_t(a)] > radiance[std::size_t(b)]; });
+    if (compact.size() > std::size_t(kMaxCompactLights)) compact.resize(std::size_t(kMaxCompactLights));
+    return compact;
+}
+
 }  // namespace envshadow::render

@@ -103,12 +103,15 @@ const gl::Program& Renderer::tiles_program(int samples) {
     return it->second;
 }
 
-// The shading with the fraction pass's output: no cells, so of the variant's key only the alpha test matters.
+// The shading with the fraction pass's output: no shadows, so of the variant's key only the alpha test
+// matters, and for glTF's BRDF how it reads the lights (its compact lights' correction).
 const gl::Program& Renderer::fraction_shading_program(bool metallic_roughness) {
-    gl::Program& program = fraction_shading_programs_[{metallic_roughness, variant_.alpha_test}];
+    const bool lights_block = metallic_roughness && variant_.lights_uniform_block;
+    gl::Program& program = fraction_shading_programs_[{metallic_roughness, variant_.alpha_test, lights_block}];
     if (!program) {
         std::vector<std::string> defines = {"SHADOWED_FRACTION_IN"};
-        if (metallic_roughness) defines.push_back("METALLIC_ROUGHNESS");
+        if (metallic_roughness) defines.insert(defines.end(), {"METALLIC_ROUGHNESS", "SHADING_RATIO"});
+        if (lights_block) defines.push_back("LIGHTS_UNIFORM_BLOCK");
         if (variant_.alpha_test) defines.push_back("ALPHA_TEST");
         program = library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, defines);
     }
@@ -668,17 +671,24 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (uses_tile_lists(settings_))
         build_tile_lists(plan, view, depth_, samples_, tile_lists_, screen_tiles_, "shadow tile lists");
     gl::ScopedPass pass(&timer_, "shading");
+    const VariantPrograms& programs = *programs_now_;
+    shade_objects(plan, view,
+                  {&programs.shade, &programs.shade_diffuse, &programs.shade_flat, &metallic_roughness_program(plan)},
+                  screen_tiles_.x);
+}
+
+// The variant's program for glTF's BRDF (METALLIC_ROUGHNESS), built once a frame draws such a material; the
+// variant's full program where none does.
+const gl::Program& Renderer::metallic_roughness_program(const FramePlan& plan) {
     VariantPrograms& programs = *programs_now_;
-    if (draws_metallic_roughness(plan) && !programs.shade_gltf) {  // built once a frame needs it
+    if (!draws_metallic_roughness(plan)) return programs.shade;
+    if (!programs.shade_gltf) {
         std::vector<std::string> defines = shade_defines(variant_);
         defines.push_back("METALLIC_ROUGHNESS");
         programs.shade_gltf =
             library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, defines);
     }
-    shade_objects(plan, view,
-                  {&programs.shade, &programs.shade_diffuse, &programs.shade_flat,
-                   programs.shade_gltf ? &programs.shade_gltf : &programs.shade},
-                  screen_tiles_.x);
+    return programs.shade_gltf;
 }
 
 // The fraction pass (docs/DESIGN.md §5.14): the variant's programs (SHADOWED_FRACTION_OUT) at one sample per
@@ -699,9 +709,11 @@ void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& v
     {
         gl::ScopedPass pass(&timer_, "shadowed fraction");
         const VariantPrograms& programs = *programs_now_;
-        // The fraction is the cells' whatever the material's unshadowed part: glTF's materials take `shade`.
-        shade_objects(plan, view, {&programs.shade, &programs.shade_diffuse, &programs.shade_flat, &programs.shade},
-                      fraction_tiles_.x);
+        // glTF's materials weigh the cells by their own BRDF (docs/DESIGN.md §11).
+        shade_objects(
+            plan, view,
+            {&programs.shade, &programs.shade_diffuse, &programs.shade_flat, &metallic_roughness_program(plan)},
+            fraction_tiles_.x);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
     glViewport(0, 0, view.width, view.height);
@@ -729,6 +741,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
              {programs.full, programs.diffuse_only, programs.flat_receiver, programs.metallic_roughness})
             glProgramUniformMatrix3fv(shade->id(), loc::env_from_world, 1, GL_FALSE, &env_from_world[0][0]);
         if (!prefiltered_.empty()) prefiltered_[0].bind(unit::irradiance);
+        if (draws_metallic_roughness(plan)) set_compact_lights(programs.metallic_roughness->id(), plan);
     }
     glEnable(GL_DEPTH_TEST);
     // After the pre-pass only the visible fragment of each pixel passes (bit-identical depths:
@@ -771,6 +784,14 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     glBindSampler(unit::atlas_depth, 0);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
+}
+
+void Renderer::set_compact_lights(GLuint program, const FramePlan& plan) const {
+    glm::ivec4 indices(0);
+    const int count = std::min(int(plan.compact_lights.size()), kMaxCompactLights);
+    for (int k = 0; k < count; ++k) indices[k] = plan.compact_lights[std::size_t(k)];
+    glProgramUniform1i(program, loc::compact_light_count, count);
+    glProgramUniform4iv(program, loc::compact_lights, 1, &indices[0]);
 }
 
 void Renderer::set_sides(const ObjectFrame& object, std::size_t i) const {

@@ -21,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -162,6 +163,9 @@ private:
     };
     void shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x);
     bool draws_metallic_roughness(const FramePlan& plan) const;
+    const gl::Program& metallic_roughness_program(const FramePlan& plan);
+    // glTF's BRDF: the lights whose reflection takes the lobe's true shape (FramePlan::compact_lights).
+    void set_compact_lights(GLuint program, const FramePlan& plan) const;
     // Ratio shading: the object's unshadowed part's uniforms and levels (glsl/shade_ratio.glsl).
     // `gltf`: drawn with the METALLIC_ROUGHNESS program.
     void bind_unshadowed_levels(GLuint program, const ObjectFrame& object, bool gltf) const;
@@ -178,7 +182,7 @@ private:
     // The programs of one shader variant: the atlas's, and shade.frag's full, diffuse-only and flat-receiver ones.
     struct VariantPrograms {
         gl::Program atlas, shade, shade_diffuse, shade_flat;
-        gl::Program shade_gltf;    // METALLIC_ROUGHNESS (ratio without the fraction pass), built once drawn with
+        gl::Program shade_gltf;    // METALLIC_ROUGHNESS (ratio, or its fraction pass), built once drawn with
         gl::Program atlas_masked;  // ALPHA_MASK with shadow_atlas_mask.frag, built once drawn with
     };
     ShaderSupport support_;
@@ -188,7 +192,8 @@ private:
     gl::Program prepass_program_, background_program_;   // the same for every variant
     gl::Program masked_prepass_program_;                 // ALPHA_MASK; empty until drawn with
     // SHADOWED_FRACTION_IN per (METALLIC_ROUGHNESS, ALPHA_TEST): fraction_shading_program()
-    std::map<std::pair<bool, bool>, gl::Program> fraction_shading_programs_;
+    // By METALLIC_ROUGHNESS, ALPHA_TEST, LIGHTS_UNIFORM_BLOCK (fraction_shading_program).
+    std::map<std::tuple<bool, bool, bool>, gl::Program> fraction_shading_programs_;
     // shadow_tiles.comp per (lights in a uniform block, sample count): tiles_program()
     std::map<std::pair<bool, int>, gl::Program> tiles_programs_;
     gl::VertexArray empty_vertex_array_;  // the background's vertices come from gl_VertexID

@@ -50,9 +50,11 @@ namespace envshadow::render::shader {
     X(loc, emission, 32)     /* shade.frag: Material::emission (times u_emission_texture) */           \
     /* alpha_mask.glsl: shade.frag ALPHA_TEST, depth_prepass.frag, shadow_atlas_mask.frag */           \
     X(loc, base_alpha, 33)                                                                             \
-    X(loc, alpha_cutoff, 34)       /* 0: nothing cut out */                                            \
-    X(loc, alpha_to_coverage, 35)  /* depth_prepass.frag ALPHA_MASK at MSAA */                         \
-    X(loc, occlusion_strength, 36) /* shade.frag: Material::occlusion_strength */                      \
+    X(loc, alpha_cutoff, 34)        /* 0: nothing cut out */                                           \
+    X(loc, alpha_to_coverage, 35)   /* depth_prepass.frag ALPHA_MASK at MSAA */                        \
+    X(loc, occlusion_strength, 36)  /* shade.frag: Material::occlusion_strength */                     \
+    X(loc, compact_light_count, 37) /* METALLIC_ROUGHNESS: FramePlan::compact_lights, their count */   \
+    X(loc, compact_lights, 38)      /* and the indices (ivec4) */                                      \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \

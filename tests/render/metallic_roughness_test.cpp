@@ -49,11 +49,11 @@ Scene sphere(const Material& material) {
     return scene;
 }
 
-Image render(const Scene& scene, const EnvironmentMap& map, render::ShadingMode shading) {
+Image render(const Scene& scene, const EnvironmentMap& map, render::ShadingMode shading, int lights = 8) {
     render::RenderSettings settings;
     settings.shading = shading;
     settings.msaa = 1;
-    return render_scene(scene, map, settings, kSize, kSize, {.method = Method::lloyd, .lights = 8});
+    return render_scene(scene, map, settings, kSize, kSize, {.method = Method::lloyd, .lights = lights});
 }
 
 Image render(const Scene& scene, render::ShadingMode shading) {
@@ -200,6 +200,25 @@ TEST_P(MetallicRoughnessTest, SpheresUnderTheSkyMatchTheReference) {
         std::printf("%s: relative RMSE %.4f over the inner pixels\n", c.name.c_str(), error);
         EXPECT_LT(error, bound) << c.name;
     }
+}
+
+// A sun's highlight on glossy gold, seen at n.v = 0.71 (the sun 90 degrees from the view): the split sum's lobe
+// is round about r and its peak a factor n.v lower than the BRDF's. The sun's cell is a compact light, whose
+// reflection takes the lobe's true shape (docs/DESIGN.md §11). Measured over the inner pixels, 32 cells: 1.3%
+// (28.7% with the split sum alone).
+TEST_P(MetallicRoughnessTest, ASunsHighlightMatchesTheReference) {
+    const std::string spec = "builtin:sky:azimuth=0";
+    const EnvironmentMap map = load_environment(spec);
+    Scene scene = sphere(material_from_metallic_roughness({glm::vec3(1.0f, 0.78f, 0.34f), 1.0f, 0.3f}));
+    scene.environment.source = spec;
+    reference::ReferenceOptions options;
+    options.width = options.height = kSize;
+    options.target_error = 0.002;
+    options.pixel_filter = reference::PixelFilter::point;
+    const Image truth = reference::render_reference(scene, map, options).image;
+    const double error = inner_relative_rmse(render(scene, map, render::ShadingMode::ratio, 32), truth);
+    std::printf("gold, roughness 0.3, under a sun: relative RMSE %.4f over the inner pixels\n", error);
+    EXPECT_LT(error, 0.025);
 }
 
 ENVSHADOW_INSTANTIATE_GL_TEST(MetallicRoughnessTest);
