@@ -529,13 +529,15 @@ which traces glTF's BRDF itself; details and commands: [accuracy/gltf_by_hand.md
 
 | | defaults vs box | `--msaa 1` vs point | `--shading cells` (Phong stand-in) vs box |
 | --- | ---: | ---: | ---: |
-| whole image | 7.84% | 7.54% | 37.9% |
-| red plastic spheres (centres) | 1.3–1.8% | 0.75–1.2% | 3.7–7.4% |
-| gold row | 11.4% | | 58.6% |
+| whole image | 7.99% | 3.18% | 37.9% |
+| red plastic spheres (boxes about their centres), roughness 0.3–0.9 | 1.2–1.4% | 0.70–1.0% | 6.9–9.0% |
+| gold row | 11.8% | 4.2% | 58.2% |
 
+At the defaults 88% of the squared error is in ten pixels, the roughness-0.1 gold sphere's glint of the sun.
 Without shadows (one sphere, 64×64, the sky without its sun): gold at roughness 0.4 3.7%, a red dielectric
 0.54%, a roughness-0.05 metal 0.75%; under the white furnace within 0.4% of the albedo. The split sum's own
-error grows where the view grazes and where a sun sits in the lobe's tail (gold under `builtin:sky`: 7.8%).
+error grows where the view grazes; a sun in the lobe takes the BRDF's own lobe (docs/DESIGN.md §11, *Compact
+lights*): gold under `builtin:sky` 2.4% (7.8% with the split sum alone).
 The reference against Cycles ([accuracy/cycles_by_hand.md](accuracy/cycles_by_hand.md), unshadowed spheres):
 metals within 0.4% on average, dielectrics 5–7% brighter in Cycles, most of it glTF's Lambert × (1 − F_d)
 diffuse against Cycles' Burley. Not yet part of this script's runs.
@@ -553,18 +555,21 @@ conventions). Relative RMSE over the reference's object pixels, the ground inclu
 
 | scene | size | render vs reference | reference vs Cycles | render vs Cycles |
 | --- | --- | ---: | ---: | ---: |
-| `leaves.json` (alpha MASK, a diffuse ground) | 192×144 | 1.88% | 1.63% | 2.48% |
-| `metal_roughness.json` (glTF's BRDF) | 192×108 | 20.4% | 6.12% | 26.0% |
-| `gold_sphere.json` (a metal, roughness 0.3) | 192×144 | 17.7% | 1.96% | 17.8% |
+| `leaves.json` (alpha MASK, a diffuse ground) | 192×144 | 1.89% | 1.63% | 2.50% |
+| `metal_roughness.json` (glTF's BRDF) | 192×108 | 8.97% | 6.12% | 11.2% |
+| `gold_sphere.json` (a metal, roughness 0.3) | 192×144 | 4.02% | 1.96% | 4.56% |
 
 The reference and Cycles agree on the leaves' cut-outs and their shadows and on the gold sphere; on the
 red plastic they differ by the dielectric's diffuse gap measured on unshadowed spheres (Cycles' Principled
-diffuse is not glTF's Lambert). `render` against either is the method's error, and it lies on the spheres:
-on the gold sphere 99.7% of the squared error is on its upper half, where it reflects the sky and the
-sun, whose luminance there is 2% below the reference's, so the error is the reflection's shape, not its
-level; on `metal_roughness.json` (`diff_render_reference.png`) the rims and the gold row, the ground dark. It is larger here than on the 32° accuracy copy above
-(7.8%) partly because the measure is relative to the image's RMS value, which the sun's glints on the smooth
-spheres dominate more there (its ten brightest pixels hold 22% of the sum of squares, against 9% here)."""
+diffuse is not glTF's Lambert). `render` against either is the method's error, and it lies on the spheres'
+reflections of the city's sun. The split sum alone put it in a round lobe about the mirror direction, a
+factor n·v below the BRDF's narrower peak: 17.7% on the gold sphere and 20.4% on `metal_roughness.json`
+(render against Cycles 17.8% and 26.0%). The sun's cell now takes the BRDF's own lobe (docs/DESIGN.md §11,
+*Compact lights*), widened by the pixel's footprint with MSAA, which also spreads the roughness-0.1 gold
+sphere's glint over its pixel as the box-filtered reference does. What is left is still the highlights: on
+the gold sphere 92% of the squared error is in its worst 1% of pixels, the highlight's shape within a pixel
+or two; on `metal_roughness.json` the two pixels of the smoothest gold sphere's glint hold 69% of it (the
+reference splits it between them, the render does not quite)."""
 
 
 def weaknesses(ctx):
