@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
@@ -109,7 +110,9 @@ std::vector<int> compact_lights(std::span<const WorldLight> lights) {
     for (std::size_t i = 0; i < lights.size(); ++i) {
         const double luminance = std::max(0.0, latlong::luminance(glm::dvec3(lights[i].radiance)));
         const double weighted = cap(lights[i].cos_radius_weighted);
-        radiance[i] = weighted > 0.0 ? luminance / weighted : 0.0;
+        // All of a cell's light in one direction (a one-texel sun) is as concentrated as light gets.
+        radiance[i] =
+            weighted > 0.0 ? luminance / weighted : (luminance > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
         total_luminance += luminance;
         total_solid_angle += cap(lights[i].cos_radius);
     }

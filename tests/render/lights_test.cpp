@@ -163,6 +163,8 @@ TEST(CompactLights, AreTheBrightestFourAtMost) {
     for (int k = 0; k < 6; ++k) lights.push_back(cell_light({1, 1, float(k)}, 1.0f + float(k), cos_cell, cos_sun));
     EXPECT_EQ(compact_lights(lights), (std::vector<int>{55, 54, 53, 52}));
     EXPECT_TRUE(compact_lights({}).empty());
+    lights.push_back(cell_light({0, 1, 1}, 0.5f, cos_cell, 1.0f));  // all of its light in one direction
+    EXPECT_EQ(compact_lights(lights).front(), 56);
     const std::vector<WorldLight> black(4, cell_light({0, 1, 0}, 0.0f, cos_cell, cos_cell));
     EXPECT_TRUE(compact_lights(black).empty());
 }
