@@ -2,21 +2,22 @@
 // of such materials (METALLIC_ROUGHNESS, with SHADING_RATIO):
 //   L_spec = P(r, alpha) (F0 scale(n.v, roughness) + bias(n.v, roughness))
 //   L_diff = (1 - metallic) (1 - 0.04) baseColor diffuse(n.v) E(n) / pi
-// P from env/ggx_prefilter.h's levels (bound to the units of the Phong levels, which such an object does
-// not read), scale, bias and diffuse from env/dfg_table.h's table (tests/render/metallic_roughness_test.cpp
-// holds the result to the BRDF's albedo by quadrature, and to the reference).
+// P from env/ggx_prefilter.h's levels (all of them in one texture, looked up at each pixel's roughness), scale,
+// bias and diffuse from env/dfg_table.h's table (tests/render/metallic_roughness_test.cpp holds the result to the
+// BRDF's albedo by quadrature, and to the reference). metallic and roughness are the factors times the
+// metallic-roughness texture's B and G (linear; white without one).
 #include "constants.glsl"
 #include "ggx.glsl"
 
 layout(location = LOC_BASE_COLOR_FACTOR) uniform vec3 u_base_color_factor;  // times the base-colour texture
 layout(location = LOC_METALLIC) uniform float u_metallic;
 layout(location = LOC_ROUGHNESS) uniform float u_roughness;
+layout(binding = UNIT_METALLIC_ROUGHNESS_TEXTURE) uniform sampler2D u_metallic_roughness_texture;
 // Texel (i, j) at n.v = (i + 0.5) / size, roughness = (j + 0.5) / size: (n.v, roughness) is its coordinate.
 layout(binding = UNIT_DFG) uniform sampler2D u_dfg;
 
-// Below the sharpest GGX level the lower level is the map itself (shade_ratio.glsl's lobe_mean); u_upper_only:
+// Below the sharpest GGX level the lower level is the map itself (shade_ratio.glsl's ggx_lobe_mean); u_upper_only:
 // the levels' hemisphere is the upper one.
-layout(location = LOC_LOWER_IS_MAP) uniform bool u_lower_is_map;
 layout(location = LOC_UPPER_ONLY) uniform bool u_upper_only;
 
 // With multisampling (u_pixel_footprint) one shading sample stands for the pixel's mean, as the resolve and the
@@ -31,9 +32,10 @@ float mirror_spread(vec3 r) {
 // The sharpest level's weight against the map itself (env/ggx_prefilter.h ggx_sharpest_level_weight: alpha over
 // the level's), alpha^2 widened by Kaplanyan et al. 2016's specular anti-aliasing with Filament's constants
 // (2 x 0.15 |dn|^2, on r = 2 |dn|) up to the sharpest level's.
-const float kSharpestAlpha = 0.015625;  // kGgxPrefilterMinRoughness^2
-float mirror_level_weight(float spread) {
-    float alpha = u_roughness * u_roughness;
+const float kSharpestRoughness = 0.125;  // kGgxPrefilterMinRoughness
+const float kSharpestAlpha = kSharpestRoughness * kSharpestRoughness;
+float mirror_level_weight(float roughness, float spread) {
+    float alpha = roughness * roughness;
     float widened = sqrt(alpha * alpha + min(0.075 * spread, kSharpestAlpha * kSharpestAlpha));
     return clamp(widened / kSharpestAlpha, 0.0, 1.0);
 }
@@ -43,6 +45,8 @@ const float kMinAlpha = 1e-3;      // env/gltf_brdf.h's floor on alpha = roughne
 
 // glTF's material at one pixel: what the split sum and the cells' weights share.
 struct GltfPixel {
+    float metallic, roughness;  // the factors times the texture's
+    bool below_levels;          // roughness < kSharpestRoughness: the map itself and the sharpest level
     float n_dot_v;
     float alpha2;          // alpha^2, alpha = roughness^2
     vec3 f0;               // mix(0.04, baseColor, metallic)
@@ -52,17 +56,21 @@ struct GltfPixel {
 };
 
 // base_color: the texture's at this pixel; n_dot_v of the shading normal, r its mirror direction (in uniform
-// control flow: its screen derivatives are taken).
-GltfPixel gltf_pixel(vec3 base_color, float n_dot_v, vec3 r) {
+// control flow: screen derivatives are taken).
+GltfPixel gltf_pixel(vec3 base_color, vec2 texcoord, float n_dot_v, vec3 r) {
     GltfPixel p;
+    vec2 metallic_roughness = texture(u_metallic_roughness_texture, texcoord).bg;
+    p.metallic = u_metallic * metallic_roughness.x;
+    p.roughness = u_roughness * metallic_roughness.y;
+    p.below_levels = p.roughness < kSharpestRoughness;
     p.mirror_spread = mirror_spread(r);
     p.n_dot_v = clamp(n_dot_v, 0.0, 1.0);
-    float alpha = max(u_roughness * u_roughness, kMinAlpha);
+    float alpha = max(p.roughness * p.roughness, kMinAlpha);
     p.alpha2 = alpha * alpha;
     vec3 base = u_base_color_factor * base_color;
-    vec3 dfg = texture(u_dfg, vec2(p.n_dot_v, u_roughness)).rgb;
-    p.f0 = mix(vec3(kDielectricF0), base, u_metallic);
-    p.diffuse_albedo = base * ((1.0 - u_metallic) * (1.0 - kDielectricF0) * dfg.z);
+    vec3 dfg = texture(u_dfg, vec2(p.n_dot_v, p.roughness)).rgb;
+    p.f0 = mix(vec3(kDielectricF0), base, p.metallic);
+    p.diffuse_albedo = base * ((1.0 - p.metallic) * (1.0 - kDielectricF0) * dfg.z);
     p.specular_albedo = p.f0 * dfg.x + dfg.y;
     return p;
 }

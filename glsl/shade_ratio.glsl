@@ -21,21 +21,50 @@ vec3 prefiltered(sampler2D level, vec2 uv) {
     return texture(level, vec2(uv.x, (uv.y * (h - 1.0) + 0.5) / h)).rgb;
 }
 
-// The mean of the levels bound about the material's lobe width (its shininess, or its roughness) at r
-// (spread: glTF's mirror_spread there).
-vec3 lobe_mean(vec3 r, float spread) {
+// The mean of the two Phong levels bound about the material's shininess at r.
+vec3 lobe_mean(vec3 r) {
     vec2 uv = latlong_uv(u_env_from_world * r);
-    vec3 upper = prefiltered(u_specular_upper, uv);
-#if defined(METALLIC_ROUGHNESS)
-    // For a lobe sharper than the sharpest level the map itself is bound as the lower level (texel centres
-    // at (j + 0.5) / H), over the levels' hemisphere: with a ground, nothing below the horizon.
-    if (u_lower_is_map) {
-        vec3 mirror = u_upper_only && r.y < 0.0 ? vec3(0.0) : texture(u_specular_lower, uv).rgb;
-        return mix(mirror, upper, mirror_level_weight(spread));
-    }
-#endif
-    return mix(prefiltered(u_specular_lower, uv), upper, u_specular_weight);
+    return mix(prefiltered(u_specular_lower, uv), prefiltered(u_specular_upper, uv), u_specular_weight);
 }
+
+#if defined(METALLIC_ROUGHNESS)
+// env/ggx_prefilter.h's levels in one texture (Renderer::set_ggx_prefiltered): level k's rows start at
+// u_ggx_levels[k].x, its width and height are .y and .z. Each pixel reads the two about its own roughness,
+// bilinearly by hand as GL_LINEAR would (GL_REPEAT in u, clamped in v; rows from pole to pole).
+layout(binding = UNIT_GGX_LEVEL_TEXELS) uniform sampler2D u_ggx_level_texels;
+layout(location = LOC_GGX_LEVELS) uniform ivec3 u_ggx_levels[GGX_PREFILTER_LEVELS];
+// The map itself, for lobes sharper than the sharpest level (texel centres at (j + 0.5) / H).
+layout(binding = UNIT_GGX_MIRROR) uniform sampler2D u_ggx_mirror;
+
+vec3 ggx_level(int k, vec2 uv) {
+    ivec3 level = u_ggx_levels[k];
+    vec2 x = vec2(uv.x * float(level.y) - 0.5, uv.y * float(level.z - 1));
+    vec2 corner = floor(x), f = x - corner;
+    int i0 = int(corner.x - float(level.y) * floor(corner.x / float(level.y)));
+    int i1 = i0 + 1 == level.y ? 0 : i0 + 1;
+    int j0 = level.x + clamp(int(corner.y), 0, level.z - 1);
+    int j1 = min(j0 + 1, level.x + level.z - 1);
+    vec3 bottom = mix(texelFetch(u_ggx_level_texels, ivec2(i0, j0), 0).rgb,
+                      texelFetch(u_ggx_level_texels, ivec2(i1, j0), 0).rgb, f.x);
+    vec3 top = mix(texelFetch(u_ggx_level_texels, ivec2(i0, j1), 0).rgb,
+                   texelFetch(u_ggx_level_texels, ivec2(i1, j1), 0).rgb, f.x);
+    return mix(bottom, top, f.y);
+}
+
+// P(r, alpha) at the pixel's roughness: the two levels about it, linear in log roughness
+// (GgxPrefilteredEnvironment::level_pair); below the sharpest level the map itself and that level, over the
+// levels' hemisphere (with a ground, nothing below the horizon), widened by the pixel's footprint.
+vec3 ggx_lobe_mean(GltfPixel p, vec3 r) {
+    vec2 uv = latlong_uv(u_env_from_world * r);
+    if (p.below_levels) {
+        vec3 mirror = u_upper_only && r.y < 0.0 ? vec3(0.0) : textureLod(u_ggx_mirror, uv, 0.0).rgb;
+        return mix(mirror, ggx_level(0, uv), mirror_level_weight(p.roughness, p.mirror_spread));
+    }
+    float t = clamp(5.0 * log2(p.roughness / kSharpestRoughness), 0.0, float(GGX_PREFILTER_LEVELS - 1));
+    int lower = min(int(t), GGX_PREFILTER_LEVELS - 2);
+    return mix(ggx_level(lower, uv), ggx_level(lower + 1, uv), t - float(lower));
+}
+#endif
 
 // k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows, S_n
 // over the whole lobe (the cells' ratio clips it at the tangent plane); for a material with glTF's
@@ -43,12 +72,12 @@ vec3 lobe_mean(vec3 r, float spread) {
 vec3 unshadowed_radiance(Surface s) {
     vec3 irradiance_over_pi = prefiltered(u_irradiance, latlong_uv(u_env_from_world * s.normal));
 #if defined(METALLIC_ROUGHNESS)
-    vec3 split_sum = split_sum_radiance(s.gltf, irradiance_over_pi, lobe_mean(s.mirror, s.gltf.mirror_spread));
+    vec3 split_sum = split_sum_radiance(s.gltf, irradiance_over_pi, ggx_lobe_mean(s.gltf, s.mirror));
     return max(split_sum + compact_light_correction(s), vec3(0.0));  // the sun's true lobe (docs/DESIGN.md §11)
 #else
     vec3 result = s.k_d * (PI * irradiance_over_pi);
 #if !defined(DIFFUSE_ONLY)
-    if (u_k_s > 0.0) result += u_k_s * (2.0 * PI / (u_shininess + 1.0)) * lobe_mean(s.mirror, 0.0);
+    if (u_k_s > 0.0) result += u_k_s * (2.0 * PI / (u_shininess + 1.0)) * lobe_mean(s.mirror);
 #endif
     return result;
 #endif

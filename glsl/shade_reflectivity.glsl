@@ -146,9 +146,9 @@ layout(location = LOC_COMPACT_LIGHT_COUNT) uniform int u_compact_light_count;
 layout(location = LOC_COMPACT_LIGHTS) uniform ivec4 u_compact_lights;
 
 // The width the split sum's lookup gave a lobe of widened2: the levels about the roughness, or the map and the
-// sharpest level widened by the pixel's footprint up to that level's (lobe_mean, mirror_level_weight).
+// sharpest level widened by the pixel's footprint up to that level's (ggx_lobe_mean, mirror_level_weight).
 float split_sum_alpha2(Surface s, float widened2) {
-    return widened2 + (u_lower_is_map ? min(0.075 * s.gltf.mirror_spread, kSharpestAlpha * kSharpestAlpha) : 0.0);
+    return widened2 + (s.gltf.below_levels ? min(0.075 * s.gltf.mirror_spread, kSharpestAlpha * kSharpestAlpha) : 0.0);
 }
 
 // What the split sum misses of the compact lights' reflection: sum over them of L~_i (BRDF lobe - split sum's

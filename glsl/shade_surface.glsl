@@ -82,7 +82,7 @@ Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal
     s.mirror = reflect(-view, s.normal);
     s.view = view;
 #if defined(METALLIC_ROUGHNESS)
-    s.gltf = gltf_pixel(s.base_color, dot(s.normal, view), s.mirror);
+    s.gltf = gltf_pixel(s.base_color, texcoord, dot(s.normal, view), s.mirror);
 #endif
     return s;
 }

@@ -210,6 +210,8 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         }
         ImGui::TextDisabled("base-colour texture: %s; %s-sided", m.base_color_texture ? "yes" : "no",
                             m.double_sided ? "double" : "single");
+        if (m.metallic_roughness)
+            ImGui::TextDisabled("metallic-roughness texture: %s", m.metallic_roughness_texture ? "yes" : "no");
         changed |= ImGui::ColorEdit3("emission", &m.emission.x, ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
         ImGui::TextDisabled("emission texture: %s", m.emission_texture ? "yes" : "no");
         if (m.occlusion_texture)
@@ -225,6 +227,7 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         bool textures_changed = ImGui::Checkbox("base colour", &settings.base_color_texture);
         textures_changed |= ImGui::Checkbox("emission", &settings.emission_texture);
         textures_changed |= ImGui::Checkbox("occlusion", &settings.occlusion_texture);
+        textures_changed |= ImGui::Checkbox("metallic-roughness", &settings.metallic_roughness_texture);
         changes.settings |= textures_changed;
     }
 

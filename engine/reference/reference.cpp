@@ -364,9 +364,15 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
             // glTF's BRDF in place of the Phong stand-in (docs/DESIGN.md §11).
             glm::vec3 base_color = m->base_color;
             if (texture) base_color *= *texture;
+            float metallic = m->metallic, roughness = m->roughness;  // times the texture's B and G, as shade.frag's
+            if (material.metallic_roughness_texture && textured) {
+                const glm::vec3 parameters = texture_mean(*material.metallic_roughness_texture);
+                metallic *= parameters.b;
+                roughness *= parameters.g;
+            }
             s.metallic_roughness =
-                gltf_brdf::MetallicRoughness{glm::dvec3(base_color), double(m->metallic), double(m->roughness)};
-            s.alpha = gltf_brdf::alpha_from_roughness(m->roughness);
+                gltf_brdf::MetallicRoughness{glm::dvec3(base_color), double(metallic), double(roughness)};
+            s.alpha = gltf_brdf::alpha_from_roughness(roughness);
         } else {
             glm::vec3 rho_d = material.rho_d;
             if (texture) rho_d *= *texture;

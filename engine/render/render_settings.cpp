@@ -176,6 +176,9 @@ std::vector<SettingInfo> make_setting_table() {
                "Emission textures multiply the objects' emission (off: the emission factor alone)"),
         on_off("occlusion-texture", &RenderSettings::occlusion_texture, frame,
                "Occlusion textures darken the light the objects reflect (off: none)"),
+        on_off("metallic-roughness-texture", &RenderSettings::metallic_roughness_texture, frame,
+               "Metallic-roughness textures multiply the objects' metallic and roughness factors, in ratio shading "
+               "(off: the factors alone)"),
         integer_of("msaa", &RenderSettings::msaa, kMsaaSampleCounts, "MSAA samples", frame,
                    "Multisample anti-aliasing: samples per pixel, averaged in linear HDR before tone mapping"),
         choice("atlas", &RenderSettings::atlas, programs,

@@ -142,6 +142,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
     instance_textures_.clear();
     instance_emission_textures_.clear();
     instance_occlusion_textures_.clear();
+    instance_metallic_roughness_textures_.clear();
     instance_front_only_.clear();
     if (!white_texture_) white_texture_ = white_texture();
     std::vector<PlannedObject> planned;
@@ -188,6 +189,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         instance_textures_.push_back(texture(object.material.base_color_texture));
         instance_emission_textures_.push_back(texture(object.material.emission_texture));
         instance_occlusion_textures_.push_back(texture(object.material.occlusion_texture));
+        instance_metallic_roughness_textures_.push_back(texture(object.material.metallic_roughness_texture));
         instance_front_only_.push_back(!object.material.double_sided && mesh.caster_lod().levels[0].closed);
         PlannedObject& object_plan = planned.emplace_back();
         object_plan.object = object;
@@ -247,16 +249,27 @@ void Renderer::set_prefiltered(const PrefilteredEnvironment& prefiltered) {
 }
 
 void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered) {
-    ggx_prefiltered_.clear();
-    ggx_levels_ = {};
-    ggx_levels_.hemisphere = prefiltered.hemisphere;
-    for (const GgxPrefilteredLevel& level : prefiltered.levels) {
-        ggx_prefiltered_.push_back(upload_rgb32f(level.width, level.height, level.texels.data()));
-        GgxPrefilteredLevel& kept = ggx_levels_.levels.emplace_back();
-        kept.roughness = level.roughness;
-        kept.width = level.width;
-        kept.height = level.height;
+    if (prefiltered.levels.size() != std::size_t(kGgxPrefilterLevels))
+        throw std::invalid_argument("renderer: " + std::to_string(prefiltered.levels.size()) + " GGX levels given, " +
+                                    std::to_string(kGgxPrefilterLevels) + " expected");
+    // The levels one above the other in one texture, so that each pixel reads those about its own roughness
+    // (glsl/shade_ratio.glsl ggx_lobe_mean): level k's rows from ggx_level_rows_[k].x.
+    ggx_hemisphere_ = prefiltered.hemisphere;
+    int width = 0, height = 0;
+    for (std::size_t k = 0; k < prefiltered.levels.size(); ++k) {
+        const GgxPrefilteredLevel& level = prefiltered.levels[k];
+        ggx_level_rows_[k] = {height, level.width, level.height};
+        width = std::max(width, level.width);
+        height += level.height;
     }
+    ggx_level_texels_ = gl::Texture::create_2d(GL_RGB32F, width, height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (std::size_t k = 0; k < prefiltered.levels.size(); ++k) {
+        const GgxPrefilteredLevel& level = prefiltered.levels[k];
+        glTextureSubImage2D(ggx_level_texels_.id(), 0, 0, ggx_level_rows_[k].x, level.width, level.height, GL_RGB,
+                            GL_FLOAT, level.texels.data());
+    }
+    ggx_level_texels_.set_filter(GL_NEAREST, GL_NEAREST);  // read by texelFetch
     if (!dfg_) {
         const DfgTable table = compute_dfg_table(kDfgTableSize);
         dfg_ = upload_rgb32f(table.size, table.size, table.texels.data(), GL_CLAMP_TO_EDGE);
@@ -646,9 +659,9 @@ void Renderer::build_tile_lists(const FramePlan& plan, const CameraView& view, c
 
 // Whether some object is drawn with glTF's BRDF this frame (its program needs the GGX levels).
 bool Renderer::draws_metallic_roughness(const FramePlan& plan) const {
-    return !ggx_prefiltered_.empty() && std::ranges::any_of(plan.objects, [](const ObjectFrame& o) {
-        return o.program == ShadeProgram::metallic_roughness;
-    });
+    return ggx_level_texels_ && std::ranges::any_of(plan.objects, [](const ObjectFrame& o) {
+               return o.program == ShadeProgram::metallic_roughness;
+           });
 }
 
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
@@ -741,7 +754,11 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
              {programs.full, programs.diffuse_only, programs.flat_receiver, programs.metallic_roughness})
             glProgramUniformMatrix3fv(shade->id(), loc::env_from_world, 1, GL_FALSE, &env_from_world[0][0]);
         if (!prefiltered_.empty()) prefiltered_[0].bind(unit::irradiance);
-        if (draws_metallic_roughness(plan)) set_compact_lights(programs.metallic_roughness->id(), plan);
+        if (draws_metallic_roughness(plan)) {
+            set_compact_lights(programs.metallic_roughness->id(), plan);
+            glProgramUniform3iv(programs.metallic_roughness->id(), loc::ggx_levels, kGgxPrefilterLevels,
+                                &ggx_level_rows_[0][0]);
+        }
     }
     glEnable(GL_DEPTH_TEST);
     // After the pre-pass only the visible fragment of each pixel passes (bit-identical depths:
@@ -753,7 +770,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
         const ObjectFrame& object = plan.objects[i];
         // glTF's BRDF needs the GGX levels; without them its Phong stand-in.
-        const bool gltf = object.program == ShadeProgram::metallic_roughness && !ggx_prefiltered_.empty();
+        const bool gltf = object.program == ShadeProgram::metallic_roughness && ggx_level_texels_;
         const gl::Program& shade = object.program == ShadeProgram::flat_receiver  ? *programs.flat_receiver
                                    : object.program == ShadeProgram::diffuse_only ? *programs.diffuse_only
                                    : gltf                                         ? *programs.metallic_roughness
@@ -769,7 +786,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         glProgramUniform3f(program, loc::k_d, object.k_d.r, object.k_d.g, object.k_d.b);
         glProgramUniform1f(program, loc::k_s, object.k_s);
         glProgramUniform1f(program, loc::shininess, object.shininess);
-        if (ratio) bind_unshadowed_levels(program, object, gltf);
+        if (ratio) bind_unshadowed_levels(program, object, i, gltf);
         (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
         glProgramUniform3f(program, loc::emission, object.emission.r, object.emission.g, object.emission.b);
         if (variant_.alpha_test) bind_alpha_mask(program, object, i);
@@ -810,25 +827,20 @@ void Renderer::bind_alpha_mask(GLuint program, const ObjectFrame& object, std::s
     (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
 }
 
-void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object, bool gltf) const {
-    // glTF's BRDF: the two GGX levels about the roughness, or the map itself and the sharpest level; else the
-    // Phong levels about the shininess. Either way two levels interpolated in log lobe width.
+void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object, std::size_t i, bool gltf) const {
+    // glTF's BRDF: all the GGX levels and the map itself, each pixel reading those about its own roughness; else
+    // the two Phong levels about the shininess, interpolated in log lobe width.
     if (gltf) {
-        const bool mirror = object.metallic_roughness->roughness < kGgxPrefilterMinRoughness;
-        glProgramUniform1i(program, loc::lower_is_map, mirror ? 1 : 0);
         glProgramUniform1i(program, loc::pixel_footprint, samples_ > 1 ? 1 : 0);
+        glProgramUniform1i(program, loc::upper_only, ggx_hemisphere_ == Hemisphere::upper ? 1 : 0);
         const MetallicRoughness& m = *object.metallic_roughness;
         glProgramUniform3f(program, loc::base_color_factor, m.base_color.r, m.base_color.g, m.base_color.b);
         glProgramUniform1f(program, loc::metallic, m.metallic);
         glProgramUniform1f(program, loc::roughness, m.roughness);
-        LevelPair pair = ggx_levels_.level_pair(m.roughness);
-        if (mirror) {  // the map itself, then the sharpest level
-            pair = {0, 0, ggx_sharpest_level_weight(m.roughness)};
-            glProgramUniform1i(program, loc::upper_only, ggx_levels_.hemisphere == Hemisphere::upper ? 1 : 0);
-        }
-        (mirror ? environment_ : ggx_prefiltered_[std::size_t(pair.lower)]).bind(unit::specular_lower);
-        ggx_prefiltered_[std::size_t(pair.upper)].bind(unit::specular_upper);
-        glProgramUniform1f(program, loc::specular_weight, pair.weight);
+        (settings_.metallic_roughness_texture ? *instance_metallic_roughness_textures_[i] : white_texture_)
+            .bind(unit::metallic_roughness_texture);
+        ggx_level_texels_.bind(unit::ggx_level_texels);
+        environment_.bind(unit::ggx_mirror);
         dfg_.bind(unit::dfg);
     } else if (!prefiltered_.empty()) {
         const LevelPair pair = prefiltered_levels_.level_pair(object.shininess);

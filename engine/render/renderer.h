@@ -15,6 +15,7 @@
 // render() and set_lights() create no GL objects and reuse their buffers from frame to frame; only a
 // change of image size, light count or settings reallocates (and the shadow cache's layer is made the
 // first time something moves; the returned pass-time list is the one per-frame vector).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -25,6 +26,7 @@
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
 #include "core/image.h"
 #include "env/cells.h"
@@ -166,9 +168,9 @@ private:
     const gl::Program& metallic_roughness_program(const FramePlan& plan);
     // glTF's BRDF: the lights whose reflection takes the lobe's true shape (FramePlan::compact_lights).
     void set_compact_lights(GLuint program, const FramePlan& plan) const;
-    // Ratio shading: the object's unshadowed part's uniforms and levels (glsl/shade_ratio.glsl).
+    // Ratio shading: the unshadowed part's uniforms, levels and textures of object i (glsl/shade_ratio.glsl).
     // `gltf`: drawn with the METALLIC_ROUGHNESS program.
-    void bind_unshadowed_levels(GLuint program, const ObjectFrame& object, bool gltf) const;
+    void bind_unshadowed_levels(GLuint program, const ObjectFrame& object, std::size_t i, bool gltf) const;
     // The alpha mask's uniforms and the base-colour texture of object i (its cutoff 0 where it has no mask).
     void bind_alpha_mask(GLuint program, const ObjectFrame& object, std::size_t i) const;
     // The front face's winding and whether back faces are culled, for object i drawn for the camera.
@@ -204,12 +206,14 @@ private:
     std::vector<std::unique_ptr<GpuMesh>> meshes_;
     std::vector<const GpuMesh*> instance_meshes_;  // per object of planner_.objects()
     std::vector<int> instance_of_object_;          // index into instance_meshes_ per scene object; -1: no triangles
-    // Base-colour, emission and occlusion textures, per object of planner_.objects() (white_texture_ without one);
+    // Base-colour, emission, occlusion and metallic-roughness textures, per object of planner_.objects()
+    // (white_texture_ without one);
     // fixed by set_scene (set_material changes the factors only).
     std::vector<std::unique_ptr<gl::Texture>> textures_;
     std::vector<const gl::Texture*> instance_textures_;
     std::vector<const gl::Texture*> instance_emission_textures_;
     std::vector<const gl::Texture*> instance_occlusion_textures_;
+    std::vector<const gl::Texture*> instance_metallic_roughness_textures_;
     // Per object of planner_.objects(): closed and single-sided (Material::double_sided false), so drawn
     // for the camera with back faces culled; fixed by set_scene.
     std::vector<bool> instance_front_only_;
@@ -258,9 +262,11 @@ private:
     gl::Texture environment_;
     PrefilteredEnvironment prefiltered_levels_;  // the levels' shininess and size (texels dropped)
     std::vector<gl::Texture> prefiltered_;       // per level, RGB32F lat-long
-    GgxPrefilteredEnvironment ggx_levels_;       // the levels' roughness and size (texels dropped)
-    std::vector<gl::Texture> ggx_prefiltered_;   // per level, RGB32F lat-long
-    gl::Texture dfg_;                            // (scale, bias, diffuse), RGB32F over (n.v, roughness)
+    // The GGX levels one above the other, RGB32F; level k's first row, width and height.
+    gl::Texture ggx_level_texels_;
+    std::array<glm::ivec3, kGgxPrefilterLevels> ggx_level_rows_{};
+    Hemisphere ggx_hemisphere_ = Hemisphere::full;
+    gl::Texture dfg_;  // (scale, bias, diffuse), RGB32F over (n.v, roughness)
     // Drawn into target_: colour and depth with samples_ samples per pixel. At one sample color_ is target_'s
     // colour; with more, target_'s is multisample_color_, resolved into color_ through resolved_.
     int samples_ = 1;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "env/cells.h"
+#include "env/ggx_prefilter.h"
 
 namespace envshadow::render::shader {
 
@@ -45,9 +46,8 @@ namespace envshadow::render::shader {
     X(loc, base_color_factor, 27)                                                                      \
     X(loc, metallic, 28)                                                                               \
     X(loc, roughness, 29)                                                                              \
-    X(loc, lower_is_map, 30) /* the lower level is the map itself (the mirror) */                      \
-    X(loc, upper_only, 31)   /* the levels' hemisphere is the upper one */                             \
-    X(loc, emission, 32)     /* shade.frag: Material::emission (times u_emission_texture) */           \
+    X(loc, upper_only, 31) /* the levels' hemisphere is the upper one */                               \
+    X(loc, emission, 32)   /* shade.frag: Material::emission (times u_emission_texture) */             \
     /* alpha_mask.glsl: shade.frag ALPHA_TEST, depth_prepass.frag, shadow_atlas_mask.frag */           \
     X(loc, base_alpha, 33)                                                                             \
     X(loc, alpha_cutoff, 34)        /* 0: nothing cut out */                                           \
@@ -55,6 +55,7 @@ namespace envshadow::render::shader {
     X(loc, occlusion_strength, 36)  /* shade.frag: Material::occlusion_strength */                     \
     X(loc, compact_light_count, 37) /* METALLIC_ROUGHNESS: FramePlan::compact_lights, their count */   \
     X(loc, compact_lights, 38)      /* and the indices (ivec4) */                                      \
+    X(loc, ggx_levels, 39)          /* METALLIC_ROUGHNESS: each GGX level's rows (ivec3, 39-54) */     \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -92,6 +93,11 @@ namespace envshadow::render::shader {
     X(unit, dfg, 10)               /* shade.frag METALLIC_ROUGHNESS: env/dfg_table.h's table */        \
     X(unit, emission_texture, 11)  /* shade.frag: the material's emission (white without one) */       \
     X(unit, occlusion_texture, 12) /* shade.frag: the material's occlusion (R, linear; white) */       \
+    /* shade.frag METALLIC_ROUGHNESS: the GGX levels in one texture, the map itself, and the */        \
+    /* material's metallic (B) and roughness (G), linear, white without one */                         \
+    X(unit, ggx_level_texels, 13)                                                                      \
+    X(unit, ggx_mirror, 4)                                                                             \
+    X(unit, metallic_roughness_texture, 14)                                                            \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \
@@ -116,7 +122,9 @@ namespace envshadow::render::shader {
     X(size, screen_tile, 16)        /* pixels: shadow_tiles.comp's work group, shade.frag's tile */    \
     X(size, fs_work_group, 64)      /* fs_importance, fs_lights, fs_cell_* (a power of two) */         \
     X(size, fs_scan_run, 16)        /* fs_sampler.geom's unrolled run: the width must be a multiple */ \
-    X(size, fs_texel_bits, 21)      /* a packed sample: texel index bits, multiplicity above them */
+    X(size, fs_texel_bits, 21)      /* a packed sample: texel index bits, multiplicity above them */   \
+    /* the GGX levels (env/ggx_prefilter.h) */                                                         \
+    X(size, ggx_prefilter_levels, kGgxPrefilterLevels)
 
 #define ENVSHADOW_SHADER_CONSTANT(kind, name, value) \
     namespace kind {                                 \

@@ -195,7 +195,7 @@ void resolve_texture(const std::filesystem::path& path, const tinygltf::Model& m
     out[t] = std::move(mt);
 }
 
-// The glTF textures the materials use (base colour, emission, occlusion), by texture index: their image
+// The glTF textures the materials use (GltfMaterial::texture_refs()), by texture index: their image
 // (decoded by the ImageDecoder) and sampler. A texture without a PNG/JPEG source (only an extension's) is
 // left unset, with a warning: its material shows its factors.
 std::vector<std::optional<MaterialTexture>> resolve_textures(const std::filesystem::path& path,
@@ -262,8 +262,7 @@ GltfModel load_gltf(const std::filesystem::path& path) {
 
     GltfMaterials materials = read_gltf_materials(path, document);
 
-    // The images the base-colour, emission and occlusion textures use, checked to exist before tinygltf
-    // reads them.
+    // The images the materials' textures use, checked to exist before tinygltf reads them.
     const json textures = document.value("textures", json::array());
     const json images = document.value("images", json::array());
     ImageDecoder decoder;

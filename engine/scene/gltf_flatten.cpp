@@ -128,7 +128,7 @@ private:
         return ref && textures_[std::size_t(ref->texture)] ? &*ref : nullptr;
     }
     // The texture reference whose coordinates glTF material `material`'s meshes carry (Mesh has one set):
-    // the base colour's, else the emission's, else the occlusion's, where one resolved.
+    // the first of GltfMaterial::texture_refs() that resolved.
     const GltfTextureRef* texture_ref(int material) const {
         if (material < 0) return nullptr;
         const GltfMaterial& m = materials_[std::size_t(material)];
@@ -262,9 +262,9 @@ private:
     std::size_t part_for(int material) {
         int& part = part_of_material_[std::size_t(material + 1)];
         if (part >= 0) return std::size_t(part);
-        GltfMaterial mapped = material >= 0
-                                  ? materials_[std::size_t(material)]
-                                  : GltfMaterial{Material{}, "no material", std::nullopt, std::nullopt, std::nullopt};
+        GltfMaterial mapped =
+            material >= 0 ? materials_[std::size_t(material)] : GltfMaterial{Material{},   "no material", std::nullopt,
+                                                                             std::nullopt, std::nullopt,  std::nullopt};
         if (const GltfTextureRef* base = resolved(mapped.base_color))
             mapped.material.base_color_texture = textures_[std::size_t(base->texture)];
         // The other textures are used only where they read the base colour's coordinates (Mesh has one set).
@@ -277,6 +277,11 @@ private:
                       "it is ignored");
             return false;
         };
+        if (const GltfTextureRef* parameters = resolved(mapped.metallic_roughness);
+            mapped.material.metallic_roughness && on_mesh_coordinates(parameters, "metallic-roughness")) {
+            mapped.material.metallic_roughness_texture = textures_[std::size_t(parameters->texture)];
+            mapped.material.metallic_roughness_texture->srgb = false;  // data: roughness in G, metalness in B
+        }
         if (const GltfTextureRef* emission = resolved(mapped.emission); on_mesh_coordinates(emission, "emission"))
             mapped.material.emission_texture = textures_[std::size_t(emission->texture)];
         if (const GltfTextureRef* occlusion = resolved(mapped.occlusion); on_mesh_coordinates(occlusion, "occlusion")) {

@@ -71,6 +71,7 @@ public:
                 g.material = material_from_metallic_roughness(
                     MetallicRoughness{base, unit(pbr, "metallicFactor", at), unit(pbr, "roughnessFactor", at)});
                 g.base_color = texture_ref(pbr, "baseColorTexture", at);
+                g.metallic_roughness = texture_ref(pbr, "metallicRoughnessTexture", at);
             }
             // Emission: emissiveFactor (default black) times the extension's emissiveStrength (default 1).
             if (m.contains("emissiveFactor")) {

@@ -49,8 +49,8 @@ Material with_metallic_roughness(Material material, const MetallicRoughness& par
 // roughness = 1 - glossiness, rho_s = luminance(specular) (n + 1) / (n + 2).
 Material material_from_specular_glossiness(const glm::vec3& diffuse, const glm::vec3& specular, float glossiness);
 
-// A material's textureInfo (baseColorTexture or the extension's diffuseTexture, emissiveTexture,
-// occlusionTexture): the texture, its TEXCOORD set and KHR_texture_transform as the affine map
+// A material's textureInfo (baseColorTexture or the extension's diffuseTexture, metallicRoughnessTexture,
+// emissiveTexture, occlusionTexture): the texture, its TEXCOORD set and KHR_texture_transform as the affine map
 // uv' = (uv_transform * vec3(uv, 1)).xy.
 struct GltfTextureRef {
     int texture = -1;  // index into the file's "textures" (checked by load_gltf)
@@ -62,12 +62,13 @@ struct GltfMaterial {
     Material material;  // the textures unset (occlusion_strength set): load_gltf resolves the refs below
     std::string name;   // the glTF material's name, or "material <index>" without one
     std::optional<GltfTextureRef> base_color;
-    std::optional<GltfTextureRef> emission;   // emissiveTexture
-    std::optional<GltfTextureRef> occlusion;  // occlusionTexture
+    std::optional<GltfTextureRef> metallic_roughness;  // metallicRoughnessTexture
+    std::optional<GltfTextureRef> emission;            // emissiveTexture
+    std::optional<GltfTextureRef> occlusion;           // occlusionTexture
 
     // Every reference above, the base colour's first (whose coordinates the mesh carries where it has one).
-    std::array<const std::optional<GltfTextureRef>*, 3> texture_refs() const {
-        return {&base_color, &emission, &occlusion};
+    std::array<const std::optional<GltfTextureRef>*, 4> texture_refs() const {
+        return {&base_color, &metallic_roughness, &emission, &occlusion};
     }
 };
 

@@ -35,13 +35,16 @@ enum class AlphaMode { opaque, mask };
 // A base-colour texture, where present, multiplies rho_d per pixel (linear RGB; docs/SCENES.md
 // "Textures"): k_d = rho_d texture(uv) / pi.
 // With metallic_roughness, rho_d, rho_s and shininess are its Phong stand-in (docs/SCENES.md "Materials from
-// glTF"): what cells shading draws, and the cells' weights in the shadowed fraction of ratio shading.
+// glTF"): what cells shading draws. The metallic-roughness texture, where present, multiplies metallic (its B)
+// and roughness (its G) per pixel (docs/SCENES.md "Textures"); only where metallic_roughness is set, only in
+// ratio shading and the reference (the stand-in keeps the factors).
 struct Material {
     glm::vec3 rho_d{0.8f};
     float rho_s = 0.0f;
     float shininess = 1.0f;
     std::optional<MaterialTexture> base_color_texture = std::nullopt;  // needs Mesh::texcoords
     std::optional<MetallicRoughness> metallic_roughness = std::nullopt;
+    std::optional<MaterialTexture> metallic_roughness_texture = std::nullopt;  // needs Mesh::texcoords; srgb false
     // Emitted radiance (linear RGB, glTF's emissiveFactor times KHR_materials_emissive_strength), times the
     // emission texture where present (docs/SCENES.md "Emission"). Seen directly; it lights nothing else.
     glm::vec3 emission{0.0f};
@@ -65,6 +68,7 @@ struct Material {
                metallic_roughness == o.metallic_roughness && emission == o.emission && alpha_mode == o.alpha_mode &&
                alpha_cutoff == o.alpha_cutoff && base_alpha == o.base_alpha && double_sided == o.double_sided &&
                same_texture(base_color_texture, o.base_color_texture) &&
+               same_texture(metallic_roughness_texture, o.metallic_roughness_texture) &&
                same_texture(emission_texture, o.emission_texture) &&
                same_texture(occlusion_texture, o.occlusion_texture) && occlusion_strength == o.occlusion_strength;
     }

@@ -46,6 +46,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 !std::isfinite(m.alpha_cutoff) || !(m.occlusion_strength >= 0.0f && m.occlusion_strength <= 1.0f))
                 fuzz::finding("emission, occlusion or alpha out of range");
             if (m.occlusion_texture && m.occlusion_texture->srgb) fuzz::finding("occlusion read as sRGB colour");
+            if (m.metallic_roughness_texture && (m.metallic_roughness_texture->srgb || !m.metallic_roughness))
+                fuzz::finding("metallic-roughness texture read as colour, or without the factors");
             // An animated part poses, at any time, into a mesh as sound as the rest pose.
             if (model.rig && part.sources) {
                 const MeshDeformation deformation(model.rig, part.sources, part.mesh, 0, true);
@@ -64,7 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             }
             // A texture comes with one finite texture coordinate per vertex and whole RGBA texels.
             for (const std::optional<MaterialTexture>& texture :
-                 {m.base_color_texture, m.emission_texture, m.occlusion_texture}) {
+                 {m.base_color_texture, m.metallic_roughness_texture, m.emission_texture, m.occlusion_texture}) {
                 if (!texture) continue;
                 const TextureImage* image = texture->image.get();
                 if (!image || image->width <= 0 || image->height <= 0 ||

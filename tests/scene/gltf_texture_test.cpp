@@ -332,6 +332,50 @@ TEST(SceneGltfOcclusion, BadOcclusionIsAnErrorNamingTheProperty) {
     expect_input_error(quad.write(), "materials[0] uses texture 3, which does not exist");
 }
 
+// Metallic-roughness texture (docs/SCENES.md "Textures"): its G and B scale the factors; read as stored (linear),
+// where it reads the base colour's texture coordinates; with KHR_materials_pbrSpecularGlossiness, none.
+TEST(SceneGltfMetallicRoughnessTexture, TheTextureIsDataBesideTheFactors) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 0}};
+    quad.writer.doc["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"] = 0.5;
+    const Material m = load_gltf(quad.write()).parts.at(0).material;
+    ASSERT_TRUE(m.metallic_roughness_texture.has_value());
+    EXPECT_FALSE(m.metallic_roughness_texture->srgb);
+    EXPECT_TRUE(m.base_color_texture->srgb);  // the same image, decoded as colour there
+    EXPECT_EQ(m.metallic_roughness_texture->image, m.base_color_texture->image);
+    ASSERT_TRUE(m.metallic_roughness.has_value());
+    EXPECT_EQ(m.metallic_roughness->roughness, 0.5f);  // the factor, the texture's G applied per pixel
+    EXPECT_EQ(m.metallic_roughness->metallic, 1.0f);
+}
+
+TEST(SceneGltfMetallicRoughnessTexture, TheTextureAloneGivesTheMeshItsCoordinates) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"] =
+        json::array({{{"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 0}}}}}}});
+    const GltfModel model = load_gltf(quad.write());
+    EXPECT_TRUE(model.parts.at(0).material.metallic_roughness_texture.has_value());
+    EXPECT_EQ(model.parts.at(0).mesh->texcoords.size(), 4u);
+}
+
+TEST(SceneGltfMetallicRoughnessTexture, OnOtherCoordinatesOrUnderSpecularGlossinessItIsIgnored) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 0},
+                                                                                           {"texCoord", 1}};
+    EXPECT_FALSE(load_gltf(quad.write()).parts.at(0).material.metallic_roughness_texture.has_value());
+    quad.writer.doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 0}};
+    quad.writer.doc["materials"][0]["extensions"] = {
+        {"KHR_materials_pbrSpecularGlossiness", {{"diffuseTexture", {{"index", 0}}}}}};
+    const Material m = load_gltf(quad.write()).parts.at(0).material;
+    EXPECT_FALSE(m.metallic_roughness_texture.has_value());
+    EXPECT_TRUE(m.base_color_texture.has_value());
+}
+
+TEST(SceneGltfMetallicRoughnessTexture, AMissingTextureIsAnError) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 3}};
+    expect_input_error(quad.write(), "materials[0] uses texture 3, which does not exist");
+}
+
 // Alpha (docs/SCENES.md "Alpha"): alphaMode, alphaCutoff and baseColorFactor's alpha.
 TEST(SceneGltfAlpha, MaskTakesItsCutoffAndTheFactorsAlpha) {
     TexturedQuad quad;
