@@ -29,8 +29,10 @@ vec3 lobe_mean(vec3 r) {
 
 #if defined(METALLIC_ROUGHNESS)
 // env/ggx_prefilter.h's levels in one texture (Renderer::set_ggx_prefiltered): level k's rows start at
-// u_ggx_levels[k].x, its width and height are .y and .z. Each pixel reads the two about its own roughness,
-// bilinearly by hand as GL_LINEAR would (GL_REPEAT in u, clamped in v; rows from pole to pole).
+// u_ggx_levels[k].x, its width and height are .y and .z; each row holds the level's row in columns 1 ... width
+// with a copy of its last texel before and of its first after, so that GL_LINEAR wraps in u as GL_REPEAT
+// would. Rows run from pole to pole (theta = pi j / (H - 1)), so v never reaches past the level's first or
+// last row's centre. Each pixel reads the two levels about its own roughness.
 layout(binding = UNIT_GGX_LEVEL_TEXELS) uniform sampler2D u_ggx_level_texels;
 layout(location = LOC_GGX_LEVELS) uniform ivec3 u_ggx_levels[GGX_PREFILTER_LEVELS];
 // The map itself, for lobes sharper than the sharpest level (texel centres at (j + 0.5) / H).
@@ -38,17 +40,8 @@ layout(binding = UNIT_GGX_MIRROR) uniform sampler2D u_ggx_mirror;
 
 vec3 ggx_level(int k, vec2 uv) {
     ivec3 level = u_ggx_levels[k];
-    vec2 x = vec2(uv.x * float(level.y) - 0.5, uv.y * float(level.z - 1));
-    vec2 corner = floor(x), f = x - corner;
-    int i0 = int(corner.x - float(level.y) * floor(corner.x / float(level.y)));
-    int i1 = i0 + 1 == level.y ? 0 : i0 + 1;
-    int j0 = level.x + clamp(int(corner.y), 0, level.z - 1);
-    int j1 = min(j0 + 1, level.x + level.z - 1);
-    vec3 bottom = mix(texelFetch(u_ggx_level_texels, ivec2(i0, j0), 0).rgb,
-                      texelFetch(u_ggx_level_texels, ivec2(i1, j0), 0).rgb, f.x);
-    vec3 top = mix(texelFetch(u_ggx_level_texels, ivec2(i0, j1), 0).rgb,
-                   texelFetch(u_ggx_level_texels, ivec2(i1, j1), 0).rgb, f.x);
-    return mix(bottom, top, f.y);
+    vec2 texel = vec2(uv.x * float(level.y) + 1.0, float(level.x) + uv.y * float(level.z - 1) + 0.5);
+    return textureLod(u_ggx_level_texels, texel / vec2(textureSize(u_ggx_level_texels, 0)), 0.0).rgb;
 }
 
 // P(r, alpha) at the pixel's roughness: the two levels about it, linear in log roughness

@@ -253,23 +253,35 @@ void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered)
         throw std::invalid_argument("renderer: " + std::to_string(prefiltered.levels.size()) + " GGX levels given, " +
                                     std::to_string(kGgxPrefilterLevels) + " expected");
     // The levels one above the other in one texture, so that each pixel reads those about its own roughness
-    // (glsl/shade_ratio.glsl ggx_lobe_mean): level k's rows from ggx_level_rows_[k].x.
+    // (glsl/shade_ratio.glsl ggx_level): level k's rows from ggx_level_rows_[k].x, each with a copy of its last
+    // texel before it and of its first after it, for GL_LINEAR to wrap in u.
     ggx_hemisphere_ = prefiltered.hemisphere;
     int width = 0, height = 0;
     for (std::size_t k = 0; k < prefiltered.levels.size(); ++k) {
         const GgxPrefilteredLevel& level = prefiltered.levels[k];
         ggx_level_rows_[k] = {height, level.width, level.height};
-        width = std::max(width, level.width);
+        width = std::max(width, level.width + 2);
         height += level.height;
     }
     ggx_level_texels_ = gl::Texture::create_2d(GL_RGB32F, width, height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    std::vector<glm::vec3> wrapped;
     for (std::size_t k = 0; k < prefiltered.levels.size(); ++k) {
         const GgxPrefilteredLevel& level = prefiltered.levels[k];
-        glTextureSubImage2D(ggx_level_texels_.id(), 0, 0, ggx_level_rows_[k].x, level.width, level.height, GL_RGB,
-                            GL_FLOAT, level.texels.data());
+        const auto w = std::size_t(level.width);
+        wrapped.resize((w + 2) * std::size_t(level.height));
+        for (std::size_t j = 0; j < std::size_t(level.height); ++j) {
+            const glm::vec3* row = level.texels.data() + j * w;
+            glm::vec3* out = wrapped.data() + j * (w + 2);
+            out[0] = row[w - 1];
+            std::copy(row, row + w, out + 1);
+            out[w + 1] = row[0];
+        }
+        glTextureSubImage2D(ggx_level_texels_.id(), 0, 0, ggx_level_rows_[k].x, level.width + 2, level.height, GL_RGB,
+                            GL_FLOAT, wrapped.data());
     }
-    ggx_level_texels_.set_filter(GL_NEAREST, GL_NEAREST);  // read by texelFetch
+    ggx_level_texels_.set_filter(GL_LINEAR, GL_LINEAR);
+    ggx_level_texels_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);  // never reached: each level's rows wrap
     if (!dfg_) {
         const DfgTable table = compute_dfg_table(kDfgTableSize);
         dfg_ = upload_rgb32f(table.size, table.size, table.texels.data(), GL_CLAMP_TO_EDGE);
