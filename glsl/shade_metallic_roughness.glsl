@@ -74,8 +74,3 @@ GltfPixel gltf_pixel(vec3 base_color, vec2 texcoord, float n_dot_v, vec3 r) {
     p.specular_albedo = p.f0 * dfg.x + dfg.y;
     return p;
 }
-
-// irradiance_over_pi: E(n) / pi; lobe_mean: P(r, alpha).
-vec3 split_sum_radiance(GltfPixel p, vec3 irradiance_over_pi, vec3 lobe_mean) {
-    return p.diffuse_albedo * irradiance_over_pi + p.specular_albedo * lobe_mean;
-}

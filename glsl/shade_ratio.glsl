@@ -65,8 +65,13 @@ vec3 ggx_lobe_mean(GltfPixel p, vec3 r) {
 vec3 unshadowed_radiance(Surface s) {
     vec3 irradiance_over_pi = prefiltered(u_irradiance, latlong_uv(u_env_from_world * s.normal));
 #if defined(METALLIC_ROUGHNESS)
-    vec3 split_sum = split_sum_radiance(s.gltf, irradiance_over_pi, ggx_lobe_mean(s.gltf, s.mirror));
-    return max(split_sum + compact_light_correction(s), vec3(0.0));  // the sun's true lobe (docs/DESIGN.md §11)
+    // The compact lights' reflection with the BRDF's lobe in place of the split sum's (docs/DESIGN.md §11). The
+    // split sum's share of a sun is modelled, not looked up: where its lookup holds less of it than modelled (a
+    // one-texel sun blurred by the bilinear filter at a lobe's edge), at most what it holds is taken away.
+    vec3 brdf_lobes, split_sum_lobes;
+    compact_light_lobes(s, brdf_lobes, split_sum_lobes);
+    vec3 specular = max(s.gltf.specular_albedo * ggx_lobe_mean(s.gltf, s.mirror) - split_sum_lobes, vec3(0.0));
+    return s.gltf.diffuse_albedo * irradiance_over_pi + specular + brdf_lobes;
 #else
     vec3 result = s.k_d * (PI * irradiance_over_pi);
 #if !defined(DIFFUSE_ONLY)

@@ -151,14 +151,16 @@ float split_sum_alpha2(Surface s, float widened2) {
     return widened2 + (s.gltf.below_levels ? min(0.075 * s.gltf.mirror_spread, kSharpestAlpha * kSharpestAlpha) : 0.0);
 }
 
-// What the split sum misses of the compact lights' reflection: sum over them of L~_i (BRDF lobe - split sum's
-// lobe). The split sum's lobe is round about r; the BRDF's, seen off the normal, is narrower and higher (by
-// about 1 / n.v at its peak), so a sun's highlight needs its true shape; over a smooth map the split sum is
-// close and the rest of the cells are left to it. The BRDF's lobe is widened by the pixel's footprint, the
-// variance of a pixel-wide box in the half vector, (|dn/dx|^2 + |dn/dy|^2) / 12 = mirror_spread / 48: a glint
-// smaller than the pixel is its mean over the pixel, not its value at the sample.
-vec3 compact_light_correction(Surface s) {
-    vec3 correction = vec3(0.0);
+// The compact lights' reflection both ways, summed over them: L~_i times the BRDF's lobe (`brdf`) and times the
+// split sum's (`split_sum`), which the split sum's lookup holds and the BRDF's replaces. The split sum's lobe is
+// round about r; the BRDF's, seen off the normal, is narrower and higher (by about 1 / n.v at its peak), so a
+// sun's highlight needs its true shape; over a smooth map the split sum is close and the rest of the cells are
+// left to it. The BRDF's lobe is widened by the pixel's footprint, the variance of a pixel-wide box in the half
+// vector, (|dn/dx|^2 + |dn/dy|^2) / 12 = mirror_spread / 48: a glint smaller than the pixel is its mean over the
+// pixel, not its value at the sample.
+void compact_light_lobes(Surface s, out vec3 brdf, out vec3 split_sum) {
+    brdf = vec3(0.0);
+    split_sum = vec3(0.0);
     for (int k = 0; k < u_compact_light_count; ++k) {
         int i = u_compact_lights[k];
         vec3 w = lights[i].direction.xyz;
@@ -166,10 +168,9 @@ vec3 compact_light_correction(Surface s) {
         float brdf2 = widened2 + s.gltf.mirror_spread / 48.0;
         float t = dot(s.mirror, w);
         if (beyond_lobe(t, brdf2)) continue;
-        vec3 lobes = brdf_lobe(s, w, dot(s.normal, w), brdf2) - split_sum_lobe(s, t, split_sum_alpha2(s, widened2));
-        correction += lights[i].radiance.rgb * lobes;
+        brdf += lights[i].radiance.rgb * brdf_lobe(s, w, dot(s.normal, w), brdf2);
+        split_sum += lights[i].radiance.rgb * split_sum_lobe(s, t, split_sum_alpha2(s, widened2));
     }
-    return correction;
 }
 #endif
 

@@ -221,6 +221,39 @@ TEST_P(MetallicRoughnessTest, ASunsHighlightMatchesTheReference) {
     EXPECT_LT(error, 0.025);
 }
 
+// A smooth gold sphere (roughness 0.08) glinting the city's one-texel sun, at the commands' defaults: the split
+// sum's modelled share of the sun exceeded what its lookup held at the glint's rim, and those pixels came out
+// black (15 at 480 x 270). None may be far darker than the pixels about it (docs/DESIGN.md §11, *Compact
+// lights*).
+TEST_P(MetallicRoughnessTest, ASmoothMetalsGlintHasNoBlackPixels) {
+    Scene scene = load_scene(std::string(ENVSHADOW_SOURCE_DIR) + "/assets/scenes/gold_sphere.json");
+    scene.camera.position = {0.0f, 1.0f, 2.2f};
+    scene.camera.target = {0.0f, 0.45f, 0.0f};
+    int metals = 0;
+    for (Object& o : scene.objects)
+        if (o.material.metallic_roughness) {
+            MetallicRoughness m = *o.material.metallic_roughness;
+            m.roughness = 0.08f;
+            o.material = with_metallic_roughness(o.material, m);
+            ++metals;
+        }
+    ASSERT_EQ(metals, 1);
+    constexpr int kWidth = 480, kHeight = 270;
+    const Image image =
+        render_scene(scene, commands_defaults(), kWidth, kHeight, {.method = Method::lloyd, .lights = 32});
+    int black = 0;
+    std::vector<float> around;
+    for (int y = 2; y < kHeight - 2; ++y)
+        for (int x = 2; x < kWidth - 2; ++x) {
+            around.clear();
+            for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx) around.push_back(image.at(x + dx, y + dy).r);
+            std::nth_element(around.begin(), around.begin() + 12, around.end());
+            if (around[12] > 1.0f && image.at(x, y).r < 0.02f * around[12]) ++black;
+        }
+    EXPECT_EQ(black, 0) << "pixels under 2% of the median about them";
+}
+
 ENVSHADOW_INSTANTIATE_GL_TEST(MetallicRoughnessTest);
 
 }  // namespace
