@@ -128,6 +128,30 @@ TEST(SceneAssets, SpheresRiseInShininessFromOneToOneThousand) {
     EXPECT_TRUE(std::count(shininess.begin(), shininess.end(), 100.0f));  // the paper's Fig. 7 value
 }
 
+// roughness_bands.glb as Blender's exporter wrote it (scripts/blender-roughness.py): one material whose
+// metallicRoughnessTexture, data read as stored, gives smooth and rough bands, metal above and not below.
+TEST(SceneAssets, RoughnessBandsCarryBlendersMetallicRoughnessTexture) {
+    const Scene s = load_scene(kScenes / "roughness_bands.json");
+    std::vector<const Material*> textured;
+    for (const Object& o : s.objects)
+        if (o.material.metallic_roughness_texture) textured.push_back(&o.material);
+    ASSERT_EQ(textured.size(), 1u);
+    const Material& m = *textured[0];
+    ASSERT_TRUE(m.metallic_roughness.has_value());
+    EXPECT_EQ(m.metallic_roughness->roughness, 1.0f);  // the texture alone: the factors at glTF's default
+    EXPECT_EQ(m.metallic_roughness->metallic, 1.0f);
+    EXPECT_FALSE(m.metallic_roughness_texture->srgb);
+    EXPECT_TRUE(m.metallic_roughness_texture->nearest);
+    const TextureImage& image = *m.metallic_roughness_texture->image;
+    std::set<int> roughness, metalness;
+    for (std::size_t i = 0; i + 3 < image.rgba.size(); i += 4) {
+        roughness.insert(image.rgba[i + 1]);
+        metalness.insert(image.rgba[i + 2]);
+    }
+    EXPECT_EQ(roughness, (std::set<int>{20, 153}));  // 0.08 and 0.6
+    EXPECT_EQ(metalness, (std::set<int>{0, 255}));
+}
+
 TEST(SceneAssets, FlyoverFiguresAreFifteenThousandTrianglesEach) {
     const Scene two = load_scene(kScenes / "flyover.json");
     const Scene one = load_scene(kScenes / "flyover_single.json");
