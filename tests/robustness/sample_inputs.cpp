@@ -371,11 +371,14 @@ void write_sample_gltf_textured(const std::filesystem::path& path, const std::st
     doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 3;
     doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
         {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}, {"scale", {2, 1}}}}}}};
-    // Emission from the same texture on the same coordinates, its factor scaled by the extension.
+    // Emission, occlusion and metallic-roughness from the same texture on the same coordinates, the emission
+    // factor scaled by the extension.
     doc["materials"][0]["emissiveTexture"] = doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"];
     doc["materials"][0]["emissiveFactor"] = {0.2, 0.1, 0.0};
     doc["materials"][0]["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", 2.0}}}};
     doc["materials"][0]["occlusionTexture"] = {{"index", 0}, {"strength", 0.5}};
+    doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] =
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"];
     doc["materials"][0]["alphaMode"] = "MASK";
     doc["materials"][0]["alphaCutoff"] = 0.3;
     doc["samplers"] = json::array({{{"magFilter", 9728}, {"wrapS", 33648}, {"wrapT", 33071}}});
