@@ -207,8 +207,7 @@ private:
     std::vector<const GpuMesh*> instance_meshes_;  // per object of planner_.objects()
     std::vector<int> instance_of_object_;          // index into instance_meshes_ per scene object; -1: no triangles
     // Base-colour, emission, occlusion and metallic-roughness textures, per object of planner_.objects()
-    // (white_texture_ without one);
-    // fixed by set_scene (set_material changes the factors only).
+    // (white_texture_ without one); fixed by set_scene (set_material changes the factors only).
     std::vector<std::unique_ptr<gl::Texture>> textures_;
     std::vector<const gl::Texture*> instance_textures_;
     std::vector<const gl::Texture*> instance_emission_textures_;

@@ -262,9 +262,11 @@ private:
     std::size_t part_for(int material) {
         int& part = part_of_material_[std::size_t(material + 1)];
         if (part >= 0) return std::size_t(part);
-        GltfMaterial mapped =
-            material >= 0 ? materials_[std::size_t(material)] : GltfMaterial{Material{},   "no material", std::nullopt,
-                                                                             std::nullopt, std::nullopt,  std::nullopt};
+        GltfMaterial mapped;
+        if (material >= 0)
+            mapped = materials_[std::size_t(material)];
+        else
+            mapped.name = "no material";
         if (const GltfTextureRef* base = resolved(mapped.base_color))
             mapped.material.base_color_texture = textures_[std::size_t(base->texture)];
         // The other textures are used only where they read the base colour's coordinates (Mesh has one set).

@@ -411,7 +411,9 @@ private:
         if (phong && gltf)
             fail(where,
                  "give either diffuse/specular/shininess (Phong) or base_color/metallic/roughness (glTF), not both");
-        Material m = gltf ? metallic_roughness_material(value, where, base) : phong_material(value, where, base);
+        Material m = gltf    ? metallic_roughness_material(value, where, base)
+                     : phong ? phong_material(value, where, base)
+                             : base;  // "emission" alone: the BRDF stays the model's
         if (const auto it = value.find("emission"); it != value.end()) {
             m.emission = scalar_or_vec3(*it, where + ".emission");
             if (!(std::min({m.emission.r, m.emission.g, m.emission.b}) >= 0.0f) ||
@@ -425,6 +427,7 @@ private:
     Material phong_material(const json& value, const std::string& where, const Material& base) const {
         Material m = base;
         m.metallic_roughness.reset();
+        m.metallic_roughness_texture.reset();  // it scales glTF's factors, which the Phong material has not
         if (const auto it = value.find("diffuse"); it != value.end()) {
             m.rho_d = scalar_or_vec3(*it, where + ".diffuse");
             if (std::min({m.rho_d.r, m.rho_d.g, m.rho_d.b}) < 0.0f ||
@@ -440,10 +443,12 @@ private:
     }
 
     // glTF's metallic-roughness parameters; those not given are the base's (glTF's defaults, 1, where the base
-    // has none). "base_color" replaces the base-colour texture, as "diffuse" does.
+    // has none). "base_color" replaces the base-colour texture, as "diffuse" does; "metallic" or "roughness"
+    // replaces the metallic-roughness texture, which holds both.
     Material metallic_roughness_material(const json& value, const std::string& where, const Material& base) const {
         MetallicRoughness p = base.metallic_roughness.value_or(MetallicRoughness{});
         bool keeps_texture = true;
+        const bool keeps_parameters_texture = !value.contains("metallic") && !value.contains("roughness");
         if (const auto it = value.find("base_color"); it != value.end()) {
             p.base_color = scalar_or_vec3(*it, where + ".base_color");
             if (std::min({p.base_color.r, p.base_color.g, p.base_color.b}) < 0.0f ||
@@ -457,6 +462,7 @@ private:
             p.roughness = number_in(*it, where + ".roughness", 0.0f, 1.0f);
         Material m = with_metallic_roughness(base, p);
         if (!keeps_texture) m.base_color_texture.reset();
+        if (!keeps_parameters_texture) m.metallic_roughness_texture.reset();
         return m;
     }
 

@@ -347,6 +347,30 @@ TEST(SceneFile, AGltfFactorOverrideKeepsThePartsAlphaAndEmission) {
     EXPECT_EQ(m.emission, glm::vec3(0.5f, 0.25f, 0.0f));
 }
 
+// A metallic or roughness given is the value seen: it replaces the metallic-roughness texture (which holds
+// both), as base_color replaces the base-colour texture; a Phong material drops it, the emission keeps it.
+TEST(SceneFile, AMetallicOrRoughnessOverrideReplacesTheParametersTexture) {
+    const std::string bands = std::string(ENVSHADOW_SOURCE_DIR) + "/assets/models/roughness_bands.glb";
+    const auto material_of = [&](const json& override) {
+        json scene = minimal_scene();
+        scene["objects"] = {{{"model", bands}}};
+        if (!override.is_null()) scene["objects"][0]["material"] = override;
+        const Scene s = load_scene(write_scene(test_folder(), scene));
+        EXPECT_EQ(s.objects.size(), 1u);
+        return s.objects.at(0).material;
+    };
+    EXPECT_TRUE(material_of(nullptr).metallic_roughness_texture.has_value());
+    EXPECT_TRUE(material_of({{"base_color", 0.5}}).metallic_roughness_texture.has_value());
+    const Material glowing = material_of({{"emission", 1.0}});
+    EXPECT_TRUE(glowing.metallic_roughness_texture.has_value());
+    EXPECT_TRUE(glowing.metallic_roughness.has_value());  // the emission alone leaves the BRDF glTF's
+    const Material rough = material_of({{"roughness", 0.25}});
+    EXPECT_FALSE(rough.metallic_roughness_texture.has_value());
+    EXPECT_EQ(rough.metallic_roughness->roughness, 0.25f);
+    EXPECT_FALSE(material_of({{"metallic", 0.0}}).metallic_roughness_texture.has_value());
+    EXPECT_FALSE(material_of({{"diffuse", 0.5}}).metallic_roughness_texture.has_value());
+}
+
 TEST(SceneFile, ABareModelOfTwoMaterialsStandsOnTheGroundAsTwoObjects) {
     const Scene s = load_scene(two_material_model(test_folder()));
     ASSERT_EQ(s.objects.size(), 3u);
