@@ -26,7 +26,7 @@
 namespace envshadow {
 namespace {
 
-constexpr int kMaxNodeDepth = 1000;  // node hierarchy levels: the traversal recurses once per level
+constexpr int kMaxNodeDepth = 1000;  // node hierarchy levels: the traversal keeps one entry per level on its path
 
 class Flattener {
 public:
@@ -62,7 +62,7 @@ public:
         }
 
         state_.assign(model_.nodes.size(), Visit::never);
-        for (const int root : roots) visit(root, glm::dmat4(1.0), "scene", 1);
+        for (const int root : roots) visit(root);
 
         if (triangles_ == 0) geometry_.fail("no triangles in the default scene");
         GltfModel result;
@@ -85,30 +85,53 @@ public:
 private:
     enum class Visit { never, on_path, done };
 
-    void visit(int node_index, const glm::dmat4& parent, const std::string& parent_name, int depth) {
-        if (node_index < 0 || std::size_t(node_index) >= model_.nodes.size())
-            geometry_.fail(parent_name + " refers to node " + std::to_string(node_index) + ", which does not exist");
-        if (depth > kMaxNodeDepth)
-            geometry_.fail("node hierarchy deeper than " + std::to_string(kMaxNodeDepth) + " levels (at node " +
-                           std::to_string(node_index) + ")");
-        const auto n = std::size_t(node_index);
-        if (state_[n] == Visit::on_path)
-            geometry_.fail("node cycle: node " + std::to_string(node_index) + " is its own ancestor");
-        if (state_[n] == Visit::done)
-            geometry_.fail("node " + std::to_string(node_index) +
-                           " has more than one parent (the node graph must be a forest)");
-        state_[n] = Visit::on_path;
-
-        const tinygltf::Node& node = model_.nodes[n];
-        const glm::dmat4 world = parent * local_matrix(node);
-        if (node.mesh >= 0) {
-            if (std::size_t(node.mesh) >= model_.meshes.size())
-                geometry_.fail("node " + std::to_string(node_index) + " refers to mesh " + std::to_string(node.mesh) +
+    // Depth first from `root`, each node's meshes added on entering it, its children in order. Iterative (a
+    // stack of the nodes on the path), so that a deep chain costs heap, not the call stack: the mesh work's
+    // frames are large under the sanitizers.
+    void visit(int root) {
+        struct OnPath {
+            std::size_t node;
+            glm::dmat4 world;
+            std::size_t next_child = 0;
+        };
+        std::vector<OnPath> path;
+        const auto enter = [&](int node_index, const glm::dmat4& parent, const std::string& parent_name) {
+            if (node_index < 0 || std::size_t(node_index) >= model_.nodes.size())
+                geometry_.fail(parent_name + " refers to node " + std::to_string(node_index) +
                                ", which does not exist");
-            add_mesh(std::size_t(node.mesh), world, node_index);
+            if (int(path.size()) + 1 > kMaxNodeDepth)
+                geometry_.fail("node hierarchy deeper than " + std::to_string(kMaxNodeDepth) + " levels (at node " +
+                               std::to_string(node_index) + ")");
+            const auto n = std::size_t(node_index);
+            if (state_[n] == Visit::on_path)
+                geometry_.fail("node cycle: node " + std::to_string(node_index) + " is its own ancestor");
+            if (state_[n] == Visit::done)
+                geometry_.fail("node " + std::to_string(node_index) +
+                               " has more than one parent (the node graph must be a forest)");
+            state_[n] = Visit::on_path;
+            const tinygltf::Node& node = model_.nodes[n];
+            const glm::dmat4 world = parent * local_matrix(node);
+            if (node.mesh >= 0) {
+                if (std::size_t(node.mesh) >= model_.meshes.size())
+                    geometry_.fail("node " + std::to_string(node_index) + " refers to mesh " +
+                                   std::to_string(node.mesh) + ", which does not exist");
+                add_mesh(std::size_t(node.mesh), world, node_index);
+            }
+            path.push_back({n, world});
+        };
+        enter(root, glm::dmat4(1.0), "scene");
+        while (!path.empty()) {
+            OnPath& top = path.back();
+            const std::vector<int>& children = model_.nodes[top.node].children;
+            if (top.next_child == children.size()) {
+                state_[top.node] = Visit::done;
+                path.pop_back();
+                continue;
+            }
+            const int child = children[top.next_child++];
+            const glm::dmat4 world = top.world;  // `top` moves when the path grows
+            enter(child, world, "node " + std::to_string(top.node));
         }
-        for (const int child : node.children) visit(child, world, "node " + std::to_string(node_index), depth + 1);
-        state_[n] = Visit::done;
     }
 
     static glm::dmat4 local_matrix(const tinygltf::Node& node) {
