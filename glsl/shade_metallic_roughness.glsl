@@ -46,7 +46,6 @@ const float kMinAlpha = 1e-3;      // env/gltf_brdf.h's floor on alpha = roughne
 // glTF's material at one pixel: what the split sum and the cells' weights share.
 struct GltfPixel {
     float metallic, roughness;  // the factors times the texture's
-    bool below_levels;          // roughness < kSharpestRoughness: the map itself and the sharpest level
     float n_dot_v;
     float alpha2;          // alpha^2, alpha = roughness^2
     vec3 f0;               // mix(0.04, baseColor, metallic)
@@ -55,6 +54,11 @@ struct GltfPixel {
     float mirror_spread;   // mirror_spread(r)
 };
 
+// Whether the pixel's lobe is sharper than the sharpest level: its lookup is the map itself and that level.
+bool below_levels(GltfPixel p) {
+    return p.roughness < kSharpestRoughness;
+}
+
 // base_color: the texture's at this pixel; n_dot_v of the shading normal, r its mirror direction (in uniform
 // control flow: screen derivatives are taken).
 GltfPixel gltf_pixel(vec3 base_color, vec2 texcoord, float n_dot_v, vec3 r) {
@@ -62,7 +66,6 @@ GltfPixel gltf_pixel(vec3 base_color, vec2 texcoord, float n_dot_v, vec3 r) {
     vec2 metallic_roughness = texture(u_metallic_roughness_texture, texcoord).bg;
     p.metallic = u_metallic * metallic_roughness.x;
     p.roughness = u_roughness * metallic_roughness.y;
-    p.below_levels = p.roughness < kSharpestRoughness;
     p.mirror_spread = mirror_spread(r);
     p.n_dot_v = clamp(n_dot_v, 0.0, 1.0);
     float alpha = max(p.roughness * p.roughness, kMinAlpha);

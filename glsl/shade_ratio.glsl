@@ -49,7 +49,7 @@ vec3 ggx_level(int k, vec2 uv) {
 // levels' hemisphere (with a ground, nothing below the horizon), widened by the pixel's footprint.
 vec3 ggx_lobe_mean(GltfPixel p, vec3 r) {
     vec2 uv = latlong_uv(u_env_from_world * r);
-    if (p.below_levels) {
+    if (below_levels(p)) {
         vec3 mirror = u_upper_only && r.y < 0.0 ? vec3(0.0) : textureLod(u_ggx_mirror, uv, 0.0).rgb;
         return mix(mirror, ggx_level(0, uv), mirror_level_weight(p.roughness, p.mirror_spread));
     }

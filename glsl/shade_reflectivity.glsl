@@ -148,7 +148,7 @@ layout(location = LOC_COMPACT_LIGHTS) uniform ivec4 u_compact_lights;
 // The width the split sum's lookup gave a lobe of widened2: the levels about the roughness, or the map and the
 // sharpest level widened by the pixel's footprint up to that level's (ggx_lobe_mean, mirror_level_weight).
 float split_sum_alpha2(Surface s, float widened2) {
-    return widened2 + (s.gltf.below_levels ? min(0.075 * s.gltf.mirror_spread, kSharpestAlpha * kSharpestAlpha) : 0.0);
+    return widened2 + (below_levels(s.gltf) ? min(0.075 * s.gltf.mirror_spread, kSharpestAlpha * kSharpestAlpha) : 0.0);
 }
 
 // The compact lights' reflection both ways, summed over them: L~_i times the BRDF's lobe (`brdf`) and times the
