@@ -7,8 +7,9 @@
 //   p = G(node) (p0 + sum_k m_k dp_k)                         not skinned
 // with G the node's model-space matrix at the clip's time and m_k the node's morph weights (animated,
 // or the node's or mesh's defaults). Normals are skinned, not recomputed: n0 + sum m_k dn_k through the
-// inverse transpose of the blended matrix, normalised. Other per-vertex arrays of the mesh (texture
-// coordinates) are copied unchanged from the bind mesh. No GL.
+// inverse transpose of the blended matrix, normalised; tangents through the blended matrix itself, made
+// orthogonal to the posed normal (morph targets' TANGENT deltas are not read). Other per-vertex arrays of the
+// mesh (texture coordinates) are copied unchanged from the bind mesh. No GL.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -89,6 +90,7 @@ struct GltfRig {
 // Where one vertex of a part came from.
 struct GltfVertexSource {
     glm::vec3 position{0.0f}, normal{0.0f};  // mesh space
+    glm::vec4 tangent{0.0f};                 // mesh space, where the part has tangents (Mesh::tangents)
     std::uint32_t node = 0;                  // the node that instances the mesh
     std::int32_t skin = -1;                  // the node's skin, -1 for none
     glm::uvec4 joints{0};                    // indices into the skin's joints

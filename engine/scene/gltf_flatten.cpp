@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -260,9 +261,11 @@ private:
             }
 
             if (part.indices.empty()) continue;  // a strip or fan of degenerate triangles only
+            const std::size_t part_index = part_for(prim.material);
+            if (part_materials_[part_index].material.normal_texture)
+                read_tangents(prim, what, positions.count, source, world, part);
             triangles_ += part.triangle_count();
             vertices_ += part.positions.size();
-            const std::size_t part_index = part_for(prim.material);
             append(part, parts_[part_index]);
             if (rig_) {  // where the vertices came from, in mesh space, for posing (scene/gltf_animation.h)
                 std::vector<glm::vec3> local_positions(source.size()), local_normals(source.size());
@@ -273,10 +276,60 @@ private:
                     const double length = glm::length(n);
                     local_normals[v] = length > 1e-30 ? glm::vec3(n / length) : part.normals[v];
                 }
-                append_sources(read_primitive_sources(*accessors_, model_, *rig_, node_index, int(mesh_index), int(p),
-                                                      source, std::move(local_positions), std::move(local_normals)),
-                               part_sources_[part_index]);
+                GltfPartSources sources =
+                    read_primitive_sources(*accessors_, model_, *rig_, node_index, int(mesh_index), int(p), source,
+                                           std::move(local_positions), std::move(local_normals));
+                if (!part.tangents.empty()) {  // back through the node's transform, as read_tangents took them
+                    const glm::dmat3 to_local = glm::inverse(glm::dmat3(world));
+                    const float handedness = glm::determinant(to_local) < 0.0 ? -1.0f : 1.0f;
+                    for (std::size_t v = 0; v < source.size(); ++v) {
+                        const glm::dvec3 t = to_local * glm::dvec3(glm::vec3(part.tangents[v]));
+                        const double length = glm::length(t);
+                        sources.vertices[v].tangent =
+                            glm::vec4(length > 1e-30 ? glm::vec3(t / length) : glm::vec3(part.tangents[v]),
+                                      handedness * part.tangents[v].w);
+                    }
+                }
+                append_sources(sources, part_sources_[part_index]);
             }
+        }
+    }
+
+    // The primitive's TANGENT (float VEC4, glTF 2.0 §3.7.2.1) through the node's transform, or, without one,
+    // tangents from its normals and texture coordinates (compute_vertex_tangents). Its normal map needs them.
+    void read_tangents(const tinygltf::Primitive& prim, const std::string& what, std::size_t vertex_count,
+                       const std::vector<std::uint32_t>& source, const glm::dmat4& world, Mesh& part) const {
+        const auto it = prim.attributes.find("TANGENT");
+        if (it == prim.attributes.end()) {
+            compute_vertex_tangents(part);
+            return;
+        }
+        const AccessorData d = geometry_.accessor(it->second, what + " TANGENT");
+        const tinygltf::Accessor& a = model_.accessors[std::size_t(it->second)];
+        if (a.type != TINYGLTF_TYPE_VEC4 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+            geometry_.fail(what + " TANGENT (accessor " + std::to_string(it->second) + ") must be float VEC4");
+        if (d.count != vertex_count)
+            geometry_.fail(what + " has " + std::to_string(d.count) + " tangents for " + std::to_string(vertex_count) +
+                           " positions");
+        // Tangents are directions in the surface: they transform as positions do (not as normals), and a
+        // mirroring transform turns the handedness round.
+        const glm::dmat3 linear(world);
+        const double handedness = glm::determinant(linear) < 0.0 ? -1.0 : 1.0;
+        part.tangents.resize(source.size());
+        bool usable = true;
+        for (std::size_t v = 0; v < source.size() && usable; ++v) {
+            glm::vec4 t;
+            std::memcpy(&t[0], d.bytes + std::size_t(source[v]) * d.stride, 16);
+            const glm::dvec3 n(part.normals[v]);
+            glm::dvec3 w = linear * glm::dvec3(t);
+            w -= n * glm::dot(n, w);  // orthogonal to the normal as it came out (a shear bends them apart)
+            const double length = glm::length(w);
+            usable = length > 1e-12 && std::isfinite(length) && std::isfinite(t.w) && t.w != 0.0f;
+            part.tangents[v] = glm::vec4(glm::vec3(w / length), float(handedness) * (t.w < 0.0f ? -1.0f : 1.0f));
+        }
+        if (!usable) {
+            log::warn(path_.string() + ": " + what + " has zero, non-finite or unsigned tangents: computing them");
+            compute_vertex_tangents(part);
         }
     }
 
@@ -313,6 +366,10 @@ private:
             mapped.material.occlusion_texture = textures_[std::size_t(occlusion->texture)];
             mapped.material.occlusion_texture->srgb = false;  // data: the R channel as stored
         }
+        if (const GltfTextureRef* normal = resolved(mapped.normal); on_mesh_coordinates(normal, "normal")) {
+            mapped.material.normal_texture = textures_[std::size_t(normal->texture)];
+            mapped.material.normal_texture->srgb = false;  // data: a tangent-space direction
+        }
         const auto same = std::find_if(part_materials_.begin(), part_materials_.end(),
                                        [&](const GltfMaterial& m) { return m.material.same_as(mapped.material); });
         part = int(same - part_materials_.begin());
@@ -329,6 +386,7 @@ private:
         to.positions.insert(to.positions.end(), primitive.positions.begin(), primitive.positions.end());
         to.normals.insert(to.normals.end(), primitive.normals.begin(), primitive.normals.end());
         to.texcoords.insert(to.texcoords.end(), primitive.texcoords.begin(), primitive.texcoords.end());
+        to.tangents.insert(to.tangents.end(), primitive.tangents.begin(), primitive.tangents.end());
         to.indices.reserve(to.indices.size() + primitive.indices.size());
         for (const std::uint32_t i : primitive.indices) to.indices.push_back(base + i);
     }

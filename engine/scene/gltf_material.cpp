@@ -88,6 +88,9 @@ public:
             g.occlusion = texture_ref(m, "occlusionTexture", where);
             if (g.occlusion)
                 g.material.occlusion_strength = unit(m.at("occlusionTexture"), "strength", where + ".occlusionTexture");
+            g.normal = texture_ref(m, "normalTexture", where);
+            if (g.normal)
+                g.material.normal_scale = number(m.at("normalTexture"), "scale", where + ".normalTexture", 1.0f);
             read_alpha(m, where, base_alpha, g.material, out);
             g.material.double_sided = m.value("doubleSided", false);  // type-checked by check_gltf_json
             out.materials.push_back(std::move(g));

@@ -50,8 +50,8 @@ Material with_metallic_roughness(Material material, const MetallicRoughness& par
 Material material_from_specular_glossiness(const glm::vec3& diffuse, const glm::vec3& specular, float glossiness);
 
 // A material's textureInfo (baseColorTexture or the extension's diffuseTexture, metallicRoughnessTexture,
-// emissiveTexture, occlusionTexture): the texture, its TEXCOORD set and KHR_texture_transform as the affine map
-// uv' = (uv_transform * vec3(uv, 1)).xy.
+// emissiveTexture, occlusionTexture, normalTexture): the texture, its TEXCOORD set and KHR_texture_transform as the
+// affine map uv' = (uv_transform * vec3(uv, 1)).xy.
 struct GltfTextureRef {
     int texture = -1;  // index into the file's "textures" (checked by load_gltf)
     int texcoord = 0;  // TEXCOORD_<texcoord>
@@ -65,10 +65,11 @@ struct GltfMaterial {
     std::optional<GltfTextureRef> metallic_roughness;  // metallicRoughnessTexture
     std::optional<GltfTextureRef> emission;            // emissiveTexture
     std::optional<GltfTextureRef> occlusion;           // occlusionTexture
+    std::optional<GltfTextureRef> normal;              // normalTexture (its scale: Material::normal_scale)
 
     // Every reference above, the base colour's first (whose coordinates the mesh carries where it has one).
-    std::array<const std::optional<GltfTextureRef>*, 4> texture_refs() const {
-        return {&base_color, &metallic_roughness, &emission, &occlusion};
+    std::array<const std::optional<GltfTextureRef>*, 5> texture_refs() const {
+        return {&base_color, &metallic_roughness, &emission, &occlusion, &normal};
     }
 };
 
@@ -82,8 +83,8 @@ struct GltfMaterials {
 
 // Maps document["materials"] (already type-checked by check_gltf_json), with emissiveFactor and
 // KHR_materials_emissive_strength into Material::emission, occlusionTexture.strength into
-// Material::occlusion_strength. Factors outside [0, 1], where the glTF schema bounds them, are an
-// InputError "<file>: materials[i].<path>: <reason>", as are wrongly typed
+// Material::occlusion_strength, normalTexture.scale into Material::normal_scale. Factors outside [0, 1], where the glTF
+// schema bounds them, are an InputError "<file>: materials[i].<path>: <reason>", as are wrongly typed
 // KHR_materials_pbrSpecularGlossiness properties.
 GltfMaterials read_gltf_materials(const std::filesystem::path& file, const nlohmann::json& document);
 

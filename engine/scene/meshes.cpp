@@ -184,6 +184,39 @@ void compute_vertex_normals(Mesh& mesh) {
     }
 }
 
+void compute_vertex_tangents(Mesh& mesh) {
+    std::vector<glm::vec3> along_u(mesh.positions.size(), glm::vec3(0.0f)), along_v(along_u);
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+        const glm::vec3 e1 = mesh.positions[b] - mesh.positions[a], e2 = mesh.positions[c] - mesh.positions[a];
+        const glm::vec2 d1 = mesh.texcoords[b] - mesh.texcoords[a], d2 = mesh.texcoords[c] - mesh.texcoords[a];
+        // e = dP/du du + dP/dv dv for both edges, solved for the gradients; multiplied by |det| instead of
+        // divided by det, so that a sliver of uv does not outweigh its neighbours.
+        const float det = d1.x * d2.y - d2.x * d1.y;
+        if (!(std::abs(det) > 0.0f) || !std::isfinite(det)) continue;
+        const float sign = det > 0.0f ? 1.0f : -1.0f;
+        const glm::vec3 u = sign * (e1 * d2.y - e2 * d1.y), v = sign * (e2 * d1.x - e1 * d2.x);
+        for (const std::uint32_t i : {a, b, c}) {
+            along_u[i] += u;
+            along_v[i] += v;
+        }
+    }
+    mesh.tangents.resize(mesh.positions.size());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        const glm::vec3 n = mesh.normals[i];
+        glm::vec3 t = along_u[i] - n * glm::dot(n, along_u[i]);
+        float length = glm::length(t);
+        if (!(length > 1e-12f) || !std::isfinite(length)) {  // no gradient: any direction in the plane
+            t = glm::cross(n, std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0));
+            length = glm::length(t);
+        }
+        t /= length;
+        // glTF's v runs down the image and a normal map's +y points up it: the bitangent along -v.
+        const float w = glm::dot(glm::cross(n, t), along_v[i]) > 0.0f ? -1.0f : 1.0f;
+        mesh.tangents[i] = glm::vec4(t, w);
+    }
+}
+
 Mesh make_mesh(const PlaneShape& shape) {
     const float h = 0.5f * shape.size;
     Mesh m;

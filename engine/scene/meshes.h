@@ -83,4 +83,13 @@ int geodesic_frequency(int triangles);
 // ones only, gets +Y). Replaces mesh.normals.
 void compute_vertex_normals(Mesh& mesh);
 
+// Per-vertex tangents for normal maps where the file has none (glTF 2.0 §3.7.2.1 asks for MikkTSpace's; this
+// is the per-triangle uv gradient summed at each vertex, Lengyel 2001, which agrees with MikkTSpace wherever
+// the uv mapping is affine over a vertex's triangles): xyz along +u, made orthogonal to the vertex normal,
+// w = +1 where cross(normal, xyz) runs up the image (along -v: glTF's v runs down it, a normal map's +y
+// up), -1 where the mapping is mirrored. A vertex whose triangles
+// have no uv gradient gets any unit vector orthogonal to its normal. Needs normals and texcoords; replaces
+// mesh.tangents.
+void compute_vertex_tangents(Mesh& mesh);
+
 }  // namespace envshadow

@@ -12,6 +12,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "scene/texture.h"
 
@@ -53,6 +54,11 @@ struct Material {
     // 1 + occlusion_strength (R - 1) (docs/SCENES.md "Occlusion"); not the emission.
     std::optional<MaterialTexture> occlusion_texture = std::nullopt;  // needs Mesh::texcoords; srgb false
     float occlusion_strength = 1.0f;                                  // 0..1
+    // glTF's normalTexture (tangent space, linear RGB): the shading normal is
+    // normalize(T x s + B y s + N z) with (x, y, z) = 2 texel - 1 and s = normal_scale, T and B from
+    // Mesh::tangents (docs/SCENES.md "Normal maps"); shadows keep the triangle's plane.
+    std::optional<MaterialTexture> normal_texture = std::nullopt;  // needs Mesh::texcoords, tangents; srgb false
+    float normal_scale = 1.0f;
     AlphaMode alpha_mode = AlphaMode::opaque;
     float alpha_cutoff = 0.5f;
     float base_alpha = 1.0f;  // baseColorFactor's alpha
@@ -70,7 +76,8 @@ struct Material {
                same_texture(base_color_texture, o.base_color_texture) &&
                same_texture(metallic_roughness_texture, o.metallic_roughness_texture) &&
                same_texture(emission_texture, o.emission_texture) &&
-               same_texture(occlusion_texture, o.occlusion_texture) && occlusion_strength == o.occlusion_strength;
+               same_texture(occlusion_texture, o.occlusion_texture) && occlusion_strength == o.occlusion_strength &&
+               same_texture(normal_texture, o.normal_texture) && normal_scale == o.normal_scale;
     }
 
 private:
@@ -82,11 +89,14 @@ private:
 };
 
 // Triangles in object space. normals.size() == positions.size(); indices.size() % 3 == 0; texcoords
-// empty or one per position (the texture coordinates a material's texture reads, any transform applied).
+// empty or one per position (the texture coordinates a material's texture reads, any transform applied);
+// tangents empty or one per position: glTF's TANGENT, xyz a unit vector along +u in the surface, w = +-1
+// the handedness (bitangent = w cross(normal, xyz)), for normal maps.
 struct Mesh {
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;
     std::vector<glm::vec2> texcoords;
+    std::vector<glm::vec4> tangents;
     std::vector<std::uint32_t> indices;
     glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
 

@@ -365,18 +365,28 @@ void write_sample_gltf_textured(const std::filesystem::path& path, const std::st
         const float uv[2] = {float(v % 4 == 1 || v % 4 == 2), float(v % 4 >= 2)};
         append(bin, uv, sizeof uv);
     }
+    // One tangent for every vertex, +x: it lies in four faces and is refused (then made) on the other two.
+    const std::size_t tangent_offset = bin.size();
+    for (int v = 0; v < 24; ++v) {
+        const float tangent[4] = {1.0f, 0.0f, 0.0f, 1.0f};
+        append(bin, tangent, sizeof tangent);
+    }
     doc["buffers"][0]["byteLength"] = bin.size();
     doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", uv_offset}, {"byteLength", 24 * 8}});
     doc["accessors"].push_back({{"bufferView", 3}, {"componentType", 5126}, {"count", 24}, {"type", "VEC2"}});
     doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 3;
+    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", tangent_offset}, {"byteLength", 24 * 16}});
+    doc["accessors"].push_back({{"bufferView", 4}, {"componentType", 5126}, {"count", 24}, {"type", "VEC4"}});
+    doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = 4;
     doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
         {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0}}, {"scale", {2, 1}}}}}}};
-    // Emission, occlusion and metallic-roughness from the same texture on the same coordinates, the emission
+    // Emission, occlusion, normal and metallic-roughness from the same texture on the same coordinates, the emission
     // factor scaled by the extension.
     doc["materials"][0]["emissiveTexture"] = doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"];
     doc["materials"][0]["emissiveFactor"] = {0.2, 0.1, 0.0};
     doc["materials"][0]["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", 2.0}}}};
     doc["materials"][0]["occlusionTexture"] = {{"index", 0}, {"strength", 0.5}};
+    doc["materials"][0]["normalTexture"] = {{"index", 0}, {"scale", 0.7}};
     doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] =
         doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"];
     doc["materials"][0]["alphaMode"] = "MASK";

@@ -413,5 +413,65 @@ TEST(SceneGltfAlpha, BadAlphaIsAnErrorNamingTheProperty) {
     expect_input_error(quad.write(), "baseColorFactor[3]: 1.5 is outside 0");
 }
 
+// Normal maps (docs/SCENES.md "Normal maps"): normalTexture with its scale, read as stored (linear), and the
+// tangents it needs: the file's TANGENT through the node's transform, or made from the normals and uvs.
+TEST(SceneGltfNormalTexture, TheTextureIsDataWithItsScaleAndTangentsAreMade) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["normalTexture"] = {{"index", 0}, {"scale", 0.5}};
+    const GltfModel model = load_gltf(quad.write());
+    const Material& m = model.parts.at(0).material;
+    ASSERT_TRUE(m.normal_texture.has_value());
+    EXPECT_FALSE(m.normal_texture->srgb);
+    EXPECT_EQ(m.normal_scale, 0.5f);
+    // The quad's u runs along +x and its v along +y, up the quad: glTF's v runs down the image, so the
+    // image's up (a normal map's +y) is -y here, and cross(normal, tangent) = +y needs w = -1.
+    const Mesh& mesh = *model.parts.at(0).mesh;
+    ASSERT_EQ(mesh.tangents.size(), 4u);
+    for (const glm::vec4& t : mesh.tangents) {
+        EXPECT_NEAR(t.x, 1.0f, 1e-6f);
+        EXPECT_NEAR(t.y, 0.0f, 1e-6f);
+        EXPECT_NEAR(t.z, 0.0f, 1e-6f);
+        EXPECT_EQ(t.w, -1.0f);
+    }
+    quad.writer.doc["materials"][0]["normalTexture"] = {{"index", 0}};
+    EXPECT_EQ(load_gltf(quad.write()).parts.at(0).material.normal_scale, 1.0f);  // glTF's default
+    quad.writer.doc["materials"][0].erase("normalTexture");
+    EXPECT_TRUE(load_gltf(quad.write()).parts.at(0).mesh->tangents.empty());  // no normal map, no tangents
+}
+
+TEST(SceneGltfNormalTexture, TheFilesTangentsTurnWithTheNode) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["normalTexture"] = {{"index", 0}};
+    const std::vector<glm::vec4> tangents(4, glm::vec4(0.0f, 1.0f, 0.0f, 1.0f));  // not what the uvs would give
+    quad.writer.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] =
+        quad.writer.accessor(quad.writer.view(tangents.data(), tangents.size() * 16), 5126, 4, "VEC4");
+    for (const double turn : {1.0, -1.0}) {  // a quarter turn about z, then the same with x mirrored
+        quad.writer.doc["nodes"][0]["matrix"] = {0, turn, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        const GltfModel model = load_gltf(quad.write());
+        const Mesh& mesh = *model.parts.at(0).mesh;
+        ASSERT_EQ(mesh.tangents.size(), 4u);
+        for (const glm::vec4& t : mesh.tangents) {  // +y to -x
+            EXPECT_NEAR(t.x, -1.0f, 1e-6f) << "turn " << turn;
+            EXPECT_NEAR(t.y, 0.0f, 1e-6f) << "turn " << turn;
+            EXPECT_EQ(t.w, float(turn)) << "a mirror turns the handedness round";
+        }
+    }
+}
+
+TEST(SceneGltfNormalTexture, BadTangentsAndTexturesAreErrors) {
+    TexturedQuad quad;
+    quad.writer.doc["materials"][0]["normalTexture"] = {{"index", 0}};
+    const std::vector<glm::vec3> three(4, glm::vec3(1.0f, 0.0f, 0.0f));
+    quad.writer.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = quad.writer.vec3s(three);
+    expect_input_error(quad.write(), "TANGENT (accessor");
+    const std::vector<glm::vec4> two(2, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+    quad.writer.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] =
+        quad.writer.accessor(quad.writer.view(two.data(), two.size() * 16), 5126, 2, "VEC4");
+    expect_input_error(quad.write(), "has 2 tangents for 4 positions");
+    quad.writer.doc["meshes"][0]["primitives"][0]["attributes"].erase("TANGENT");
+    quad.writer.doc["materials"][0]["normalTexture"] = {{"index", 4}};
+    expect_input_error(quad.write(), "materials[0] uses texture 4, which does not exist");
+}
+
 }  // namespace
 }  // namespace envshadow

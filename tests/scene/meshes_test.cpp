@@ -193,5 +193,44 @@ TEST(SceneVertexNormals, UnusedVertexGetsUp) {
     EXPECT_EQ(m.normals[3], glm::vec3(0, 1, 0));
 }
 
+// Tangents for normal maps (glTF's convention: v runs down the image, a normal map's +y up it).
+TEST(SceneVertexTangents, FollowUAndTheImagesUp) {
+    // A triangle in the XY plane facing +Z, u along +x; v along -y (the image upright), then along +y
+    // (mirrored: the image's up is -y, so the bitangent cross(n, t) = +y needs w = -1).
+    Mesh m;
+    m.positions = {{0, 0, 0}, {2, 0, 0}, {0, 1, 0}};
+    m.normals.assign(3, glm::vec3(0, 0, 1));
+    m.indices = {0, 1, 2};
+    m.texcoords = {{0, 1}, {1, 1}, {0, 0}};
+    compute_vertex_tangents(m);
+    ASSERT_EQ(m.tangents.size(), 3u);
+    for (const glm::vec4& t : m.tangents) EXPECT_LT(glm::distance(t, glm::vec4(1, 0, 0, 1)), 1e-6f);
+    m.texcoords = {{0, 0}, {1, 0}, {0, 1}};
+    compute_vertex_tangents(m);
+    for (const glm::vec4& t : m.tangents) EXPECT_LT(glm::distance(t, glm::vec4(1, 0, 0, -1)), 1e-6f);
+    // A sheared mapping: u along the diagonal's projection, made orthogonal to the normal.
+    m.normals.assign(3, glm::normalize(glm::vec3(0, 1, 1)));
+    m.texcoords = {{0, 1}, {1, 1}, {0, 0}};
+    compute_vertex_tangents(m);
+    for (const glm::vec4& t : m.tangents) {
+        EXPECT_LT(glm::distance(glm::vec3(t), glm::vec3(1, 0, 0)), 1e-6f);
+        EXPECT_NEAR(glm::dot(glm::vec3(t), m.normals[0]), 0.0f, 1e-6f);
+    }
+}
+
+TEST(SceneVertexTangents, WithoutAUvGradientAnyDirectionInThePlane) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.normals.assign(3, glm::vec3(0, 0, 1));
+    m.indices = {0, 1, 2};
+    m.texcoords.assign(3, glm::vec2(0.5f));  // every vertex at one uv
+    compute_vertex_tangents(m);
+    for (const glm::vec4& t : m.tangents) {
+        EXPECT_NEAR(glm::length(glm::vec3(t)), 1.0f, 1e-6f);
+        EXPECT_NEAR(t.z, 0.0f, 1e-6f);
+        EXPECT_EQ(std::abs(t.w), 1.0f);
+    }
+}
+
 }  // namespace
 }  // namespace envshadow
