@@ -17,6 +17,9 @@ layout(binding = UNIT_EMISSION_TEXTURE) uniform sampler2D u_emission_texture;
 // glTF's occlusion: its texture's R (linear; white without one), blended towards 1 by (1 - strength).
 layout(location = LOC_OCCLUSION_STRENGTH) uniform float u_occlusion_strength;
 layout(binding = UNIT_OCCLUSION_TEXTURE) uniform sampler2D u_occlusion_texture;
+// glTF's normal map (linear) and its scale; 0 without one (a scale of 0 leaves the normal as it is).
+layout(location = LOC_NORMAL_SCALE) uniform float u_normal_scale;
+layout(binding = UNIT_NORMAL_TEXTURE) uniform sampler2D u_normal_texture;
 
 struct Surface {
     vec3 position;      // x, in world space
@@ -42,30 +45,43 @@ float occlusion(Surface s) {
     return 1.0 + u_occlusion_strength * (texture(u_occlusion_texture, s.texcoord).r - 1.0);
 }
 
-// Shading normal at p (docs/DESIGN.md §5.4). The side comes from the triangle: seen from behind (an open
-// mesh), the normal is turned round; the interpolated normal itself may still face away from the viewer
-// near a silhouette, and is then bent towards the viewer in the plane of n and v until n.v is about
-// kFacingEpsilon (turning it round instead would point it into the surface: a black rim): a simpler form
-// of Iray's shading normal adaptation (Keller et al. 2017). The reference (engine/reference/reference.cpp)
-// does the same.
+// The normal map's direction at texcoord in the frame of the interpolated normal n and tangent (w: the
+// handedness), glTF 2.0 §3.9.3: normalize(T x s + B y s + N z), (x, y, z) = 2 texel - 1, B = w cross(N, T)
+// with T made orthogonal to N (docs/SCENES.md "Normal maps"). n unchanged without a map or a tangent.
+vec3 normal_mapped(vec3 n, vec4 tangent, vec2 texcoord) {
+    vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
+    if (u_normal_scale == 0.0 || !(dot(t, t) > 0.0)) return n;
+    t = normalize(t);
+    vec3 b = (tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
+    vec3 m = (2.0 * texture(u_normal_texture, texcoord).xyz - 1.0) * vec3(u_normal_scale, u_normal_scale, 1.0);
+    vec3 mapped = m.x * t + m.y * b + m.z * n;
+    return dot(mapped, mapped) > 0.0 ? normalize(mapped) : n;
+}
+
+// Shading normal at p (docs/DESIGN.md §5.4): interpolated, then normal-mapped. The side comes from the
+// triangle: seen from behind (an open mesh), the normal is turned round; it may still face away from the
+// viewer near a silhouette, and is then bent towards the viewer in the plane of n and v until n.v is about
+// kFacingEpsilon (turning it round instead would point it into the surface: a black rim): a simpler form of
+// Iray's shading normal adaptation (Keller et al. 2017). The reference (engine/reference/reference.cpp) does the same.
 const float kFacingEpsilon = 0.01;
-vec3 shading_normal(vec3 interpolated, vec3 view) {
-    vec3 n = gl_FrontFacing ? interpolated : -interpolated;
+vec3 shading_normal(vec3 interpolated, vec4 tangent, vec2 texcoord, vec3 view) {
+    vec3 n = normal_mapped(interpolated, tangent, texcoord);
+    if (!gl_FrontFacing) n = -n;
     float facing = dot(n, view);
     if (facing < kFacingEpsilon) n = normalize(n + (kFacingEpsilon - facing) * view);
     return n;
 }
 
-// The surface at the fragment's interpolated world position, normal and texture coordinates;
+// The surface at the fragment's interpolated world position, normal, tangent and texture coordinates;
 // position_at_centre is the position interpolated at the pixel centre (not centroid: it may lie beyond
 // the triangle's edge, on its plane).
-Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal, vec2 texcoord) {
+Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal, vec4 tangent, vec2 texcoord) {
     Surface s;
     s.texcoord = texcoord;
     s.base_color = texture(u_base_color, texcoord).rgb;
     s.k_d = u_k_d * s.base_color;
     vec3 view = normalize(u_eye - position);
-    s.normal = shading_normal(normalize(interpolated_normal), view);
+    s.normal = shading_normal(normalize(interpolated_normal), tangent, texcoord, view);
     // The plane of the triangle, from the pixel-centre position's screen derivatives (helper invocations
     // interpolate the same triangle): the surface the atlas holds, which the interpolated normal only
     // approximates. Centroid positions would not do: a 2x2 quad's lie at different sub-pixel offsets.

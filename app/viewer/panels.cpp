@@ -218,6 +218,10 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             changed |= ImGui::SliderFloat("occlusion strength", &m.occlusion_strength, 0.0f, 1.0f);
         else
             ImGui::TextDisabled("occlusion texture: no");
+        if (m.normal_texture)
+            changed |= ImGui::SliderFloat("normal scale", &m.normal_scale, 0.0f, 2.0f);
+        else
+            ImGui::TextDisabled("normal texture: no");
         if (m.alpha_mode == AlphaMode::mask)
             ImGui::TextDisabled("alpha mask: cut below %.2f (factor alpha %.2f)", m.alpha_cutoff, m.base_alpha);
         if (changed) changes.material.emplace(std::size_t(controls.selected_object), m);
@@ -228,6 +232,7 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         textures_changed |= ImGui::Checkbox("emission", &settings.emission_texture);
         textures_changed |= ImGui::Checkbox("occlusion", &settings.occlusion_texture);
         textures_changed |= ImGui::Checkbox("metallic-roughness", &settings.metallic_roughness_texture);
+        textures_changed |= ImGui::Checkbox("normal", &settings.normal_texture);
         changes.settings |= textures_changed;
     }
 

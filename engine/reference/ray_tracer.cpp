@@ -72,6 +72,7 @@ struct RayTracer::State {
     std::vector<std::size_t> object_of_geometry;    // geometry ID in `everything` -> object index
     std::vector<std::vector<glm::vec3>> positions;  // world space, per object
     std::vector<std::vector<glm::vec3>> normals;    // world space, unit, per object
+    std::vector<std::vector<glm::vec4>> tangents;   // world space, unit, w the handedness; empty: none
     std::vector<bool> mirrored;                     // per object: world_from_object's determinant < 0
     std::vector<const std::vector<std::uint32_t>*> indices;
     std::vector<const std::vector<glm::vec2>*> texcoords;  // the mesh's, per object (empty: none)
@@ -126,6 +127,7 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
     }
     s.positions.resize(scene.objects.size());
     s.normals.resize(scene.objects.size());
+    s.tangents.resize(scene.objects.size());
     s.mirrored.resize(scene.objects.size(), false);
     s.indices.resize(scene.objects.size(), nullptr);
     s.texcoords.resize(scene.objects.size(), nullptr);
@@ -152,6 +154,14 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
             extent = std::max(extent, double(glm::length(positions.back())));
         }
         positions.push_back(glm::vec3(0.0f));  // padding for Embree's 16-byte vertex reads
+        // Tangents lie in the surface: through world_from_object itself; a mirror turns the handedness round.
+        const glm::mat3 linear(world_from_object);
+        for (const glm::vec4& t : mesh.tangents) {
+            const glm::vec3 w = linear * glm::vec3(t);
+            const float length = glm::length(w);
+            s.tangents[k].push_back(
+                glm::vec4(length > 0.0f ? w / length : glm::vec3(0.0f), s.mirrored[k] ? -t.w : t.w));
+        }
         s.indices[k] = &object.mesh->indices;
         s.texcoords[k] = &object.mesh->texcoords;  // a pose keeps the bind mesh's texture coordinates
         const Material& material = object.material;
@@ -226,6 +236,9 @@ Hit RayTracer::hit_at(std::size_t object, std::size_t triangle_index, double u, 
                          v * glm::dvec3(normals[triangle[2]]);
     const double n_length = glm::length(n);
     hit.shading_normal = n_length > 0.0 ? n / n_length : hit.geometric_normal;
+    if (const std::vector<glm::vec4>& t = state_->tangents[object]; !t.empty()) {
+        hit.tangent = w * glm::dvec4(t[triangle[0]]) + u * glm::dvec4(t[triangle[1]]) + v * glm::dvec4(t[triangle[2]]);
+    }
     if (const std::vector<glm::vec2>& uv = *state_->texcoords[object]; !uv.empty())
         hit.texcoord = glm::vec2(w * glm::dvec2(uv[triangle[0]]) + u * glm::dvec2(uv[triangle[1]]) +
                                  v * glm::dvec2(uv[triangle[2]]));

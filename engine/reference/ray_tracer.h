@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 #include <memory>
 #include <optional>
 
@@ -19,6 +20,8 @@ struct Hit {
     glm::dvec3 geometric_normal;  // the triangle's, on the side its vertices turn counter-clockwise in object
                                   // space (the front, whatever the transform), world space, unit
     glm::vec2 texcoord{0.0f};     // interpolated Mesh::texcoords; (0, 0) without them
+    glm::dvec4 tangent{0.0};      // interpolated Mesh::tangents (world space, not unit; w's sign is the
+                                  // handedness, as the rasteriser interpolates it); 0 without them
     std::size_t triangle = 0;     // index of the triangle hit in its object's mesh
 };
 

@@ -72,12 +72,28 @@ void basis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {
     b2 = {b, sign + n.y * n.y * a, -n.y};
 }
 
-// The shading normal (docs/DESIGN.md §5.4), as glsl/shade_surface.glsl's shading_normal(): the side from the
-// triangle (turned round where its back is seen), then a normal that still faces away from the viewer
-// near a silhouette bent towards the viewer in the plane of n and v until n.v is about kFacingEpsilon.
+// The normal map's direction (glsl/shade_surface.glsl's normal_mapped(), glTF 2.0 §3.9.3) in the frame of
+// the interpolated normal n and the hit's tangent: normalize(T x s + B y s + N z), (x, y, z) = 2 texel - 1,
+// B = w cross(N, T) with T made orthogonal to N. n unchanged without a tangent.
+glm::dvec3 normal_mapped(const glm::dvec3& n, const glm::dvec4& tangent, const glm::vec3& texel, double scale) {
+    glm::dvec3 t = glm::dvec3(tangent) - n * glm::dot(n, glm::dvec3(tangent));
+    const double t_length = glm::length(t);
+    if (!(t_length > 0.0)) return n;
+    t /= t_length;
+    const glm::dvec3 b = (tangent.w < 0.0 ? -1.0 : 1.0) * glm::cross(n, t);
+    const glm::dvec3 m = (2.0 * glm::dvec3(texel) - 1.0) * glm::dvec3(scale, scale, 1.0);
+    const glm::dvec3 mapped = m.x * t + m.y * b + m.z * n;
+    const double length = glm::length(mapped);
+    return length > 0.0 ? mapped / length : n;
+}
+
+// The shading normal (docs/DESIGN.md §5.4), as glsl/shade_surface.glsl's shading_normal(): the normal,
+// interpolated and normal-mapped, turned round where the triangle's back is seen, then, where it still
+// faces away from the viewer near a silhouette, bent towards the viewer in the plane of n and v until n.v
+// is about kFacingEpsilon.
 constexpr double kFacingEpsilon = 0.01;  // glsl/shade_surface.glsl's
-glm::dvec3 shading_normal(const Hit& hit, const glm::dvec3& view) {
-    glm::dvec3 n = glm::dot(hit.geometric_normal, view) >= 0.0 ? hit.shading_normal : -hit.shading_normal;
+glm::dvec3 shading_normal(const Hit& hit, const glm::dvec3& normal, const glm::dvec3& view) {
+    glm::dvec3 n = glm::dot(hit.geometric_normal, view) >= 0.0 ? normal : -normal;
     const double facing = glm::dot(n, view);
     if (facing < kFacingEpsilon) n = glm::normalize(n + (kFacingEpsilon - facing) * view);
     return n;
@@ -341,18 +357,22 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
         s.position = hit.position;
         s.geometric_normal = hit.geometric_normal;
         const glm::dvec3 view = -direction;
-        s.normal = shading_normal(hit, view);
-        s.view = view;
-        s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
-        basis(s.normal, s.normal_b1, s.normal_b2);
-        basis(s.mirror, s.mirror_b1, s.mirror_b2);
-        // The base-colour texture scales rho_d (or glTF's base_color) at the hit, as shade.frag's k_d, averaged
-        // over the ray's footprint (as the GPU's mip level does over a pixel; docs/DESIGN.md §5.12).
+        // Textures are averaged over the ray's footprint (as the GPU's mip level does over a pixel;
+        // docs/DESIGN.md §5.12).
         const bool textured = !scene.objects[hit.object].mesh->texcoords.empty();
         const auto texture_mean = [&](const MaterialTexture& t) {
             return footprint_mean(t, hit, tracer.texcoord_on_plane(hit, eye, ray(px + footprint, py)),
                                   tracer.texcoord_on_plane(hit, eye, ray(px, py + footprint)));
         };
+        glm::dvec3 normal = hit.shading_normal;
+        if (material.normal_texture && textured && material.normal_scale != 0.0f)
+            normal = normal_mapped(normal, hit.tangent, texture_mean(*material.normal_texture), material.normal_scale);
+        s.normal = shading_normal(hit, normal, view);
+        s.view = view;
+        s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
+        basis(s.normal, s.normal_b1, s.normal_b2);
+        basis(s.mirror, s.mirror_b1, s.mirror_b2);
+        // The base-colour texture scales rho_d (or glTF's base_color) at the hit, as shade.frag's k_d.
         std::optional<glm::vec3> texture;
         if (material.base_color_texture && textured) texture = texture_mean(*material.base_color_texture);
         s.emission = glm::dvec3(material.emission);

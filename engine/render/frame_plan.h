@@ -79,6 +79,7 @@ struct ObjectFrame {
     std::optional<MetallicRoughness> metallic_roughness;
     glm::vec3 emission{0.0f};         // Material::emission, times the emission texture in shade.frag
     float occlusion_strength = 1.0f;  // Material::occlusion_strength (the texture is white without one)
+    float normal_scale = 0.0f;        // Material::normal_scale where the normal map is drawn, else 0
     // Material::masked(): cut out where base_alpha times the base-colour texture's alpha < alpha_cutoff; a
     // cutoff of 0 cuts nothing.
     float base_alpha = 1.0f, alpha_cutoff = 0.0f;

@@ -46,6 +46,10 @@ void GpuMesh::make_vertex_arrays(const Mesh& mesh, GLbitfield vertex_flags) {
         texcoords_ = make_buffer(mesh.texcoords);
         attach(vertex_array_.id(), shader::attrib::texcoord, texcoords_, 2);
     }
+    if (!mesh.tangents.empty()) {  // rewritten with the positions (a pose turns them)
+        tangents_ = make_buffer(mesh.tangents, vertex_flags);
+        attach(vertex_array_.id(), shader::attrib::tangent, tangents_, 4);
+    }
     glVertexArrayElementBuffer(vertex_array_.id(), indices_.id());
     caster_vertex_array_ = gl::VertexArray::create();
     attach(caster_vertex_array_.id(), shader::attrib::position, positions_, 3);
@@ -100,6 +104,8 @@ void GpuMesh::update_vertices(const Mesh& posed) {
     if (!deforming_) throw std::logic_error("GpuMesh::update_vertices on a mesh made without Deforming");
     if (!posed.positions.empty()) positions_.upload(posed.positions.data(), posed.positions.size() * sizeof(glm::vec3));
     if (!posed.normals.empty()) normals_.upload(posed.normals.data(), posed.normals.size() * sizeof(glm::vec3));
+    if (!posed.tangents.empty() && tangents_)
+        tangents_.upload(posed.tangents.data(), posed.tangents.size() * sizeof(glm::vec4));
     bounds_min_ = posed.bounds_min;  // posing computed them: no second pass over the vertices
     bounds_max_ = posed.bounds_max;
 }

@@ -1,6 +1,6 @@
 #pragma once
 // A scene mesh in GPU buffers: attributes shader::attrib::position and normal (object space) and, where
-// the mesh has them, texcoord; 32-bit indices; and the shadow-caster levels of detail
+// the mesh has them, texcoord and tangent; 32-bit indices; and the shadow-caster levels of detail
 // (render/caster_lod.h) in a second index buffer over the same positions. Needs a current GL context.
 #include <functional>
 #include <optional>
@@ -22,7 +22,7 @@ public:
     // only: simplified levels would be of the bind pose, not of the frame's).
     struct Deforming {};
     GpuMesh(const Mesh& mesh, Deforming);
-    // The posed positions and normals (same vertex count and indices as the mesh given to the
+    // The posed positions, normals and tangents (same vertex count and indices as the mesh given to the
     // constructor); its bounds must be set (MeshDeformation's poses are).
     void update_vertices(const Mesh& posed);
     void draw() const;  // glDrawElements
@@ -40,7 +40,7 @@ public:
     void draw_caster(int level, int instances = 1) const;  // glDrawElementsInstanced of that level
 
 private:
-    gl::Buffer positions_, normals_, texcoords_, indices_, caster_indices_;
+    gl::Buffer positions_, normals_, texcoords_, tangents_, indices_, caster_indices_;
     // Positions (and at level 0 the texture coordinates, for alpha-masked casters): with the mesh's index
     // buffer (level 0), and with the simplified levels' (1, 2, ...).
     gl::VertexArray vertex_array_, caster_vertex_array_, simplified_vertex_array_;
@@ -50,7 +50,7 @@ private:
     std::optional<glm::vec3> flat_normal_;
     bool deforming_ = false;
     void set_bounds(const Mesh& mesh);
-    // The buffers of positions and normals (with `vertex_flags`), texture coordinates and indices, the
+    // The buffers of positions, normals and tangents (with `vertex_flags`), texture coordinates and indices, the
     // shading vertex array, and the casters' (positions only; level 0's with the mesh's indices).
     void make_vertex_arrays(const Mesh& mesh, GLbitfield vertex_flags);
 };

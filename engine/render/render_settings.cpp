@@ -179,6 +179,8 @@ std::vector<SettingInfo> make_setting_table() {
         on_off("metallic-roughness-texture", &RenderSettings::metallic_roughness_texture, frame,
                "Metallic-roughness textures multiply the objects' metallic and roughness factors, in ratio shading "
                "(off: the factors alone)"),
+        on_off("normal-texture", &RenderSettings::normal_texture, frame,
+               "Normal maps bend the objects' shading normals (off: the interpolated vertex normals)"),
         integer_of("msaa", &RenderSettings::msaa, kMsaaSampleCounts, "MSAA samples", frame,
                    "Multisample anti-aliasing: samples per pixel, averaged in linear HDR before tone mapping"),
         choice("atlas", &RenderSettings::atlas, programs,

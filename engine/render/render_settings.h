@@ -136,6 +136,7 @@ struct RenderSettings {
     bool emission_texture = true;            // off: the emission factor alone
     bool occlusion_texture = true;           // off: no occlusion from textures (glTF's occlusionTexture)
     bool metallic_roughness_texture = true;  // off: the metallic and roughness factors alone
+    bool normal_texture = true;              // off: the interpolated vertex normals (glTF's normalTexture)
     // Samples per pixel of the shading target (multisample anti-aliasing; one of msaa_sample_counts()),
     // resolved to one linear HDR colour per pixel (their mean) before tone mapping. The driver's maximum
     // caps it (Renderer::samples()). 1 here: the per-pixel values the engine's tests compare; the commands

@@ -143,6 +143,7 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
     instance_emission_textures_.clear();
     instance_occlusion_textures_.clear();
     instance_metallic_roughness_textures_.clear();
+    instance_normal_textures_.clear();
     instance_front_only_.clear();
     if (!white_texture_) white_texture_ = white_texture();
     std::vector<PlannedObject> planned;
@@ -190,6 +191,8 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
         instance_emission_textures_.push_back(texture(object.material.emission_texture));
         instance_occlusion_textures_.push_back(texture(object.material.occlusion_texture));
         instance_metallic_roughness_textures_.push_back(texture(object.material.metallic_roughness_texture));
+        instance_normal_textures_.push_back(object.mesh->tangents.empty() ? &white_texture_
+                                                                          : texture(object.material.normal_texture));
         instance_front_only_.push_back(!object.material.double_sided && mesh.caster_lod().levels[0].closed);
         PlannedObject& object_plan = planned.emplace_back();
         object_plan.object = object;
@@ -805,6 +808,8 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         (settings_.emission_texture ? *instance_emission_textures_[i] : white_texture_).bind(unit::emission_texture);
         glProgramUniform1f(program, loc::occlusion_strength, object.occlusion_strength);
         (settings_.occlusion_texture ? *instance_occlusion_textures_[i] : white_texture_).bind(unit::occlusion_texture);
+        glProgramUniform1f(program, loc::normal_scale, object.normal_scale);
+        instance_normal_textures_[i]->bind(unit::normal_texture);
         instance_meshes_[i]->bind();
         instance_meshes_[i]->draw();
     }

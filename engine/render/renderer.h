@@ -213,6 +213,7 @@ private:
     std::vector<const gl::Texture*> instance_emission_textures_;
     std::vector<const gl::Texture*> instance_occlusion_textures_;
     std::vector<const gl::Texture*> instance_metallic_roughness_textures_;
+    std::vector<const gl::Texture*> instance_normal_textures_;
     // Per object of planner_.objects(): closed and single-sided (Material::double_sided false), so drawn
     // for the camera with back faces culled; fixed by set_scene.
     std::vector<bool> instance_front_only_;

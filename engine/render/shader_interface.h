@@ -56,6 +56,7 @@ namespace envshadow::render::shader {
     X(loc, compact_light_count, 37) /* METALLIC_ROUGHNESS: FramePlan::compact_lights, their count */   \
     X(loc, compact_lights, 38)      /* and the indices (ivec4) */                                      \
     X(loc, ggx_levels, 39)          /* METALLIC_ROUGHNESS: each GGX level's rows (ivec3, 39-54) */     \
+    X(loc, normal_scale, 55)        /* shade.frag: Material::normal_scale, 0 without a normal map */   \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -98,6 +99,7 @@ namespace envshadow::render::shader {
     X(unit, ggx_level_texels, 13)                                                                      \
     X(unit, ggx_mirror, 4)                                                                             \
     X(unit, metallic_roughness_texture, 14)                                                            \
+    X(unit, normal_texture, 15) /* shade.frag: the material's normal map (linear) */                   \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \
@@ -117,6 +119,7 @@ namespace envshadow::render::shader {
     X(attrib, position, 0)                                                                             \
     X(attrib, normal, 1)                                                                               \
     X(attrib, texcoord, 2) /* unset (0, 0) on meshes without texture coordinates */                    \
+    X(attrib, tangent, 3)  /* unset (0, 0, 0, 1) on meshes without tangents */                         \
     /* sizes */                                                                                        \
     X(size, max_lights, kMaxLights) /* light records the uniform block and the tile lists hold */      \
     X(size, screen_tile, 16)        /* pixels: shadow_tiles.comp's work group, shade.frag's tile */    \
