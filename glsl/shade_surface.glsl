@@ -58,18 +58,44 @@ vec3 normal_mapped(vec3 n, vec4 tangent, vec2 texcoord) {
     return dot(mapped, mapped) > 0.0 ? normalize(mapped) : n;
 }
 
+// Where the mirror direction of `view` about n dips below min(0.9 view.ng, 0.01) over the triangle's plane
+// (ng, on the viewer's side), n turned towards ng, in the plane of the two, until it does not: LIFT_STEPS
+// bisections of the angle. The shading normal adaptation of Iray (Keller et al. 2017) and Cycles; a normal
+// map's slopes facing away from the viewer need it (docs/DESIGN.md §5.4; env/shading_normal.h's C++ twin).
+float mirror_height(vec3 m, vec3 ng, vec3 view) {
+    return 2.0 * dot(m, view) * dot(m, ng) - dot(view, ng);
+}
+vec3 mirror_above_surface(vec3 n, vec3 ng, vec3 view) {
+    float threshold = min(0.9 * dot(ng, view), 0.01);
+    if (mirror_height(n, ng, view) >= threshold) return n;
+    vec3 x = n - dot(n, ng) * ng;
+    if (!(dot(x, x) > 0.0)) return ng;
+    x = normalize(x);
+    float lo = 0.0, hi = atan(dot(n, x), dot(n, ng));
+    for (int i = 0; i < LIFT_STEPS; ++i) {
+        float mid = 0.5 * (lo + hi);
+        if (mirror_height(cos(mid) * ng + sin(mid) * x, ng, view) >= threshold)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return cos(lo) * ng + sin(lo) * x;
+}
+
 // Shading normal at p (docs/DESIGN.md §5.4): interpolated, then normal-mapped. The side comes from the
 // triangle: seen from behind (an open mesh), the normal is turned round; it may still face away from the
 // viewer near a silhouette, and is then bent towards the viewer in the plane of n and v until n.v is about
-// kFacingEpsilon (turning it round instead would point it into the surface: a black rim): a simpler form of
-// Iray's shading normal adaptation (Keller et al. 2017). The reference (engine/reference/reference.cpp) does the same.
+// kFacingEpsilon (turning it round instead would point it into the surface: a black rim); last, a mapped
+// normal's mirror direction is kept above the triangle's plane (viewer_plane: its normal on the viewer's
+// side, or 0 for a triangle seen edge on). The reference (engine/reference/reference.cpp) does the same.
 const float kFacingEpsilon = 0.01;
-vec3 shading_normal(vec3 interpolated, vec4 tangent, vec2 texcoord, vec3 view) {
+vec3 shading_normal(vec3 interpolated, vec4 tangent, vec2 texcoord, vec3 view, vec3 viewer_plane) {
     vec3 n = normal_mapped(interpolated, tangent, texcoord);
+    bool mapped = n != interpolated;
     if (!gl_FrontFacing) n = -n;
     float facing = dot(n, view);
     if (facing < kFacingEpsilon) n = normalize(n + (kFacingEpsilon - facing) * view);
-    return n;
+    return mapped && dot(viewer_plane, viewer_plane) > 0.0 ? mirror_above_surface(n, viewer_plane, view) : n;
 }
 
 // The surface at the fragment's interpolated world position, normal, tangent and texture coordinates;
@@ -81,14 +107,16 @@ Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal
     s.base_color = texture(u_base_color, texcoord).rgb;
     s.k_d = u_k_d * s.base_color;
     vec3 view = normalize(u_eye - position);
-    s.normal = shading_normal(normalize(interpolated_normal), tangent, texcoord, view);
     // The plane of the triangle, from the pixel-centre position's screen derivatives (helper invocations
     // interpolate the same triangle): the surface the atlas holds, which the interpolated normal only
     // approximates. Centroid positions would not do: a 2x2 quad's lie at different sub-pixel offsets.
     // A triangle seen edge on has none: its shading normal stands in.
     vec3 across = cross(dFdx(position_at_centre), dFdy(position_at_centre));
     bool has_plane = dot(across, across) > 0.0;
-    s.plane_normal = has_plane ? normalize(across) : s.normal;
+    vec3 plane = has_plane ? normalize(across) : vec3(0.0);
+    s.normal = shading_normal(normalize(interpolated_normal), tangent, texcoord, view,
+                              dot(plane, view) < 0.0 ? -plane : plane);
+    s.plane_normal = has_plane ? plane : s.normal;
     // The shaded point is the centroid position put onto that plane: with MSAA the centroid sample lies
     // inside the triangle, but the position interpolated there need not lie on the triangle's plane
     // (llvmpipe's does not), and a point below it is shadowed by its own triangle. At one sample per

@@ -22,6 +22,7 @@
 #include "env/brdf.h"
 #include "env/gltf_brdf.h"
 #include "env/latlong.h"
+#include "env/shading_normal.h"
 #include "reference/environment_sampler.h"
 #include "reference/ray_tracer.h"
 
@@ -88,15 +89,16 @@ glm::dvec3 normal_mapped(const glm::dvec3& n, const glm::dvec4& tangent, const g
 }
 
 // The shading normal (docs/DESIGN.md §5.4), as glsl/shade_surface.glsl's shading_normal(): the normal,
-// interpolated and normal-mapped, turned round where the triangle's back is seen, then, where it still
-// faces away from the viewer near a silhouette, bent towards the viewer in the plane of n and v until n.v
-// is about kFacingEpsilon.
+// interpolated and normal-mapped, turned round where the triangle's back is seen; where it still faces away
+// from the viewer near a silhouette, bent towards the viewer in the plane of n and v until n.v is about
+// kFacingEpsilon; then, for a `mapped` normal, its mirror direction kept above the triangle's plane.
 constexpr double kFacingEpsilon = 0.01;  // glsl/shade_surface.glsl's
-glm::dvec3 shading_normal(const Hit& hit, const glm::dvec3& normal, const glm::dvec3& view) {
-    glm::dvec3 n = glm::dot(hit.geometric_normal, view) >= 0.0 ? normal : -normal;
+glm::dvec3 shading_normal(const Hit& hit, const glm::dvec3& normal, bool mapped, const glm::dvec3& view) {
+    const bool front = glm::dot(hit.geometric_normal, view) >= 0.0;
+    glm::dvec3 n = front ? normal : -normal;
     const double facing = glm::dot(n, view);
     if (facing < kFacingEpsilon) n = glm::normalize(n + (kFacingEpsilon - facing) * view);
-    return n;
+    return mapped ? mirror_above_surface(n, front ? hit.geometric_normal : -hit.geometric_normal, view) : n;
 }
 
 // What the shading of one surface point needs: the Phong BRDF's k_d, k_s and shininess (docs/DESIGN.md §2),
@@ -364,10 +366,11 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
             return footprint_mean(t, hit, tracer.texcoord_on_plane(hit, eye, ray(px + footprint, py)),
                                   tracer.texcoord_on_plane(hit, eye, ray(px, py + footprint)));
         };
-        glm::dvec3 normal = hit.shading_normal;
-        if (material.normal_texture && textured && material.normal_scale != 0.0f)
-            normal = normal_mapped(normal, hit.tangent, texture_mean(*material.normal_texture), material.normal_scale);
-        s.normal = shading_normal(hit, normal, view);
+        const bool mapped = material.normal_texture && textured && material.normal_scale != 0.0f;
+        const glm::dvec3 normal = mapped ? normal_mapped(hit.shading_normal, hit.tangent,
+                                                         texture_mean(*material.normal_texture), material.normal_scale)
+                                         : hit.shading_normal;
+        s.normal = shading_normal(hit, normal, mapped, view);
         s.view = view;
         s.mirror = glm::normalize(2.0 * glm::dot(s.normal, view) * s.normal - view);
         basis(s.normal, s.normal_b1, s.normal_b2);

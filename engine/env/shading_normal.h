@@ -1,0 +1,17 @@
+#pragma once
+// Shading-normal geometry shared by the reference and the tests (glsl/shade_surface.glsl holds the GLSL twin;
+// docs/DESIGN.md §5.4). Double precision, no GL.
+#include <glm/vec3.hpp>
+
+namespace envshadow {
+
+// Bisections of the angle that mirror_above_surface takes (glsl/shade_surface.glsl's kLiftSteps).
+inline constexpr int kLiftSteps = 16;
+
+// The shading normal adaptation of Iray (Keller et al. 2017) and Cycles, for normal-mapped normals: where the
+// mirror direction of `view` about unit n dips below min(0.9 view.ng, 0.01) over the triangle's plane (ng,
+// unit, on the viewer's side), n turned towards ng, in the plane of the two, until it does not. n itself
+// where its mirror direction clears the plane; ng where n is parallel to it.
+glm::dvec3 mirror_above_surface(const glm::dvec3& n, const glm::dvec3& ng, const glm::dvec3& view);
+
+}  // namespace envshadow
