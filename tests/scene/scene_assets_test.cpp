@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "scene/meshes.h"
 #include "scene/scene.h"
 
 namespace envshadow {
@@ -150,6 +151,31 @@ TEST(SceneAssets, RoughnessBandsCarryBlendersMetallicRoughnessTexture) {
     }
     EXPECT_EQ(roughness, (std::set<int>{20, 153}));  // 0.08 and 0.6
     EXPECT_EQ(metalness, (std::set<int>{0, 255}));
+}
+
+// normal_panel.glb as Blender's exporter wrote it (scripts/blender-normal-panel.py): a normalTexture, data read
+// as stored, with the mesh's own tangents: u along +x, the image's up along -z (w = +1), as the loader makes
+// them too.
+TEST(SceneAssets, NormalPanelCarriesBlendersNormalMapAndTangents) {
+    const Scene s = load_scene(kScenes / "normal_panel.json");
+    const Object& panel = named(s, "panel");
+    const Material& m = panel.material;
+    ASSERT_TRUE(m.normal_texture.has_value());
+    EXPECT_FALSE(m.normal_texture->srgb);
+    EXPECT_EQ(m.normal_scale, 1.0f);
+    ASSERT_EQ(panel.mesh->tangents.size(), panel.mesh->positions.size());
+    for (const glm::vec4& t : panel.mesh->tangents) EXPECT_LT(glm::distance(t, glm::vec4(1, 0, 0, 1)), 1e-6f);
+    Mesh made = *panel.mesh;
+    compute_vertex_tangents(made);
+    EXPECT_EQ(made.tangents, panel.mesh->tangents);
+    // The flat field between the domes is (0, 0, 1): texel (128, 128, 255); every texel faces outwards.
+    const TextureImage& image = *m.normal_texture->image;
+    std::size_t flat = 0;
+    for (std::size_t i = 0; i + 3 < image.rgba.size(); i += 4) {
+        flat += image.rgba[i] == 128 && image.rgba[i + 1] == 128 && image.rgba[i + 2] == 255;
+        EXPECT_GT(image.rgba[i + 2], 128);
+    }
+    EXPECT_GT(flat, image.rgba.size() / 4 / 3);
 }
 
 TEST(SceneAssets, FlyoverFiguresAreFifteenThousandTrianglesEach) {
