@@ -58,28 +58,19 @@ vec3 normal_mapped(vec3 n, vec4 tangent, vec2 texcoord) {
     return dot(mapped, mapped) > 0.0 ? normalize(mapped) : n;
 }
 
-// Where the mirror direction of `view` about n dips below min(0.9 view.ng, 0.01) over the triangle's plane
-// (ng, on the viewer's side), n turned towards ng, in the plane of the two, until it does not: LIFT_STEPS
-// bisections of the angle. The shading normal adaptation of Iray (Keller et al. 2017) and Cycles; a normal
-// map's slopes facing away from the viewer need it (docs/DESIGN.md §5.4; env/shading_normal.h's C++ twin).
-float mirror_height(vec3 m, vec3 ng, vec3 view) {
-    return 2.0 * dot(m, view) * dot(m, ng) - dot(view, ng);
-}
+// Where the mirror direction of `view` about n dips below t = min(0.9 view.ng, 0.01) over the triangle's plane
+// (ng, on the viewer's side), n turned towards ng, in the plane of the two, until that direction's height is t:
+// the shading normal adaptation of Iray (Keller et al. 2017) and Cycles, which a normal map's slopes facing
+// away from the viewer need. In closed form, without a loop (env/shading_normal.h derives it; its C++ twin).
 vec3 mirror_above_surface(vec3 n, vec3 ng, vec3 view) {
-    float threshold = min(0.9 * dot(ng, view), 0.01);
-    if (mirror_height(n, ng, view) >= threshold) return n;
+    float vz = dot(view, ng);
+    float threshold = min(0.9 * vz, 0.01);
     vec3 x = n - dot(n, ng) * ng;
-    if (!(dot(x, x) > 0.0)) return ng;
+    if (2.0 * dot(n, view) * dot(n, ng) - vz >= threshold || !(dot(x, x) > 0.0)) return n;
     x = normalize(x);
-    float lo = 0.0, hi = atan(dot(n, x), dot(n, ng));
-    for (int i = 0; i < LIFT_STEPS; ++i) {
-        float mid = 0.5 * (lo + hi);
-        if (mirror_height(cos(mid) * ng + sin(mid) * x, ng, view) >= threshold)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return cos(lo) * ng + sin(lo) * x;
+    float vx = dot(view, x);
+    float a = 0.5 * (atan(vx, vz) + acos(clamp(threshold / length(vec2(vz, vx)), -1.0, 1.0)));
+    return cos(a) * ng + sin(a) * x;
 }
 
 // Shading normal at p (docs/DESIGN.md §5.4): interpolated, then normal-mapped. The side comes from the

@@ -11,7 +11,6 @@
 
 #include "env/cells.h"
 #include "env/ggx_prefilter.h"
-#include "env/shading_normal.h"
 
 namespace envshadow::render::shader {
 
@@ -128,8 +127,7 @@ namespace envshadow::render::shader {
     X(size, fs_scan_run, 16)        /* fs_sampler.geom's unrolled run: the width must be a multiple */ \
     X(size, fs_texel_bits, 21)      /* a packed sample: texel index bits, multiplicity above them */   \
     /* the GGX levels (env/ggx_prefilter.h) */                                                         \
-    X(size, ggx_prefilter_levels, kGgxPrefilterLevels)                                                 \
-    X(size, lift_steps, kLiftSteps) /* shade_surface.glsl: env/shading_normal.h's bisections */
+    X(size, ggx_prefilter_levels, kGgxPrefilterLevels)
 
 #define ENVSHADOW_SHADER_CONSTANT(kind, name, value) \
     namespace kind {                                 \

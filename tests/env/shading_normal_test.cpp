@@ -1,6 +1,6 @@
 // mirror_above_surface (env/shading_normal.h): a normal whose mirror direction clears the triangle's plane
 // is kept; one whose does not is turned towards the plane's normal, in the plane of the two, just far
-// enough that the mirror direction meets min(0.9 v.ng, 0.01).
+// enough that the mirror direction meets min(0.9 v.ng, 0.01): checked against the reflection itself.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -41,8 +41,19 @@ TEST(MirrorAboveSurface, LiftsJustEnoughInThePlaneOfTheTwoNormals) {
     EXPECT_LT(lifted.x, 0.0);           // still leaning the same way, less
     EXPECT_GT(lifted.z, n.z);
     const double threshold = std::min(0.9 * glm::dot(kUp, view), 0.01);
-    EXPECT_GE(mirror_height(lifted, view), threshold);
-    EXPECT_LT(mirror_height(lifted, view), threshold + 1e-3);  // 16 bisections of a 50 degree angle
+    EXPECT_NEAR(mirror_height(lifted, view), threshold, 1e-12);
+}
+
+TEST(MirrorAboveSurface, TheViewerOnTheSideOfTheTiltToo) {
+    // Seen from 10 degrees off the normal on the tilt's side, a normal tilted 70 degrees mirrors the view 40
+    // degrees below the plane.
+    const glm::dvec3 view = tilted(10.0, {-1.0, 0.0, 0.0});
+    const glm::dvec3 n = tilted(70.0, {-1.0, 0.0, 0.0});
+    ASSERT_LT(mirror_height(n, view), 0.0);
+    const glm::dvec3 lifted = mirror_above_surface(n, kUp, view);
+    EXPECT_NEAR(mirror_height(lifted, view), std::min(0.9 * glm::dot(kUp, view), 0.01), 1e-12);
+    EXPECT_GT(lifted.z, n.z);
+    EXPECT_LT(lifted.x, 0.0);
 }
 
 TEST(MirrorAboveSurface, ANormalAlongThePlanesNormalStays) {
