@@ -178,6 +178,17 @@ TEST(SceneAssets, NormalPanelCarriesBlendersNormalMapAndTangents) {
     EXPECT_GT(flat, image.rgba.size() / 4 / 3);
 }
 
+// emissive_sphere.glb as Blender's exporter wrote it (scripts/blender-emissive.py): Emission (1, 0.45, 0.1) at a
+// strength of 2, as emissiveFactor times KHR_materials_emissive_strength.
+TEST(SceneAssets, EmissiveSphereCarriesBlendersEmissionStrength) {
+    const Scene s = load_scene(kScenes / "emissive_sphere.json");
+    const Material& m = named(s, "sphere").material;
+    EXPECT_LT(glm::distance(m.emission, glm::vec3(2.0f, 0.9f, 0.2f)), 1e-6f);
+    EXPECT_FALSE(m.emission_texture.has_value());
+    ASSERT_TRUE(m.metallic_roughness.has_value());
+    EXPECT_LT(glm::distance(m.metallic_roughness->base_color, glm::vec3(0.1f)), 1e-6f);
+}
+
 TEST(SceneAssets, FlyoverFiguresAreFifteenThousandTrianglesEach) {
     const Scene two = load_scene(kScenes / "flyover.json");
     const Scene one = load_scene(kScenes / "flyover_single.json");
