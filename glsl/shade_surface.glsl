@@ -49,11 +49,12 @@ float occlusion(Surface s) {
 // handedness), glTF 2.0 §3.9.3: normalize(T x s + B y s + N z), (x, y, z) = 2 texel - 1, B = w cross(N, T)
 // with T made orthogonal to N (docs/SCENES.md "Normal maps"). n unchanged without a map or a tangent.
 vec3 normal_mapped(vec3 n, vec4 tangent, vec2 texcoord) {
+    vec3 texel = texture(u_normal_texture, texcoord).xyz;  // before any branch: its mip level needs derivatives
     vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
     if (u_normal_scale == 0.0 || !(dot(t, t) > 0.0)) return n;
     t = normalize(t);
     vec3 b = (tangent.w < 0.0 ? -1.0 : 1.0) * cross(n, t);
-    vec3 m = (2.0 * texture(u_normal_texture, texcoord).xyz - 1.0) * vec3(u_normal_scale, u_normal_scale, 1.0);
+    vec3 m = (2.0 * texel - 1.0) * vec3(u_normal_scale, u_normal_scale, 1.0);
     vec3 mapped = m.x * t + m.y * b + m.z * n;
     return dot(mapped, mapped) > 0.0 ? normalize(mapped) : n;
 }
