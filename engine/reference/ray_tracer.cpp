@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "scene/mesh_topology.h"
+#include "scene/meshes.h"
 #include "scene/texture.h"
 
 namespace envshadow::reference {
@@ -154,14 +155,9 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
             extent = std::max(extent, double(glm::length(positions.back())));
         }
         positions.push_back(glm::vec3(0.0f));  // padding for Embree's 16-byte vertex reads
-        // Tangents lie in the surface: through world_from_object itself; a mirror turns the handedness round.
-        const glm::mat3 linear(world_from_object);
-        for (const glm::vec4& t : mesh.tangents) {
-            const glm::vec3 w = linear * glm::vec3(t);
-            const float length = glm::length(w);
-            s.tangents[k].push_back(
-                glm::vec4(length > 0.0f ? w / length : glm::vec3(0.0f), s.mirrored[k] ? -t.w : t.w));
-        }
+        const glm::dmat3 linear(glm::mat3{world_from_object});
+        for (std::size_t v = 0; v < mesh.tangents.size(); ++v)
+            s.tangents[k].push_back(transform_tangent(linear, mesh.tangents[v], glm::dvec3(normals[v])));
         s.indices[k] = &object.mesh->indices;
         s.texcoords[k] = &object.mesh->texcoords;  // a pose keeps the bind mesh's texture coordinates
         const Material& material = object.material;

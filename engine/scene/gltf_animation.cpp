@@ -13,6 +13,7 @@
 
 #include "core/log.h"
 #include "scene/gltf_accessor.h"
+#include "scene/meshes.h"
 
 namespace envshadow {
 namespace {
@@ -155,14 +156,10 @@ void pose_vertices(const GltfRig& rig, const GltfPartSources& sources, int clip,
         glm::vec3 normal = glm::inverseTranspose(glm::mat3(matrix)) * n;
         const float length = glm::length(normal);
         mesh.normals[v] = length > 1e-20f && std::isfinite(length) ? normal / length : src.normal;
-        if (mesh.tangents.size() == sources.vertices.size()) {
-            const glm::mat3 linear(matrix);
-            glm::vec3 tangent = linear * glm::vec3(src.tangent);
-            tangent -= mesh.normals[v] * glm::dot(mesh.normals[v], tangent);
-            const float t_length = glm::length(tangent);
-            const float handedness = glm::determinant(linear) < 0.0f ? -src.tangent.w : src.tangent.w;
-            if (t_length > 1e-20f && std::isfinite(t_length))
-                mesh.tangents[v] = glm::vec4(tangent / t_length, handedness);
+        if (mesh.tangents.size() == sources.vertices.size()) {  // a tangent that collapses keeps the last pose's
+            const glm::vec4 tangent =
+                transform_tangent(glm::dmat3(glm::mat3(matrix)), src.tangent, glm::dvec3(mesh.normals[v]));
+            if (glm::vec3(tangent) != glm::vec3(0.0f)) mesh.tangents[v] = tangent;
         }
         if (!std::isfinite(mesh.positions[v].x + mesh.positions[v].y + mesh.positions[v].z))
             mesh.positions[v] = glm::vec3(0.0f);  // a degenerate pose: the vertex collapses, nothing overflows

@@ -281,14 +281,9 @@ private:
                                            std::move(local_positions), std::move(local_normals));
                 if (!part.tangents.empty()) {  // back through the node's transform, as read_tangents took them
                     const glm::dmat3 to_local = glm::inverse(glm::dmat3(world));
-                    const float handedness = glm::determinant(to_local) < 0.0 ? -1.0f : 1.0f;
-                    for (std::size_t v = 0; v < source.size(); ++v) {
-                        const glm::dvec3 t = to_local * glm::dvec3(glm::vec3(part.tangents[v]));
-                        const double length = glm::length(t);
+                    for (std::size_t v = 0; v < source.size(); ++v)
                         sources.vertices[v].tangent =
-                            glm::vec4(length > 1e-30 ? glm::vec3(t / length) : glm::vec3(part.tangents[v]),
-                                      handedness * part.tangents[v].w);
-                    }
+                            transform_tangent(to_local, part.tangents[v], glm::dvec3(sources.vertices[v].normal));
                 }
                 append_sources(sources, part_sources_[part_index]);
             }
@@ -311,21 +306,16 @@ private:
         if (d.count != vertex_count)
             geometry_.fail(what + " has " + std::to_string(d.count) + " tangents for " + std::to_string(vertex_count) +
                            " positions");
-        // Tangents are directions in the surface: they transform as positions do (not as normals), and a
-        // mirroring transform turns the handedness round.
         const glm::dmat3 linear(world);
-        const double handedness = glm::determinant(linear) < 0.0 ? -1.0 : 1.0;
         part.tangents.resize(source.size());
         bool usable = true;
         for (std::size_t v = 0; v < source.size() && usable; ++v) {
             glm::vec4 t;
             std::memcpy(&t[0], d.bytes + std::size_t(source[v]) * d.stride, 16);
-            const glm::dvec3 n(part.normals[v]);
-            glm::dvec3 w = linear * glm::dvec3(t);
-            w -= n * glm::dot(n, w);  // orthogonal to the normal as it came out (a shear bends them apart)
-            const double length = glm::length(w);
-            usable = length > 1e-12 && std::isfinite(length) && std::isfinite(t.w) && t.w != 0.0f;
-            part.tangents[v] = glm::vec4(glm::vec3(w / length), float(handedness) * (t.w < 0.0f ? -1.0f : 1.0f));
+            const bool signed_w = std::isfinite(t.w) && t.w != 0.0f;
+            t.w = t.w < 0.0f ? -1.0f : 1.0f;
+            part.tangents[v] = transform_tangent(linear, t, glm::dvec3(part.normals[v]));
+            usable = signed_w && glm::vec3(part.tangents[v]) != glm::vec3(0.0f);
         }
         if (!usable) {
             log::warn(path_.string() + ": " + what + " has zero, non-finite or unsigned tangents: computing them");

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 
 namespace envshadow {
 namespace {
@@ -215,6 +216,14 @@ void compute_vertex_tangents(Mesh& mesh) {
         const float w = glm::dot(glm::cross(n, t), along_v[i]) > 0.0f ? -1.0f : 1.0f;
         mesh.tangents[i] = glm::vec4(t, w);
     }
+}
+
+glm::vec4 transform_tangent(const glm::dmat3& linear, const glm::vec4& tangent, const glm::dvec3& normal) {
+    glm::dvec3 t = linear * glm::dvec3(tangent);
+    t -= normal * glm::dot(normal, t);
+    const double length = glm::length(t);
+    const float w = glm::determinant(linear) < 0.0 ? -tangent.w : tangent.w;
+    return glm::vec4(length > 1e-30 && std::isfinite(length) ? glm::vec3(t / length) : glm::vec3(0.0f), w);
 }
 
 Mesh make_mesh(const PlaneShape& shape) {

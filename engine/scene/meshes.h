@@ -5,7 +5,9 @@
 // trusted here; the scene loader checks them against the limits below.
 #include <cstdint>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "scene/scene.h"
 
@@ -91,5 +93,10 @@ void compute_vertex_normals(Mesh& mesh);
 // have no uv gradient gets any unit vector orthogonal to its normal. Needs normals and texcoords; replaces
 // mesh.tangents.
 void compute_vertex_tangents(Mesh& mesh);
+
+// A Mesh::tangents entry through the linear part of a transform: xyz as positions transform (tangents lie in
+// the surface), made orthogonal to `normal` (the normal after the same transform: a shear bends the two
+// apart) and normalised; w turned round where the transform mirrors. xyz is 0 where it collapses.
+glm::vec4 transform_tangent(const glm::dmat3& linear, const glm::vec4& tangent, const glm::dvec3& normal);
 
 }  // namespace envshadow
