@@ -11,16 +11,14 @@
 //   shade_ratio.glsl         the radiance from the sums (SHADING_RATIO: the ratio estimator; its clipping
 //                            at the tangent plane is the reflectivity's and the visibility's)
 //   shade_metallic_roughness.glsl  glTF's BRDF unshadowed, by the split sum (METALLIC_ROUGHNESS)
-//   alpha_mask.glsl          ALPHA_TEST (no depth pre-pass): masked surfaces cut out here
+//   alpha_mask.glsl          ALPHA_TEST (no depth pre-pass): masked surfaces cut out here; ALPHA_BLEND: the
+//                            radiance premultiplied by the alpha, laid over what is behind (draw_blended)
 //   shade_shadowed_fraction.glsl  the ratio split in two passes (docs/DESIGN.md §5.14): SHADOWED_FRACTION_OUT
 //                            writes the fraction, SHADOWED_FRACTION_IN shades with it instead of the loop
 #include "shade_cell_sums.glsl"
 #include "shade_ratio.glsl"
 #include "shade_shadowed_fraction.glsl"
 #include "shade_surface.glsl"
-#if defined(ALPHA_TEST)
-#include "alpha_mask.glsl"
-#endif
 
 // centroid: with MSAA, interpolated inside the triangle (at a covered sample) rather than at the pixel
 // centre, which may lie beyond a silhouette edge; the same as the centre at one sample per pixel.
@@ -50,7 +48,11 @@ void main() {
 #else
     vec3 reflected = reflected_radiance(s, shadowed_sum(sums), sums.whole_lobe);
     vec3 radiance = reflected * occlusion(s) + emitted_radiance(s);
+#if defined(ALPHA_BLEND)
+    o_color = vec4(radiance * s.alpha, s.alpha);  // glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA)
+#else
     o_color = vec4(radiance, 1.0);  // alpha 1 marks object pixels (the accuracy comparison masks by it)
+#endif
 #endif
 #endif
 }

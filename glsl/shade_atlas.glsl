@@ -4,6 +4,12 @@
 
 layout(binding = UNIT_ATLAS_DEPTH) uniform sampler2D u_atlas_depth;  // the atlas's depths (NEAREST)
 layout(location = LOC_ATLAS_TEXEL) uniform vec2 u_atlas_texel;       // size of one atlas texel in uv
+#if defined(TRANSLUCENT_SHADOWS)
+// The blended casters (shadow_atlas_translucent.frag): the product of their 1 - alpha in each texel, and the
+// depth of the nearest of them (both 1 where there is none).
+layout(binding = UNIT_ATLAS_TRANSMITTANCE) uniform sampler2D u_atlas_transmittance;
+layout(binding = UNIT_ATLAS_TRANSLUCENT_DEPTH) uniform sampler2D u_atlas_translucent_depth;
+#endif
 
 // Depth change per tile texel (x, y) along the receiver's tangent plane with normal n: what a lookup
 // that far from the receiver's own point must allow for (docs/DESIGN.md §5.3), and what the soft
@@ -25,14 +31,21 @@ vec2 receiver_depth_slope(Light light, vec3 n, float min_nz) {
 // texel compared with the receiver's plane carried to that texel's centre, depth + slope . (centre - uv),
 // rather than with one depth for all four: no texel of the receiver's own plane shadows it, with no bias
 // growing with the slope, so a blocker a few texels away across a concave corner (a wall meeting a roof)
-// still shadows (docs/DESIGN.md §5.3).
+// still shadows (docs/DESIGN.md §5.3). TRANSLUCENT_SHADOWS: a texel's light is also scaled by the blended
+// casters' transmittance where the receiver lies behind the nearest of them (docs/DESIGN.md §5.15).
 float plane_pcf(vec2 uv, float depth, vec2 slope) {
     vec2 texel = uv / u_atlas_texel - 0.5;  // texel centres at integers
     vec2 corner = floor(texel);
     vec2 f = texel - corner;
     // textureGather at the shared corner of the four: (0, 1), (1, 1), (1, 0), (0, 0).
-    vec4 stored = textureGather(u_atlas_depth, (corner + 1.0) * u_atlas_texel);
+    vec2 shared_corner = (corner + 1.0) * u_atlas_texel;
+    vec4 stored = textureGather(u_atlas_depth, shared_corner);
     vec4 dx = vec4(-f.x, 1.0 - f.x, 1.0 - f.x, -f.x), dy = vec4(1.0 - f.y, 1.0 - f.y, -f.y, -f.y);
-    vec4 lit = vec4(lessThanEqual(min(depth + slope.x * dx + slope.y * dy, 1.0), stored));
+    vec4 receiver = min(depth + slope.x * dx + slope.y * dy, 1.0);
+    vec4 lit = vec4(lessThanEqual(receiver, stored));
+#if defined(TRANSLUCENT_SHADOWS)
+    vec4 behind = vec4(greaterThan(receiver, textureGather(u_atlas_translucent_depth, shared_corner)));
+    lit *= 1.0 - behind * (1.0 - textureGather(u_atlas_transmittance, shared_corner));
+#endif
     return mix(mix(lit.w, lit.z, f.x), mix(lit.x, lit.y, f.x), f.y);
 }

@@ -4,6 +4,8 @@
 #if defined(METALLIC_ROUGHNESS)
 #include "shade_metallic_roughness.glsl"
 #endif
+// ALPHA_BLEND's premultiplied_footprint, and ALPHA_TEST's cut (an include is expanded once, before any #if).
+#include "alpha_mask.glsl"
 
 layout(location = LOC_EYE) uniform vec3 u_eye;
 layout(location = LOC_K_D) uniform vec3 u_k_d;  // rho_d / pi
@@ -26,10 +28,13 @@ struct Surface {
     vec3 normal;        // the shading normal n (shading_normal)
     vec3 plane_normal;  // the triangle's plane (either side): the surface the shadow atlas holds
     vec3 mirror;        // r: the direction to the viewer reflected about n
-    vec3 base_color;    // the base-colour texture at this pixel
+    vec3 base_color;    // the base-colour texture at this pixel (ALPHA_BLEND: where the surface is)
     vec3 k_d;           // u_k_d times base_color
     vec2 texcoord;
     vec3 view;          // towards the eye
+#if defined(ALPHA_BLEND)
+    float alpha;        // how much of the pixel's footprint the blended surface covers
+#endif
 #if defined(METALLIC_ROUGHNESS)
     GltfPixel gltf;     // glTF's BRDF at this pixel
 #endif
@@ -96,7 +101,13 @@ vec3 shading_normal(vec3 interpolated, vec4 tangent, vec2 texcoord, vec3 view, v
 Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal, vec4 tangent, vec2 texcoord) {
     Surface s;
     s.texcoord = texcoord;
+#if defined(ALPHA_BLEND)
+    vec4 texel = premultiplied_footprint(u_base_color, texcoord);
+    s.base_color = texel.a > 0.0 ? texel.rgb / texel.a : texture(u_base_color, texcoord).rgb;
+    s.alpha = clamp(u_base_alpha * texel.a, 0.0, 1.0);
+#else
     s.base_color = texture(u_base_color, texcoord).rgb;
+#endif
     s.k_d = u_k_d * s.base_color;
     vec3 view = normalize(u_eye - position);
     // The plane of the triangle, from the pixel-centre position's screen derivatives (helper invocations

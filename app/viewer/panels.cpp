@@ -224,6 +224,10 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             ImGui::TextDisabled("normal texture: no");
         if (m.alpha_mode == AlphaMode::mask)
             ImGui::TextDisabled("alpha mask: cut below %.2f (factor alpha %.2f)", m.alpha_cutoff, m.base_alpha);
+        if (m.alpha_mode == AlphaMode::blend) {
+            ImGui::TextDisabled("alpha blend%s", m.base_color_texture ? " (times the base-colour texture's)" : "");
+            changed |= ImGui::SliderFloat("alpha", &m.base_alpha, 0.0f, 1.0f);
+        }
         if (changed) changes.material.emplace(std::size_t(controls.selected_object), m);
         // Every object's textures of one kind off at once, as glTF viewers' debug views do.
         ImGui::Separator();

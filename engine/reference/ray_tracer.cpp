@@ -2,7 +2,9 @@
 
 #include <embree3/rtcore.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -20,24 +22,26 @@ namespace envshadow::reference {
 namespace {
 
 // The hits on an object that do not count (Embree filter functions): where its alpha mask cuts it out
-// (Material::masked, docs/SCENES.md "Alpha"), for camera and shadow rays alike; and, on a closed
-// single-sided object (glTF's doubleSided false, docs/SCENES.md "Sides"), its back faces, for camera rays.
+// (Material::masked, docs/SCENES.md "Alpha"), for camera and shadow rays alike; where a blended surface
+// (Material::blended) lets the ray through, with probability 1 - alpha; and, on a closed single-sided object
+// (glTF's doubleSided false, docs/SCENES.md "Sides"), its back faces, for camera rays.
 struct HitFilter {
     const MaterialTexture* texture = nullptr;  // the base colour, where the mesh has texture coordinates
     const std::vector<glm::vec2>* texcoords = nullptr;
     const std::vector<std::uint32_t>* indices = nullptr;
     float base_alpha = 1.0f, cutoff = 0.0f;         // cutoff 0: nothing cut out
+    bool blended = false;                           // hit where the alpha exceeds a hashed threshold
     const std::vector<glm::vec3>* front = nullptr;  // world positions where back faces are culled, else null
     bool mirrored = false;                          // world_from_object turns the winding round
 
-    bool cuts(unsigned triangle, float u, float v) const {
+    float alpha(unsigned triangle, float u, float v) const {
         float alpha = base_alpha;
         if (texture) {
             const std::uint32_t* t = &(*indices)[3 * std::size_t(triangle)];
             const glm::vec2 uv = (1.0f - u - v) * (*texcoords)[t[0]] + u * (*texcoords)[t[1]] + v * (*texcoords)[t[2]];
             alpha *= sample_linear_rgba(*texture, uv).a;
         }
-        return alpha < cutoff;
+        return alpha;
     }
     bool back_facing(unsigned triangle, const glm::vec3& direction) const {
         const std::uint32_t* t = &(*indices)[3 * std::size_t(triangle)];
@@ -47,14 +51,44 @@ struct HitFilter {
     }
 };
 
+// Embree's context with what the filters need to know of the query (RayTracer::intersect's arguments).
+struct QueryContext {
+    RTCIntersectContext embree;  // first: the filters get a pointer to it
+    std::uint32_t salt = 0;
+    bool blended_always_hit = false;
+};
+
+std::uint64_t mix(std::uint64_t h) {  // splitmix64's finaliser
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+    return h ^ (h >> 31);
+}
+
+// A threshold uniform in [0, 1) from the ray, the triangle, the point on it and the query's salt: rays that
+// differ in any of them decide independently whether a blended surface stops them.
+template <class Args>
+float hashed_threshold(const Args* args, unsigned i, unsigned triangle, std::uint32_t salt) {
+    std::uint64_t h = mix(salt ^ (std::uint64_t(triangle) << 32));
+    for (const float f : {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                          RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
+                          RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i),
+                          RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)})
+        h = mix(h ^ std::bit_cast<std::uint32_t>(f));
+    return float(h >> 40) / float(1u << 24);
+}
+
 template <bool camera>
 void hit_filter(const RTCFilterFunctionNArguments* args) {
     const auto& filter = *static_cast<const HitFilter*>(args->geometryUserPtr);
+    const auto& query = *reinterpret_cast<const QueryContext*>(args->context);
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         const unsigned triangle = RTCHitN_primID(args->hit, args->N, i);
-        if (filter.cutoff > 0.0f &&
-            filter.cuts(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)))
+        const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+        if (filter.cutoff > 0.0f && filter.alpha(triangle, u, v) < filter.cutoff)
+            args->valid[i] = 0;
+        else if (filter.blended && !query.blended_always_hit &&
+                 filter.alpha(triangle, u, v) <= hashed_threshold(args, i, triangle, query.salt))
             args->valid[i] = 0;
         else if (camera && filter.front &&
                  filter.back_facing(triangle,
@@ -162,7 +196,7 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
         s.texcoords[k] = &object.mesh->texcoords;  // a pose keeps the bind mesh's texture coordinates
         const Material& material = object.material;
         const bool culled = !material.double_sided && is_closed_surface(*object.mesh);
-        if (material.masked() || culled) {
+        if (material.masked() || material.blended() || culled) {
             auto filter = std::make_unique<HitFilter>();
             filter->indices = &object.mesh->indices;
             if (material.masked()) {
@@ -172,6 +206,15 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
                 }
                 filter->base_alpha = material.base_alpha;
                 filter->cutoff = material.alpha_cutoff;
+            }
+            if (material.blended()) {
+                if (material.base_color_texture && !object.mesh->texcoords.empty()) {
+                    filter->texture = &*material.base_color_texture;
+                    filter->texcoords = &object.mesh->texcoords;
+                }
+                filter->base_alpha = material.base_alpha;
+                filter->blended = true;
+                has_blended_ = true;
             }
             if (culled) filter->front = &positions;
             filter->mirrored = s.mirrored[k];
@@ -190,7 +233,8 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
 
 RayTracer::~RayTracer() = default;
 
-std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dvec3& direction) const {
+std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dvec3& direction, std::uint32_t salt,
+                                        bool blended_always_hit) const {
     RTCRayHit query{};
     query.ray.org_x = float(origin.x);
     query.ray.org_y = float(origin.y);
@@ -203,9 +247,11 @@ std::optional<Hit> RayTracer::intersect(const glm::dvec3& origin, const glm::dve
     query.ray.mask = ~0u;
     query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcIntersect1(state_->everything, &context, &query);
+    QueryContext context;
+    rtcInitIntersectContext(&context.embree);
+    context.salt = salt;
+    context.blended_always_hit = blended_always_hit;
+    rtcIntersect1(state_->everything, &context.embree, &query);
     if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
 
     return hit_at(state_->object_of_geometry[query.hit.geomID], query.hit.primID, query.hit.u, query.hit.v,
@@ -289,9 +335,9 @@ bool RayTracer::occluded(const glm::dvec3& origin, const glm::dvec3& direction, 
     ray.tnear = 0.0f;
     ray.tfar = float(t_max);
     ray.mask = ~0u;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcOccluded1(state_->casters, &context, &ray);
+    QueryContext context;
+    rtcInitIntersectContext(&context.embree);
+    rtcOccluded1(state_->casters, &context.embree, &ray);
     return ray.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 

@@ -2,6 +2,7 @@
 // The scene's triangles at one instant, in world space, in two Embree 3 BVHs: everything (what the
 // camera sees) and the shadow casters (Object::casts_shadows; what blocks the environment).
 #include <cstddef>
+#include <cstdint>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -33,9 +34,14 @@ public:
     RayTracer(const RayTracer&) = delete;
     RayTracer& operator=(const RayTracer&) = delete;
 
-    // Nearest hit along origin + t direction, t in (0, inf); `direction` unit.
-    std::optional<Hit> intersect(const glm::dvec3& origin, const glm::dvec3& direction) const;
-    // Whether a shadow caster lies along origin + t direction, t in (0, t_max).
+    // Nearest hit along origin + t direction, t in (0, inf); `direction` unit. A blended surface
+    // (Material::blended) stops the ray with probability alpha, decided by a hash of the ray, the point and
+    // `salt` (the same query gives the same hit; change the salt for another draw); with
+    // `blended_always_hit` it stops every ray, as an opaque surface.
+    std::optional<Hit> intersect(const glm::dvec3& origin, const glm::dvec3& direction, std::uint32_t salt = 0,
+                                 bool blended_always_hit = false) const;
+    // Whether a shadow caster lies along origin + t direction, t in (0, t_max); a blended caster blocks the
+    // ray with probability alpha, as for intersect().
     bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double t_max) const;
 
     // Where the ray origin + t direction meets the plane of `hit`'s triangle (extended beyond its edges):
@@ -49,6 +55,9 @@ public:
     // texture coordinates.
     std::optional<glm::dvec2> texcoord_on_plane(const Hit& hit, const glm::dvec3& origin,
                                                 const glm::dvec3& direction) const;
+
+    // Whether some object is blended (Material::blended): its hits are random draws.
+    bool has_blended() const { return has_blended_; }
 
     // Radius of a sphere about the origin holding all geometry: the scale for ray offsets.
     double extent() const { return extent_; }
@@ -67,6 +76,7 @@ private:
     std::unique_ptr<State> state_;
     double extent_ = 1.0;
     std::size_t triangles_ = 0;
+    bool has_blended_ = false;
 };
 
 }  // namespace envshadow::reference

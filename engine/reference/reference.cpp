@@ -255,10 +255,11 @@ private:
 // The texture's mean over a pixel's footprint in uv: the parallelogram about the hit's texture
 // coordinates spanned by the steps to the neighbouring pixels' rays (through the hit triangle's plane),
 // sampled on a grid of up to kMaxFootprintTaps^2 bilinear taps, about one per texel. Without a
-// neighbour (a ray parallel to the plane), the one tap at the hit.
+// neighbour (a ray parallel to the plane), the one tap at the hit. `premultiplied`: each tap's colour weighed
+// by its alpha (a blended surface's colour where the surface is; shade.frag's premultiplied_footprint).
 constexpr int kMaxFootprintTaps = 16;
 glm::vec3 footprint_mean(const MaterialTexture& texture, const Hit& hit, const std::optional<glm::dvec2>& right,
-                         const std::optional<glm::dvec2>& below) {
+                         const std::optional<glm::dvec2>& below, bool premultiplied = false) {
     const glm::dvec2 centre(hit.texcoord);
     if (!right || !below) return sample_linear_rgb(texture, hit.texcoord);
     const glm::dvec2 du = *right - centre, dv = *below - centre;
@@ -267,12 +268,16 @@ glm::vec3 footprint_mean(const MaterialTexture& texture, const Hit& hit, const s
     if (!std::isfinite(texels)) return sample_linear_rgb(texture, hit.texcoord);
     const int taps = std::clamp(int(std::ceil(texels)), 1, kMaxFootprintTaps);
     glm::dvec3 sum(0.0);
+    double weight = 0.0;
     for (int j = 0; j < taps; ++j)
         for (int i = 0; i < taps; ++i) {
             const double a = (i + 0.5) / taps - 0.5, b = (j + 0.5) / taps - 0.5;
-            sum += glm::dvec3(sample_linear_rgb(texture, glm::vec2(centre + a * du + b * dv)));
+            const glm::vec4 texel = sample_linear_rgba(texture, glm::vec2(centre + a * du + b * dv));
+            const double w = premultiplied ? double(texel.a) : 1.0;
+            sum += w * glm::dvec3(texel);
+            weight += w;
         }
-    return glm::vec3(sum / double(taps * taps));
+    return weight > 0.0 ? glm::vec3(sum / weight) : sample_linear_rgb(texture, hit.texcoord);
 }
 
 // A camera ray's hit with gaps narrower than the rasteriser's vertex precision closed (docs/DESIGN.md §5.8):
@@ -285,17 +290,18 @@ glm::vec3 footprint_mean(const MaterialTexture& texture, const Hit& hit, const s
 // direction through a point of the image, in pixels.
 constexpr double kSubpixelStep = 1.0 / 256.0;
 constexpr double kGapDepthSteps = 10.0;  // deeper than a V-shaped crease of slope 10 between the two rays
+// `salt`: RayTracer::intersect's, for blended surfaces.
 template <class RayThrough>
 std::optional<Hit> camera_hit(const RayTracer& tracer, const glm::dvec3& eye, const RayThrough& ray, double px,
-                              double py) {
+                              double py, std::uint32_t salt = 0) {
     const glm::dvec3 direction = ray(px, py);
-    const std::optional<Hit> centre = tracer.intersect(eye, direction);
+    const std::optional<Hit> centre = tracer.intersect(eye, direction, salt);
     const double centre_distance = centre ? centre->distance : std::numeric_limits<double>::infinity();
     std::optional<Hit> cover;
     for (const glm::dvec2 step : {glm::dvec2(kSubpixelStep, 0.0), glm::dvec2(0.0, kSubpixelStep)}) {
         const glm::dvec3 plus = ray(px + step.x, py + step.y), minus = ray(px - step.x, py - step.y);
-        const std::optional<Hit> a = tracer.intersect(eye, plus);
-        const std::optional<Hit> b = tracer.intersect(eye, minus);
+        const std::optional<Hit> a = tracer.intersect(eye, plus, salt);
+        const std::optional<Hit> b = tracer.intersect(eye, minus, salt);
         if (!a || !b) continue;
         const Hit& nearer = a->distance <= b->distance ? *a : *b;
         const double farther = std::max(a->distance, b->distance);
@@ -362,9 +368,9 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
         // Textures are averaged over the ray's footprint (as the GPU's mip level does over a pixel;
         // docs/DESIGN.md §5.12).
         const bool textured = !scene.objects[hit.object].mesh->texcoords.empty();
-        const auto texture_mean = [&](const MaterialTexture& t) {
+        const auto texture_mean = [&](const MaterialTexture& t, bool premultiplied = false) {
             return footprint_mean(t, hit, tracer.texcoord_on_plane(hit, eye, ray(px + footprint, py)),
-                                  tracer.texcoord_on_plane(hit, eye, ray(px, py + footprint)));
+                                  tracer.texcoord_on_plane(hit, eye, ray(px, py + footprint)), premultiplied);
         };
         const bool mapped = material.normal_texture && textured && material.normal_scale != 0.0f;
         const glm::dvec3 normal = mapped ? normal_mapped(hit.shading_normal, hit.tangent,
@@ -377,7 +383,8 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
         basis(s.mirror, s.mirror_b1, s.mirror_b2);
         // The base-colour texture scales rho_d (or glTF's base_color) at the hit, as shade.frag's k_d.
         std::optional<glm::vec3> texture;
-        if (material.base_color_texture && textured) texture = texture_mean(*material.base_color_texture);
+        if (material.base_color_texture && textured)
+            texture = texture_mean(*material.base_color_texture, material.blended());
         s.emission = glm::dvec3(material.emission);
         if (material.emission_texture && textured && material.emission != glm::vec3(0.0f))
             s.emission *= glm::dvec3(texture_mean(*material.emission_texture));
@@ -437,7 +444,25 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                 SurfacePoint s;                        // at the pixel's centre (point filter)
                 long long positions = 0, covered = 0;  // of the rounds over the pixel's area (box filter)
 
-                if (!box) {
+                if (!box && tracer.has_blended()) {
+                    // The centre's ray stops at a blended surface with probability alpha: a fresh draw per
+                    // round, each shading what it stops at (over the rounds, alpha of the surface and 1 - alpha
+                    // of what is behind).
+                    out.object = true;
+                    out.coverage = 1.0;
+                    round = [&, draw = std::uint32_t(0)](int grid, long long& samples) mutable {
+                        const glm::dvec3 direction = ray(x + 0.5, y + 0.5);
+                        const std::optional<Hit> hit = camera_hit(tracer, eye, ray, x + 0.5, y + 0.5, ++draw);
+                        ++samples;
+                        if (!hit) return environment.radiance_filtered(direction);
+                        const SurfacePoint p = surface_at(*hit, direction, x + 0.5, y + 0.5, 1.0);
+                        const Allocation a = allocation_at(p, grid);
+                        if (environment.luminance_integral() <= 0.0 || a.cosine + a.specular == 0) return p.emission;
+                        samples += a.total();
+                        return p.emission + p.occlusion * integrator.round(p, a, random, rays);
+                    };
+                    per_round = [](int grid) { return (long long)kStrategies * grid * grid; };
+                } else if (!box) {
                     const glm::dvec3 direction = ray(x + 0.5, y + 0.5);
                     const std::optional<Hit> hit = camera_hit(tracer, eye, ray, x + 0.5, y + 0.5);
                     if (!hit) {
@@ -467,7 +492,7 @@ ReferenceImage render_reference(const Scene& scene, const EnvironmentMap& map, c
                     for (int k = 0; k < kProbeGrid * kProbeGrid; ++k) {
                         const glm::dvec3 direction =
                             ray(x + (k % kProbeGrid + 0.5) / kProbeGrid, y + (k / kProbeGrid + 0.5) / kProbeGrid);
-                        if (tracer.intersect(eye, direction)) {
+                        if (tracer.intersect(eye, direction, 0, /*blended_always_hit=*/true)) {
                             any = true;
                             break;
                         }

@@ -247,8 +247,9 @@ void FramePlanner::shade_objects(const CameraView& view, const RenderSettings& s
         frame.emission = material.emission;
         frame.occlusion_strength = material.occlusion_strength;
         frame.normal_scale = material.normal_texture && settings.normal_texture ? material.normal_scale : 0.0f;
-        frame.base_alpha = material.masked() ? material.base_alpha : 1.0f;
+        frame.base_alpha = material.masked() || material.blended() ? material.base_alpha : 1.0f;
         frame.alpha_cutoff = material.masked() ? material.alpha_cutoff : 0.0f;
+        frame.blended = material.blended();
         if (frame.metallic_roughness && settings.shading == ShadingMode::ratio) {
             frame.program = ShadeProgram::metallic_roughness;
             continue;
@@ -257,7 +258,8 @@ void FramePlanner::shade_objects(const CameraView& view, const RenderSettings& s
         const bool diffuse_only = settings.specialise_shaders && !(frame.k_s > 0.0f);
         frame.program = diffuse_only ? ShadeProgram::diffuse_only : ShadeProgram::full;
         if (!diffuse_only || !settings.flat_receivers || !uses_tile_lists(settings) ||
-            settings.diffuse != DiffuseMode::center || !planned.flat_normal || frame.normal_scale != 0.0f)
+            settings.diffuse != DiffuseMode::center || !planned.flat_normal || frame.normal_scale != 0.0f ||
+            frame.blended)
             continue;
         // A plane with a diffuse material (the ground): the normal the shader would use, turned to the
         // eye as shade.frag turns it, gives every a_i once for all its pixels. Seen edge-on it is

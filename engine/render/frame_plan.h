@@ -81,9 +81,12 @@ struct ObjectFrame {
     float occlusion_strength = 1.0f;  // Material::occlusion_strength (the texture is white without one)
     float normal_scale = 0.0f;        // Material::normal_scale where the normal map is drawn, else 0
     // Material::masked(): cut out where base_alpha times the base-colour texture's alpha < alpha_cutoff; a
-    // cutoff of 0 cuts nothing.
+    // cutoff of 0 cuts nothing. Material::blended(): laid over what is behind it by that alpha, after the
+    // opaque objects; as a caster in the atlas's translucent layer, passing 1 - alpha of the light.
     float base_alpha = 1.0f, alpha_cutoff = 0.0f;
+    bool blended = false;
     bool masked() const { return alpha_cutoff > 0.0f; }
+    bool alpha_in_atlas() const { return masked() || blended; }  // its casters read texture coordinates
 };
 
 struct FramePlan {

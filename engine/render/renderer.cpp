@@ -71,6 +71,7 @@ Renderer::~Renderer() = default;
 
 void Renderer::select_programs() {
     variant_ = render::shader_variant(settings_, support_);
+    variant_.translucent_shadows = translucent_casters_;
     auto it = programs_.find(variant_);
     if (it == programs_.end()) {
         if (variant_.atlas != settings_.atlas)
@@ -347,6 +348,7 @@ void Renderer::ensure_atlas() {
                                           layout_.width(), layout_.height());
     atlas_ = gl::Framebuffer::create();
     atlas_.attach(GL_DEPTH_ATTACHMENT, atlas_depth_);
+    atlas_transmittance_ = {};  // ensure_translucent_layer attaches the new depths
     glNamedFramebufferDrawBuffer(atlas_.id(), GL_NONE);
     glNamedFramebufferReadBuffer(atlas_.id(), GL_NONE);
     atlas_.check_complete("shadow atlas");
@@ -417,6 +419,32 @@ void Renderer::upload(const FramePlan& plan) {
 }
 
 void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
+    draw_opaque_atlas(plan, stats);
+    if (!variant_.translucent_shadows) return;
+    // Every frame: its depth test reads the opaque layer, which any caster's move may have changed.
+    ensure_translucent_layer();
+    gl::ScopedPass pass(&timer_, "translucent atlas");
+    draw_casters(
+        plan, [](std::size_t) { return true; }, AtlasStart::cleared, CasterLayer::translucent);
+}
+
+void Renderer::ensure_translucent_layer() {
+    if (atlas_transmittance_ && atlas_transmittance_.width() == atlas_depth_.width() &&
+        atlas_transmittance_.height() == atlas_depth_.height())
+        return;
+    atlas_transmittance_ = gl::Texture::create_2d(GL_R8, atlas_depth_.width(), atlas_depth_.height());
+    atlas_translucent_depth_ = gl::Texture::create_2d(GL_R16, atlas_depth_.width(), atlas_depth_.height());
+    for (gl::Texture* t : {&atlas_transmittance_, &atlas_translucent_depth_}) t->set_filter(GL_NEAREST, GL_NEAREST);
+    atlas_translucent_ = gl::Framebuffer::create();
+    atlas_translucent_.attach(GL_COLOR_ATTACHMENT0, atlas_transmittance_);
+    atlas_translucent_.attach(GL_COLOR_ATTACHMENT1, atlas_translucent_depth_);
+    const GLenum draw_buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(atlas_translucent_.id(), 2, draw_buffers);
+    atlas_translucent_.attach(GL_DEPTH_ATTACHMENT, atlas_depth_);
+    atlas_translucent_.check_complete("translucent shadow layer");
+}
+
+void Renderer::draw_opaque_atlas(const FramePlan& plan, FrameStats& stats) {
     const auto moves = [&](std::size_t i) { return planner_.objects()[i].object.moves(); };
     const auto every = [](std::size_t) { return true; };
     atlas_triangles_ = 0;
@@ -466,31 +494,54 @@ void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
     stats.moving_casters_drawn = moving;
 }
 
-void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, AtlasStart start) {
-    glBindFramebuffer(GL_FRAMEBUFFER, atlas_.id());
-    glDepthMask(GL_TRUE);
+void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, AtlasStart start,
+                            CasterLayer layer) {
+    const bool translucent = layer == CasterLayer::translucent;
     const float far_depth = 1.0f;
-    if (start == AtlasStart::cleared) glClearNamedFramebufferfv(atlas_.id(), GL_DEPTH, 0, &far_depth);
+    if (translucent) {
+        // Over the opaque casters' depths, writing none: the blended casters' transmittance (a product, cleared
+        // to 1) and their nearest depth (a minimum, cleared to 1), both faces of each (a closed blended object
+        // passes light through two surfaces).
+        glBindFramebuffer(GL_FRAMEBUFFER, atlas_translucent_.id());
+        const float nothing[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+        glClearNamedFramebufferfv(atlas_translucent_.id(), GL_COLOR, 0, nothing);
+        glClearNamedFramebufferfv(atlas_translucent_.id(), GL_COLOR, 1, nothing);
+    } else {
+        glBindFramebuffer(GL_FRAMEBUFFER, atlas_.id());
+        glDepthMask(GL_TRUE);
+        if (start == AtlasStart::cleared) glClearNamedFramebufferfv(atlas_.id(), GL_DEPTH, 0, &far_depth);
+    }
     if (plan.lights.empty()) return;
+    if (translucent) {
+        glDepthMask(GL_FALSE);
+        glEnable(GL_BLEND);
+        glBlendFunci(0, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
+        glBlendEquationi(1, GL_MIN);
+    }
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDisable(GL_CULL_FACE);  // both faces cast: open meshes and thin parts stay in the map
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(0.0f, 1.0f);  // the map's depth precision; the rest of the bias is the receiver's (§5.3)
     VariantPrograms& programs = *programs_now_;
-    if (!programs.atlas_masked && std::ranges::any_of(plan.objects, &ObjectFrame::masked)) {
+    const auto build_alpha_program = [&](gl::Program& program, const char* fragment) {
+        if (program) return;
         std::vector<std::string> defines = atlas_defines(variant_);
         defines.push_back("ALPHA_MASK");
-        programs.atlas_masked = library_.build(
-            {{GL_VERTEX_SHADER, "shadow_atlas.vert"}, {GL_FRAGMENT_SHADER, "shadow_atlas_mask.frag"}}, defines);
-    }
-    // Masked casters cut out what their alpha cuts (shadow_atlas_mask.frag), at level 0: the simplified
-    // levels carry no texture coordinates.
+        program = library_.build({{GL_VERTEX_SHADER, "shadow_atlas.vert"}, {GL_FRAGMENT_SHADER, fragment}}, defines);
+    };
+    if (translucent) build_alpha_program(programs.atlas_translucent, "shadow_atlas_translucent.frag");
+    if (!translucent && std::ranges::any_of(plan.objects, &ObjectFrame::masked))
+        build_alpha_program(programs.atlas_masked, "shadow_atlas_mask.frag");
+    // Masked casters cut out what their alpha cuts (shadow_atlas_mask.frag), blended ones weigh their light by it
+    // (shadow_atlas_translucent.frag), both at level 0: the simplified levels carry no texture coordinates.
     const auto caster_program = [&](std::size_t i) -> const gl::Program& {
-        return plan.objects[i].masked() ? programs.atlas_masked : programs.atlas;
+        return translucent                ? programs.atlas_translucent
+               : plan.objects[i].masked() ? programs.atlas_masked
+                                          : programs.atlas;
     };
     const auto set_first_tile = [&](GLint first) {
-        for (const gl::Program* p : {&programs.atlas, &programs.atlas_masked})
+        for (const gl::Program* p : {&programs.atlas, &programs.atlas_masked, &programs.atlas_translucent})
             if (*p) glProgramUniform1i(p->id(), loc::first_tile, first);
     };
     const int tiles = int(plan.lights.size());
@@ -509,11 +560,11 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
         const gl::Program& program = caster_program(i);
         program.use();
         glProgramUniformMatrix4fv(program.id(), loc::world_from_object, 1, GL_FALSE, &object.world_from_object[0][0]);
-        if (object.masked()) bind_alpha_mask(program.id(), object, i);
+        if (object.alpha_in_atlas()) bind_alpha_mask(program.id(), object, i);
         // Closed casters: front faces only (the light frame keeps the winding: right x up = toward,
         // so faces turned to the light are counter-clockwise in the tile; a mirroring transform
         // turns them clockwise).
-        if (settings_.cull_back_faces && mesh.caster_lod().levels[std::size_t(level)].closed) {
+        if (settings_.cull_back_faces && !translucent && mesh.caster_lod().levels[std::size_t(level)].closed) {
             glEnable(GL_CULL_FACE);
             glCullFace(GL_BACK);
             glFrontFace(glm::determinant(glm::mat3(object.world_from_object)) < 0.0f ? GL_CW : GL_CCW);
@@ -522,7 +573,9 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
         }
         mesh.bind_caster(level);
     };
-    const auto draws_caster = [&](std::size_t i) { return plan.objects[i].casts_shadows && which(i); };
+    const auto draws_caster = [&](std::size_t i) {
+        return plan.objects[i].casts_shadows && plan.objects[i].blended == translucent && which(i);
+    };
     std::vector<float> texels;
     // Tiles first .. first + count - 1 of every caster, each caster's tiles grouped by level: the runs
     // of caster i are caster_tiles_.runs[run_begin[i] .. run_begin[i + 1]).
@@ -536,7 +589,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
             if (!draws_caster(i)) continue;
             const CasterLod& lod = instance_meshes_[i]->caster_lod();
             append_caster_tiles(lod, plan.objects[i].world_from_object, texels, settings_.caster_lod, caster_tiles_);
-            if (plan.objects[i].masked())
+            if (plan.objects[i].alpha_in_atlas())
                 for (std::size_t r = run_begin[i]; r < caster_tiles_.runs.size(); ++r) caster_tiles_.runs[r].level = 0;
             for (std::size_t r = run_begin[i]; r < caster_tiles_.runs.size(); ++r)
                 atlas_triangles_ += std::size_t(lod.levels[std::size_t(caster_tiles_.runs[r].level)].index_count / 3) *
@@ -584,7 +637,7 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
                     if (!draws_caster(i)) continue;
                     const CasterLod& lod = instance_meshes_[i]->caster_lod();
                     const int level =
-                        plan.objects[i].masked()
+                        plan.objects[i].alpha_in_atlas()
                             ? 0
                             : choose_caster_level(lod, caster_error_budget(plan.objects[i].world_from_object, smallest,
                                                                            settings_.caster_lod));
@@ -612,6 +665,12 @@ void Renderer::draw_casters(const FramePlan& plan, const std::function<bool(std:
     glDisable(GL_POLYGON_OFFSET_FILL);
     glDisable(GL_CULL_FACE);
     glFrontFace(GL_CCW);
+    if (translucent) {
+        glDisable(GL_BLEND);
+        glBlendEquation(GL_FUNC_ADD);
+        glBlendFunc(GL_ONE, GL_ZERO);
+        glDepthMask(GL_TRUE);
+    }
 }
 
 void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view, int samples, const char* pass_name) {
@@ -636,7 +695,7 @@ void Renderer::draw_depth_prepass(const FramePlan& plan, const CameraView& view,
                                   &clip_from_world[0][0]);
         glProgramUniform1i(masked_prepass_program_.id(), loc::alpha_to_coverage, alpha_to_coverage ? 1 : 0);
     }
-    for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
+    for (const std::size_t i : opaque_objects_) {
         const ObjectFrame& object = plan.objects[i];
         const gl::Program& prepass = object.masked() ? masked_prepass_program_ : prepass_program_;
         prepass.use();
@@ -691,7 +750,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
                                float(fraction_.height()) / float(view.height));
         fraction_.bind(unit::fraction);
         fraction_normal_.bind(unit::fraction_normal);
-        shade_objects(plan, view, {&shade, &shade, &shade, &shade_gltf}, screen_tiles_.x);
+        shade_objects(plan, view, {&shade, &shade, &shade, &shade_gltf}, screen_tiles_.x, opaque_objects_);
         glBindTextureUnit(unit::fraction, 0);
         glBindTextureUnit(unit::fraction_normal, 0);
         return;
@@ -702,7 +761,7 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     const VariantPrograms& programs = *programs_now_;
     shade_objects(plan, view,
                   {&programs.shade, &programs.shade_diffuse, &programs.shade_flat, &metallic_roughness_program(plan)},
-                  screen_tiles_.x);
+                  screen_tiles_.x, opaque_objects_);
 }
 
 // The variant's program for glTF's BRDF (METALLIC_ROUGHNESS), built once a frame draws such a material; the
@@ -741,14 +800,14 @@ void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& v
         shade_objects(
             plan, view,
             {&programs.shade, &programs.shade_diffuse, &programs.shade_flat, &metallic_roughness_program(plan)},
-            fraction_tiles_.x);
+            fraction_tiles_.x, opaque_objects_);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
     glViewport(0, 0, view.width, view.height);
 }
 
-void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs,
-                             int tiles_x) {
+void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x,
+                             std::span<const std::size_t> objects, bool blending) {
     const glm::mat4 clip_from_world = view.clip_from_view * view.view_from_world;
     for (const gl::Program* shade :
          {programs.full, programs.diffuse_only, programs.flat_receiver, programs.metallic_roughness}) {
@@ -762,6 +821,10 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     }
     atlas_depth_.bind(unit::atlas_depth);
     atlas_depth_sampler_.bind(unit::atlas_depth);
+    if (variant_.translucent_shadows) {
+        atlas_transmittance_.bind(unit::atlas_transmittance);
+        atlas_translucent_depth_.bind(unit::atlas_translucent_depth);
+    }
     const bool ratio = settings_.shading == ShadingMode::ratio;
     if (ratio) {
         const glm::mat3 env_from_world = map_from_world(rotation_degrees_);
@@ -777,12 +840,13 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     }
     glEnable(GL_DEPTH_TEST);
     // After the pre-pass only the visible fragment of each pixel passes (bit-identical depths:
-    // shade.vert's gl_Position is invariant), so the light loop runs once per pixel.
-    glDepthFunc(settings_.depth_prepass ? GL_EQUAL : GL_LESS);
-    glDepthMask(settings_.depth_prepass ? GL_FALSE : GL_TRUE);
+    // shade.vert's gl_Position is invariant), so the light loop runs once per pixel. Blended surfaces are
+    // in no pre-pass: tested against the opaque depths, written nowhere.
+    glDepthFunc(settings_.depth_prepass && !blending ? GL_EQUAL : GL_LESS);
+    glDepthMask(settings_.depth_prepass || blending ? GL_FALSE : GL_TRUE);
     // Two-sided but for closed single-sided objects (set_sides): shade.frag turns the normal by
     // gl_FrontFacing (docs/DESIGN.md §5.4).
-    for (std::size_t i = 0; i < instance_meshes_.size(); ++i) {
+    for (const std::size_t i : objects) {
         const ObjectFrame& object = plan.objects[i];
         // glTF's BRDF needs the GGX levels; without them its Phong stand-in.
         const bool gltf = object.program == ShadeProgram::metallic_roughness && ggx_level_texels_;
@@ -804,7 +868,8 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         if (ratio) bind_unshadowed_levels(program, object, i, gltf);
         (settings_.base_color_texture ? *instance_textures_[i] : white_texture_).bind(unit::base_color);
         glProgramUniform3f(program, loc::emission, object.emission.r, object.emission.g, object.emission.b);
-        if (variant_.alpha_test) bind_alpha_mask(program, object, i);
+        if (variant_.alpha_test && !blending) bind_alpha_mask(program, object, i);
+        if (blending) glProgramUniform1f(program, loc::base_alpha, object.base_alpha);
         (settings_.emission_texture ? *instance_emission_textures_[i] : white_texture_).bind(unit::emission_texture);
         glProgramUniform1f(program, loc::occlusion_strength, object.occlusion_strength);
         (settings_.occlusion_texture ? *instance_occlusion_textures_[i] : white_texture_).bind(unit::occlusion_texture);
@@ -867,6 +932,51 @@ void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object,
     }
 }
 
+// The blended objects over the image (docs/DESIGN.md §5.15): farthest first by the centres of their boxes, each
+// shaded per fragment (no fraction pass, no tile lists: those hold the opaque surfaces' depths), its premultiplied
+// radiance laid over what is behind by its alpha.
+void Renderer::draw_blended(const FramePlan& plan, const CameraView& view) {
+    if (blended_objects_.empty()) return;
+    gl::ScopedPass pass(&timer_, "blended");
+    std::vector<std::pair<float, std::size_t>> by_depth;
+    for (const std::size_t i : blended_objects_) {
+        const GpuMesh& mesh = *instance_meshes_[i];
+        const glm::vec4 centre(0.5f * (mesh.bounds_min() + mesh.bounds_max()), 1.0f);
+        by_depth.emplace_back((view.view_from_world * plan.objects[i].world_from_object * centre).z, i);
+    }
+    std::ranges::stable_sort(by_depth, {}, &std::pair<float, std::size_t>::first);  // view space looks down -z
+    std::vector<std::size_t> order;
+    for (const auto& [depth, i] : by_depth) order.push_back(i);
+
+    VariantPrograms& programs = *programs_now_;
+    const bool gltf = draws_metallic_roughness(plan);
+    if (!programs.blend || (gltf && !programs.blend_gltf)) {
+        ShaderVariant per_fragment = variant_;
+        per_fragment.tile_lists = per_fragment.fraction_pass = per_fragment.alpha_test = false;
+        std::vector<std::string> defines = shade_defines(per_fragment);
+        defines.push_back("ALPHA_BLEND");
+        const std::vector<gl::ShaderStage> stages = {{GL_VERTEX_SHADER, "shade.vert"},
+                                                     {GL_FRAGMENT_SHADER, "shade.frag"}};
+        if (!programs.blend) {
+            programs.blend = library_.build(stages, defines);
+            std::vector<std::string> diffuse = defines;
+            diffuse.push_back("DIFFUSE_ONLY");
+            programs.blend_diffuse = library_.build(stages, diffuse);
+        }
+        if (gltf && !programs.blend_gltf) {
+            defines.push_back("METALLIC_ROUGHNESS");
+            programs.blend_gltf = library_.build(stages, defines);
+        }
+    }
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    shade_objects(
+        plan, view,
+        {&programs.blend, &programs.blend_diffuse, &programs.blend, gltf ? &programs.blend_gltf : &programs.blend},
+        screen_tiles_.x, order, true);
+    glDisable(GL_BLEND);
+}
+
 void Renderer::draw_background(const CameraView& view) {
     if (!settings_.background || !environment_) return;
     gl::ScopedPass pass(&timer_, "background");
@@ -901,6 +1011,12 @@ FrameStats Renderer::render(double time, const CameraView& view) {
         planner_.set_bounds(d.instance, d.mesh->bounds_min(), d.mesh->bounds_max());
     }
     const FramePlan& plan = planner_.plan(time, view, layout_, settings_);
+    if (const bool translucent =
+            std::ranges::any_of(plan.objects, [](const ObjectFrame& o) { return o.casts_shadows && o.blended; });
+        translucent != translucent_casters_) {
+        translucent_casters_ = translucent;
+        select_programs();
+    }
     upload(plan);
     glBindBufferBase(variant_.lights_uniform_block ? GL_UNIFORM_BUFFER : GL_SHADER_STORAGE_BUFFER, binding::lights,
                      light_buffer_.id());
@@ -925,8 +1041,13 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     glDepthMask(GL_TRUE);
     glClearNamedFramebufferfv(target_.id(), GL_COLOR, 0, clear_color);
     glClearNamedFramebufferfv(target_.id(), GL_DEPTH, 0, &clear_depth);
+    opaque_objects_.clear();
+    blended_objects_.clear();
+    for (std::size_t i = 0; i < instance_meshes_.size(); ++i)
+        (plan.objects[i].blended ? blended_objects_ : opaque_objects_).push_back(i);
     draw_objects(plan, view);
     draw_background(view);
+    draw_blended(plan, view);
     if (samples_ > 1) {
         // The mean of each pixel's samples, in linear HDR (tone mapping comes after, on the resolved colour).
         gl::ScopedPass resolve(&timer_, "msaa resolve");

@@ -22,6 +22,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -147,7 +148,14 @@ private:
     // Draws the casters `which` accepts (by ObjectFrame index) into every tile, over what the atlas holds or
     // after clearing it.
     enum class AtlasStart { cleared, as_it_is };
-    void draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, AtlasStart start);
+    // opaque: the depths (atlas_); translucent: the blended casters' layer (atlas_translucent_, docs/DESIGN.md
+    // §5.15), always cleared first.
+    enum class CasterLayer { opaque, translucent };
+    void draw_casters(const FramePlan& plan, const std::function<bool(std::size_t)>& which, AtlasStart start,
+                      CasterLayer layer = CasterLayer::opaque);
+    // The opaque casters into atlas_, through the shadow cache (docs/DESIGN.md §5.11).
+    void draw_opaque_atlas(const FramePlan& plan, FrameStats& stats);
+    void ensure_translucent_layer();
     void draw_objects(const FramePlan& plan, const CameraView& view);
     // The objects' depths into the bound framebuffer, timed as `pass`.
     // Into the bound framebuffer of `samples` samples per pixel.
@@ -163,7 +171,9 @@ private:
         const gl::Program* flat_receiver;
         const gl::Program* metallic_roughness;
     };
-    void shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x);
+    // `objects`: which, in that order; `blending`: the blended objects (draw_blended) over the opaque depths.
+    void shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x,
+                       std::span<const std::size_t> objects, bool blending = false);
     bool draws_metallic_roughness(const FramePlan& plan) const;
     const gl::Program& metallic_roughness_program(const FramePlan& plan);
     // glTF's BRDF: the lights whose reflection takes the lobe's true shape (FramePlan::compact_lights).
@@ -178,6 +188,7 @@ private:
     // The ratio's shadowed fraction into fraction_ (its own pre-pass and tile lists); leaves target_ bound.
     void draw_shadowed_fraction(const FramePlan& plan, const CameraView& view);
     void draw_background(const CameraView& view);
+    void draw_blended(const FramePlan& plan, const CameraView& view);
 
     RenderSettings settings_;
     gl::ShaderLibrary library_;
@@ -186,6 +197,9 @@ private:
         gl::Program atlas, shade, shade_diffuse, shade_flat;
         gl::Program shade_gltf;    // METALLIC_ROUGHNESS (ratio, or its fraction pass), built once drawn with
         gl::Program atlas_masked;  // ALPHA_MASK with shadow_atlas_mask.frag, built once drawn with
+        // ALPHA_BLEND, per fragment (the variant without tile lists and fraction pass), built once drawn with.
+        gl::Program blend, blend_diffuse, blend_gltf;
+        gl::Program atlas_translucent;  // ALPHA_MASK with shadow_atlas_translucent.frag, built once drawn with
     };
     ShaderSupport support_;
     ShaderVariant variant_;
@@ -203,6 +217,7 @@ private:
     gl::GpuTimer timer_;
     bool timer_warmed_up_ = false;
 
+    std::vector<std::size_t> opaque_objects_, blended_objects_;  // this frame's, by ObjectFrame::blended
     std::vector<std::unique_ptr<GpuMesh>> meshes_;
     std::vector<const GpuMesh*> instance_meshes_;  // per object of planner_.objects()
     std::vector<int> instance_of_object_;          // index into instance_meshes_ per scene object; -1: no triangles
@@ -242,6 +257,11 @@ private:
     int atlas_depth_bits_ = 0;
     gl::Texture atlas_depth_;
     gl::Framebuffer atlas_;
+    // The translucent layer (while the scene has blended casters): transmittance (R8), nearest depth (R16), and
+    // a framebuffer of the two over atlas_depth_.
+    bool translucent_casters_ = false;
+    gl::Texture atlas_transmittance_, atlas_translucent_depth_;
+    gl::Framebuffer atlas_translucent_;
     // The shadow cache (docs/DESIGN.md §5.11). What went into a depth layer: the same key, the same depths.
     struct AtlasKey {
         std::uint64_t fit_version = 0;      // FramePlan::fit_version

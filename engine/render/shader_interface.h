@@ -100,6 +100,9 @@ namespace envshadow::render::shader {
     X(unit, ggx_mirror, 4)                                                                             \
     X(unit, metallic_roughness_texture, 14)                                                            \
     X(unit, normal_texture, 15) /* shade.frag: the material's normal map (linear) */                   \
+    /* shade.frag TRANSLUCENT_SHADOWS: the atlas's translucent layer, on units free in shade.frag */   \
+    X(unit, atlas_transmittance, 0)                                                                    \
+    X(unit, atlas_translucent_depth, 2)                                                                \
     /* image units (fs_importance.comp) */                                                             \
     X(image, importance, 0)                                                                            \
     X(image, radiance, 1)                                                                              \

@@ -40,6 +40,7 @@ std::vector<std::string> shade_defines(const ShaderVariant& variant) {
     if (variant.soft_shadows) defines.push_back("SOFT_SHADOWS");
     if (variant.fraction_pass) defines.push_back("SHADOWED_FRACTION_OUT");
     if (variant.alpha_test) defines.push_back("ALPHA_TEST");
+    if (variant.translucent_shadows) defines.push_back("TRANSLUCENT_SHADOWS");
     return defines;
 }
 

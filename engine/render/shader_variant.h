@@ -28,6 +28,9 @@ struct ShaderVariant {
     bool soft_shadows = false;                    // SOFT_SHADOWS
     bool fraction_pass = false;                   // SHADOWED_FRACTION_OUT: ratio at a reduced shadow rate
     bool alpha_test = false;  // ALPHA_TEST: no depth pre-pass, so shade.frag cuts masked surfaces out itself
+    // TRANSLUCENT_SHADOWS: the scene has blended casters, in the atlas's translucent layer (the renderer sets it
+    // from the frame, not from the settings).
+    bool translucent_shadows = false;
 
     auto operator<=>(const ShaderVariant&) const = default;
 };

@@ -337,8 +337,6 @@ GltfModel load_gltf(const std::filesystem::path& path) {
     result.ignored_extensions = std::move(materials.ignored_extensions);
     for (const std::string& name : result.ignored_extensions)
         log::warn(path.string() + ": material extension " + name + " is not supported: ignored");
-    if (materials.blend_as_mask)
-        log::warn(path.string() + ": alphaMode BLEND is drawn as MASK (cut out below alpha 0.5, no blending)");
     return result;
 }
 

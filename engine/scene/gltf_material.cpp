@@ -91,7 +91,7 @@ public:
             g.normal = texture_ref(m, "normalTexture", where);
             if (g.normal)
                 g.material.normal_scale = number(m.at("normalTexture"), "scale", where + ".normalTexture", 1.0f);
-            read_alpha(m, where, base_alpha, g.material, out);
+            read_alpha(m, where, base_alpha, g.material);
             g.material.double_sided = m.value("doubleSided", false);  // type-checked by check_gltf_json
             out.materials.push_back(std::move(g));
         }
@@ -99,20 +99,18 @@ public:
     }
 
 private:
-    // alphaMode and alphaCutoff. BLEND is drawn as MASK at the default cutoff (no blending: docs/SCENES.md
-    // "Alpha"), with one warning per file.
-    void read_alpha(const json& m, const std::string& where, float base_alpha, Material& material,
-                    GltfMaterials& out) const {
+    // alphaMode and alphaCutoff (docs/SCENES.md "Alpha"); BLEND ignores the cutoff, as the specification says.
+    void read_alpha(const json& m, const std::string& where, float base_alpha, Material& material) const {
         material.base_alpha = base_alpha;
         const std::string mode = m.value("alphaMode", std::string("OPAQUE"));
         if (mode == "OPAQUE") return;
         if (mode != "MASK" && mode != "BLEND")
             fail(where + ".alphaMode", "\"" + mode + "\" is not OPAQUE, MASK or BLEND");
-        material.alpha_mode = AlphaMode::mask;
         if (mode == "BLEND") {
-            out.blend_as_mask = true;
+            material.alpha_mode = AlphaMode::blend;
             return;
         }
+        material.alpha_mode = AlphaMode::mask;
         material.alpha_cutoff = number(m, "alphaCutoff", where, 0.5f);
         if (material.alpha_cutoff < 0.0f) fail(where + ".alphaCutoff", "must not be negative");
     }

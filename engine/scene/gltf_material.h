@@ -78,7 +78,6 @@ struct GltfMaterials {
     // Material extensions present but not mapped (KHR_materials_clearcoat, ...), each named once in
     // order of appearance; load_gltf warns about them.
     std::vector<std::string> ignored_extensions;
-    bool blend_as_mask = false;  // some material's alphaMode is BLEND, drawn as MASK; load_gltf warns
 };
 
 // Maps document["materials"] (already type-checked by check_gltf_json), with emissiveFactor and

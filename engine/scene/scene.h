@@ -29,8 +29,10 @@ struct MetallicRoughness {
 
 // glTF's alphaMode (docs/SCENES.md "Alpha"): opaque ignores alpha; mask cuts the surface out where its alpha,
 // Material::base_alpha times the base-colour texture's alpha, is below Material::alpha_cutoff: in shading, in
-// the depth pre-pass, in every shadow tile and for the reference's rays.
-enum class AlphaMode { opaque, mask };
+// the depth pre-pass, in every shadow tile and for the reference's rays; blend lays the surface over what is
+// behind it in proportion to that alpha, and passes 1 - alpha of the light to what lies behind it (the shadow
+// atlas's translucent layer; the reference's shadow rays pass with that probability).
+enum class AlphaMode { opaque, mask, blend };
 
 // Albedos (docs/DESIGN.md §2): k_d = rho_d / pi, k_s = rho_s (n + 2) / (2 pi).
 // A base-colour texture, where present, multiplies rho_d per pixel (linear RGB; docs/SCENES.md
@@ -68,6 +70,9 @@ struct Material {
 
     // Whether some of the surface is cut out (AlphaMode::mask with an alpha that can fall below the cutoff).
     bool masked() const { return alpha_mode == AlphaMode::mask && (base_color_texture || base_alpha < alpha_cutoff); }
+    // Whether some of the surface lets what is behind it through (AlphaMode::blend with an alpha that can be
+    // below 1); a blend material that is opaque everywhere is drawn as opaque.
+    bool blended() const { return alpha_mode == AlphaMode::blend && (base_color_texture || base_alpha < 1.0f); }
 
     bool same_as(const Material& o) const {
         return rho_d == o.rho_d && rho_s == o.rho_s && shininess == o.shininess &&

@@ -38,6 +38,9 @@ std::vector<BuiltProgram> engine_programs() {
     add("shadow atlas, alpha-masked casters",
         {{GL_VERTEX_SHADER, "shadow_atlas.vert"}, {GL_FRAGMENT_SHADER, "shadow_atlas_mask.frag"}},
         {"ATLAS_CLIP_DISTANCES", "ALPHA_MASK"});
+    add("shadow atlas, blended casters' translucent layer",
+        {{GL_VERTEX_SHADER, "shadow_atlas.vert"}, {GL_FRAGMENT_SHADER, "shadow_atlas_translucent.frag"}},
+        {"ATLAS_CLIP_DISTANCES", "ALPHA_MASK"});
     if (GLAD_GL_ARB_shader_viewport_layer_array)
         add("shadow_atlas.vert (viewport array)", {{GL_VERTEX_SHADER, "shadow_atlas.vert"}},
             {"ATLAS_VIEWPORT_ARRAY", "LIGHTS_UNIFORM_BLOCK"});
@@ -61,6 +64,8 @@ std::vector<BuiltProgram> engine_programs() {
     add("depth pre-pass, alpha-masked", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}},
         {"ALPHA_MASK"});
     add("shade (no pre-pass: the alpha test)", shade, {"ALPHA_TEST"});
+    add("shade (blended, translucent shadows, soft, ratio)", shade,
+        {"ALPHA_BLEND", "TRANSLUCENT_SHADOWS", "SOFT_SHADOWS", "SHADING_RATIO"});
     add("background", {{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
     add("shadow_tiles.comp", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, {"LIGHTS_UNIFORM_BLOCK"});
     add("shadow_tiles.comp (MSAA depth)", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}},
@@ -176,8 +181,9 @@ TEST_P(ShaderInterfaceTest, ShadeBuildsWithEveryPairOfOptions) {
     const gl::ShaderLibrary library = render::embedded_shaders();
     const std::vector<gl::ShaderStage> shade = {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}};
     const std::vector<std::string> options = {
-        "LIGHTS_UNIFORM_BLOCK", "DIFFUSE_CAP",  "SPECULAR_SINGLE",       "PCF_WIDE",  "SHADOW_TILE_LISTS",
-        "SHADING_RATIO",        "SOFT_SHADOWS", "SHADOWED_FRACTION_OUT", "ALPHA_TEST"};
+        "LIGHTS_UNIFORM_BLOCK", "DIFFUSE_CAP",   "SPECULAR_SINGLE",    "PCF_WIDE",
+        "SHADOW_TILE_LISTS",    "SHADING_RATIO", "SOFT_SHADOWS",       "SHADOWED_FRACTION_OUT",
+        "ALPHA_TEST",           "ALPHA_BLEND",   "TRANSLUCENT_SHADOWS"};
     const unsigned all = (1u << options.size()) - 1;
     int built = 0;
     for (unsigned mask = 0; mask <= all; ++mask) {
@@ -196,7 +202,7 @@ TEST_P(ShaderInterfaceTest, ShadeBuildsWithEveryPairOfOptions) {
             ++built;
         }
     }
-    EXPECT_EQ(built, 4 * (1 + 9 + 36 + 1));
+    EXPECT_EQ(built, 4 * (1 + 11 + 55 + 1));
 }
 
 TEST_P(ShaderInterfaceTest, WorkGroupsAreTheTablesSizes) {

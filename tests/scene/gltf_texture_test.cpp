@@ -392,13 +392,25 @@ TEST(SceneGltfAlpha, MaskTakesItsCutoffAndTheFactorsAlpha) {
     EXPECT_EQ(load_gltf(quad.write()).parts.at(0).material.alpha_cutoff, 0.25f);
 }
 
-TEST(SceneGltfAlpha, BlendIsDrawnAsAMaskAtTheDefaultCutoff) {
+TEST(SceneGltfAlpha, BlendKeepsTheAlphaAndIgnoresTheCutoff) {
     TexturedQuad quad;
     quad.writer.doc["materials"][0]["alphaMode"] = "BLEND";
     quad.writer.doc["materials"][0]["alphaCutoff"] = 0.9;  // MASK's alone: ignored
+    quad.writer.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.0, 1.0, 1.0, 0.4};
     const Material m = load_gltf(quad.write()).parts.at(0).material;
-    EXPECT_EQ(m.alpha_mode, AlphaMode::mask);
-    EXPECT_EQ(m.alpha_cutoff, 0.5f);
+    EXPECT_EQ(m.alpha_mode, AlphaMode::blend);
+    EXPECT_EQ(m.base_alpha, 0.4f);
+    EXPECT_TRUE(m.blended());
+    EXPECT_FALSE(m.masked());
+}
+
+// A blend material whose alpha is 1 everywhere (no texture, factor alpha 1) hides what is behind it: opaque.
+TEST(SceneGltfAlpha, BlendWithoutAnAlphaBelowOneIsOpaque) {
+    Material m;
+    m.alpha_mode = AlphaMode::blend;
+    EXPECT_FALSE(m.blended());
+    m.base_alpha = 0.99f;
+    EXPECT_TRUE(m.blended());
 }
 
 TEST(SceneGltfAlpha, BadAlphaIsAnErrorNamingTheProperty) {
