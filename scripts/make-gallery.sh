@@ -48,7 +48,7 @@ fi
   --exr "$(mktemp -d)/leaves_reference.exr" --png screenshots/gallery/leaves_reference.png | sed "s/^/leaves_reference: /"
 # glTF content through Blender's Cycles beside them (scripts/cycles-sphere.py; about 2 minutes each on 2 cores).
 if command -v blender >/dev/null; then
-  for name in metal_roughness gold_sphere roughness_bands normal_panel emissive_sphere leaves; do
+  for name in metal_roughness gold_sphere roughness_bands normal_panel emissive_sphere leaves glass_pane; do
     exposure=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["environment"].get("exposure", 0))' \
       "assets/scenes/$name.json")
     exr="$(mktemp -d)/$name.exr"

@@ -189,6 +189,24 @@ TEST(SceneAssets, EmissiveSphereCarriesBlendersEmissionStrength) {
     EXPECT_LT(glm::distance(m.metallic_roughness->base_color, glm::vec3(0.1f)), 1e-6f);
 }
 
+// glass_pane.glb as Blender's exporter wrote it (scripts/blender-glass.py): Alpha Blend, the alpha in the
+// base-colour texture: 1 on the frame, 0.3 on the glass.
+TEST(SceneAssets, GlassPaneIsBlendedByItsTexturesAlpha) {
+    const Scene s = load_scene(kScenes / "glass_pane.json");
+    const Material& m = named(s, "pane").material;
+    EXPECT_EQ(m.alpha_mode, AlphaMode::blend);
+    EXPECT_TRUE(m.blended());
+    ASSERT_TRUE(m.base_color_texture.has_value());
+    const TextureImage& image = *m.base_color_texture->image;
+    int glass = 0, frame = 0;
+    for (std::size_t i = 3; i < image.rgba.size(); i += 4) {
+        glass += std::abs(int(image.rgba[i]) - 77) <= 1;  // 0.3 of 255
+        frame += image.rgba[i] == 255;
+    }
+    EXPECT_EQ(glass + frame, image.width * image.height);
+    EXPECT_GT(glass, 2 * frame);
+}
+
 TEST(SceneAssets, FlyoverFiguresAreFifteenThousandTrianglesEach) {
     const Scene two = load_scene(kScenes / "flyover.json");
     const Scene one = load_scene(kScenes / "flyover_single.json");
