@@ -36,6 +36,19 @@ bool changes(SettingEffect effect, const RenderSettings& a, const RenderSettings
 
 // Viewports used per batch in AtlasMode::viewport_array (GL_MAX_VIEWPORTS is 16 on most drivers).
 constexpr int kMaxViewports = 64;
+
+// A framebuffer drawing into `first` and `second` (attachments 0 and 1) over `depth`; `what` names it in errors.
+gl::Framebuffer two_colour_target(const gl::Texture& first, const gl::Texture& second, const gl::Texture& depth,
+                                  const char* what) {
+    gl::Framebuffer target = gl::Framebuffer::create();
+    target.attach(GL_COLOR_ATTACHMENT0, first);
+    target.attach(GL_COLOR_ATTACHMENT1, second);
+    const GLenum draw_buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(target.id(), 2, draw_buffers);
+    target.attach(GL_DEPTH_ATTACHMENT, depth);
+    target.check_complete(what);
+    return target;
+}
 }  // namespace
 
 Renderer::Renderer(const RenderSettings& settings) : settings_(settings), library_(embedded_shaders()) {
@@ -400,13 +413,7 @@ void Renderer::ensure_fraction_target(int width, int height) {
     fraction_normal_.set_filter(GL_NEAREST, GL_NEAREST);
     fraction_depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
     fraction_depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
-    fraction_target_ = gl::Framebuffer::create();
-    fraction_target_.attach(GL_COLOR_ATTACHMENT0, fraction_);
-    fraction_target_.attach(GL_COLOR_ATTACHMENT1, fraction_normal_);
-    const GLenum draw_buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fraction_target_.id(), 2, draw_buffers);
-    fraction_target_.attach(GL_DEPTH_ATTACHMENT, fraction_depth_);
-    fraction_target_.check_complete("shadowed-fraction target");
+    fraction_target_ = two_colour_target(fraction_, fraction_normal_, fraction_depth_, "shadowed-fraction target");
     fraction_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
                                  (height + size::screen_tile - 1) / size::screen_tile);
     fraction_tile_lists_ = gl::Buffer::create(std::size_t(fraction_tiles_.x) * std::size_t(fraction_tiles_.y) *
@@ -435,13 +442,8 @@ void Renderer::ensure_translucent_layer() {
     atlas_transmittance_ = gl::Texture::create_2d(GL_R8, atlas_depth_.width(), atlas_depth_.height());
     atlas_translucent_depth_ = gl::Texture::create_2d(GL_R16, atlas_depth_.width(), atlas_depth_.height());
     for (gl::Texture* t : {&atlas_transmittance_, &atlas_translucent_depth_}) t->set_filter(GL_NEAREST, GL_NEAREST);
-    atlas_translucent_ = gl::Framebuffer::create();
-    atlas_translucent_.attach(GL_COLOR_ATTACHMENT0, atlas_transmittance_);
-    atlas_translucent_.attach(GL_COLOR_ATTACHMENT1, atlas_translucent_depth_);
-    const GLenum draw_buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(atlas_translucent_.id(), 2, draw_buffers);
-    atlas_translucent_.attach(GL_DEPTH_ATTACHMENT, atlas_depth_);
-    atlas_translucent_.check_complete("translucent shadow layer");
+    atlas_translucent_ =
+        two_colour_target(atlas_transmittance_, atlas_translucent_depth_, atlas_depth_, "translucent shadow layer");
 }
 
 void Renderer::draw_opaque_atlas(const FramePlan& plan, FrameStats& stats) {
