@@ -199,22 +199,15 @@ RayTracer::RayTracer(const Scene& scene, double time) : state_(std::make_unique<
         if (material.masked() || material.blended() || culled) {
             auto filter = std::make_unique<HitFilter>();
             filter->indices = &object.mesh->indices;
-            if (material.masked()) {
+            if (material.masked() || material.blended()) {
                 if (material.base_color_texture && !object.mesh->texcoords.empty()) {
                     filter->texture = &*material.base_color_texture;
                     filter->texcoords = &object.mesh->texcoords;
                 }
                 filter->base_alpha = material.base_alpha;
-                filter->cutoff = material.alpha_cutoff;
-            }
-            if (material.blended()) {
-                if (material.base_color_texture && !object.mesh->texcoords.empty()) {
-                    filter->texture = &*material.base_color_texture;
-                    filter->texcoords = &object.mesh->texcoords;
-                }
-                filter->base_alpha = material.base_alpha;
-                filter->blended = true;
-                has_blended_ = true;
+                if (material.masked()) filter->cutoff = material.alpha_cutoff;
+                filter->blended = material.blended();
+                has_blended_ = has_blended_ || material.blended();
             }
             if (culled) filter->front = &positions;
             filter->mirrored = s.mirrored[k];

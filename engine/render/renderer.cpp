@@ -940,15 +940,12 @@ void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object,
 void Renderer::draw_blended(const FramePlan& plan, const CameraView& view) {
     if (blended_objects_.empty()) return;
     gl::ScopedPass pass(&timer_, "blended");
-    std::vector<std::pair<float, std::size_t>> by_depth;
-    for (const std::size_t i : blended_objects_) {
+    const auto view_z = [&](std::size_t i) {  // view space looks down -z: the farthest has the least
         const GpuMesh& mesh = *instance_meshes_[i];
         const glm::vec4 centre(0.5f * (mesh.bounds_min() + mesh.bounds_max()), 1.0f);
-        by_depth.emplace_back((view.view_from_world * plan.objects[i].world_from_object * centre).z, i);
-    }
-    std::ranges::stable_sort(by_depth, {}, &std::pair<float, std::size_t>::first);  // view space looks down -z
-    std::vector<std::size_t> order;
-    for (const auto& [depth, i] : by_depth) order.push_back(i);
+        return (view.view_from_world * plan.objects[i].world_from_object * centre).z;
+    };
+    std::ranges::stable_sort(blended_objects_, {}, view_z);
 
     VariantPrograms& programs = *programs_now_;
     const bool gltf = draws_metallic_roughness(plan);
@@ -975,7 +972,7 @@ void Renderer::draw_blended(const FramePlan& plan, const CameraView& view) {
     shade_objects(
         plan, view,
         {&programs.blend, &programs.blend_diffuse, &programs.blend, gltf ? &programs.blend_gltf : &programs.blend},
-        screen_tiles_.x, order, true);
+        screen_tiles_.x, blended_objects_, true);
     glDisable(GL_BLEND);
 }
 

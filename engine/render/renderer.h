@@ -217,7 +217,8 @@ private:
     gl::GpuTimer timer_;
     bool timer_warmed_up_ = false;
 
-    std::vector<std::size_t> opaque_objects_, blended_objects_;  // this frame's, by ObjectFrame::blended
+    // This frame's objects by ObjectFrame::blended; draw_blended sorts the blended ones farthest first.
+    std::vector<std::size_t> opaque_objects_, blended_objects_;
     std::vector<std::unique_ptr<GpuMesh>> meshes_;
     std::vector<const GpuMesh*> instance_meshes_;  // per object of planner_.objects()
     std::vector<int> instance_of_object_;          // index into instance_meshes_ per scene object; -1: no triangles

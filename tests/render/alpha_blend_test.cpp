@@ -44,11 +44,7 @@ Scene ground_under_sky() {
     scene.camera.position = {0.3f, 1.7f, 1.5f};
     scene.camera.target = {-0.1f, 0.2f, -0.2f};
     scene.camera.fov_y_degrees = 60.0f;
-    Object ground;
-    ground.mesh = std::make_shared<Mesh>(make_mesh(PlaneShape{20.0f}));
-    ground.material.rho_d = glm::vec3(0.7f);
-    ground.casts_shadows = false;
-    scene.objects.push_back(std::move(ground));
+    scene.objects.push_back(ground_plane());
     return scene;
 }
 

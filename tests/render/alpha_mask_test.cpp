@@ -57,11 +57,7 @@ Scene card_over_ground(Card kind) {
     scene.camera.position = {0.5f, 1.5f, 1.3f};
     scene.camera.target = {0.1f, 0.1f, -0.1f};
     scene.camera.fov_y_degrees = 60.0f;
-    Object ground;
-    ground.mesh = std::make_shared<Mesh>(make_mesh(PlaneShape{20.0f}));
-    ground.material.rho_d = glm::vec3(0.7f);
-    ground.casts_shadows = false;
-    scene.objects.push_back(std::move(ground));
+    scene.objects.push_back(ground_plane());
     Object object;
     object.mesh = card(-0.5f, kind == Card::left_half ? 0.0f : 0.5f);
     object.material.rho_d = glm::vec3(0.6f);

@@ -37,11 +37,7 @@ Object box(glm::vec3 size, glm::vec3 centre) {
 Scene room(bool roof) {
     Scene scene;
     scene.has_ground = true;
-    Object ground;
-    ground.mesh = std::make_shared<Mesh>(make_mesh(PlaneShape{20.0f}));
-    ground.material = {glm::vec3(0.7f), 0.0f, 1.0f};
-    ground.casts_shadows = false;
-    scene.objects.push_back(ground);
+    scene.objects.push_back(ground_plane());
     if (roof) scene.objects.push_back(box({4.2f, 0.1f, 4.2f}, {0.0f, 2.55f, 0.0f}));
     scene.objects.push_back(box({0.1f, 2.5f, 4.2f}, {-2.05f, 1.25f, 0.0f}));
     scene.objects.push_back(box({0.1f, 2.5f, 4.2f}, {2.05f, 1.25f, 0.0f}));

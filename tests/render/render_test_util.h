@@ -23,6 +23,7 @@
 #include "reference/reference.h"
 #include "render/frame_plan.h"
 #include "render/renderer.h"
+#include "scene/meshes.h"
 
 namespace envshadow::testing {
 
@@ -34,6 +35,15 @@ inline render::CameraView look_at(glm::vec3 eye, glm::vec3 target, int width, in
     view.width = width;
     view.height = height;
     return view;
+}
+
+// The ground of the tests' open scenes: a 20 m plane, diffuse 0.7, casting no shadow.
+inline Object ground_plane() {
+    Object ground;
+    ground.mesh = std::make_shared<Mesh>(make_mesh(PlaneShape{20.0f}));
+    ground.material.rho_d = glm::vec3(0.7f);
+    ground.casts_shadows = false;
+    return ground;
 }
 
 // 2x2 texels, for nearest filtering: red, green (top row), blue, white.
