@@ -13,14 +13,17 @@ bool has_metallic_roughness(const Scene& scene) {
 }
 
 PrefilteredMaps prefilter_maps(const EnvironmentMap& map, Hemisphere hemisphere, bool ggx) {
-    PrefilteredMaps maps{prefilter_environment(map, hemisphere), std::nullopt};
-    if (ggx) maps.ggx = prefilter_environment_ggx(map, hemisphere);
+    PrefilteredMaps maps{prefilter_environment(map, hemisphere), std::nullopt, {}};
+    if (ggx) {
+        maps.compact_sources = split_compact_sources(map, hemisphere);
+        maps.ggx = prefilter_environment_ggx(maps.compact_sources.rest, hemisphere);
+    }
     return maps;
 }
 
 void upload(render::Renderer& renderer, const PrefilteredMaps& maps) {
     renderer.set_prefiltered(maps.phong);
-    if (maps.ggx) renderer.set_ggx_prefiltered(*maps.ggx);
+    if (maps.ggx) renderer.set_ggx_prefiltered(*maps.ggx, maps.compact_sources);
 }
 
 void print_prefiltering(const PrefilteredMaps& maps, Hemisphere hemisphere) {

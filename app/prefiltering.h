@@ -4,6 +4,7 @@
 // upload them the same way.
 #include <optional>
 
+#include "env/compact_sources.h"
 #include "env/environment.h"
 #include "env/ggx_prefilter.h"
 #include "env/importance.h"
@@ -15,13 +16,14 @@ namespace envshadow::app {
 
 struct PrefilteredMaps {
     PrefilteredEnvironment phong;
-    std::optional<GgxPrefilteredEnvironment> ggx;
+    std::optional<GgxPrefilteredEnvironment> ggx;  // of compact_sources.rest
+    CompactSourceSplit compact_sources;            // with ggx: the map's suns, apart from the rest of it
 };
 
 // Whether any object's material has glTF's parameters (Material::metallic_roughness).
 bool has_metallic_roughness(const Scene& scene);
 
-// Both prefilterings over `hemisphere`, the GGX one only when `ggx`.
+// Both prefilterings over `hemisphere`, the GGX one only when `ggx`: of the map without its compact sources.
 PrefilteredMaps prefilter_maps(const EnvironmentMap& map, Hemisphere hemisphere, bool ggx);
 
 // Uploads the levels it holds (Renderer::set_prefiltered, set_ggx_prefiltered).

@@ -32,7 +32,8 @@ layout(location = 4) centroid in vec4 v_world_tangent;
 layout(location = 0) out vec4 o_color;
 
 void main() {
-    Surface s = surface(v_world_position, v_world_position_at_centre, v_world_normal, v_world_tangent, v_texcoord);
+    Surface s = surface(v_world_position, v_world_position_at_centre, v_world_normal,
+                        interpolateAtOffset(v_world_normal, vec2(0.0)), v_world_tangent, v_texcoord);
 #if defined(ALPHA_TEST)
     if (cut_out(mask_alpha(u_base_color, v_texcoord))) discard;  // without a depth pre-pass, which keeps them out
 #endif

@@ -22,12 +22,8 @@ layout(location = LOC_UPPER_ONLY) uniform bool u_upper_only;
 
 // With multisampling (u_pixel_footprint) one shading sample stands for the pixel's mean, as the resolve and the
 // box-filtered reference take it: where a mirror's reflection changes within the pixel, the lobe is widened
-// by the pixel's footprint, from |dr/dx|^2 + |dr/dy|^2 (0 without multisampling).
+// by the pixel's footprint, from the screen derivatives of the normal and the view (0 without multisampling).
 layout(location = LOC_PIXEL_FOOTPRINT) uniform bool u_pixel_footprint;
-float mirror_spread(vec3 r) {
-    vec3 dx = dFdx(r), dy = dFdy(r);
-    return u_pixel_footprint ? dot(dx, dx) + dot(dy, dy) : 0.0;
-}
 
 // The sharpest level's weight against the map itself (env/ggx_prefilter.h ggx_sharpest_level_weight: alpha over
 // the level's), alpha^2 widened by Kaplanyan et al. 2016's specular anti-aliasing with Filament's constants
@@ -51,7 +47,10 @@ struct GltfPixel {
     vec3 f0;               // mix(0.04, baseColor, metallic)
     vec3 diffuse_albedo;   // (1 - metallic)(1 - 0.04) baseColor diffuse(n.v): L_diff = it E(n) / pi
     vec3 specular_albedo;  // F0 scale(n.v, roughness) + bias(n.v, roughness): L_spec = it P(r, alpha)
-    float mirror_spread;   // mirror_spread(r)
+    float mirror_spread;             // |dr/dx|^2 + |dr/dy|^2 with u_pixel_footprint, else 0
+    vec3 pixel_normal, pixel_view;   // the shading normal and the view at the pixel's centre
+    vec3 normal_dx, normal_dy;       // their screen derivatives with u_pixel_footprint, else 0
+    vec3 view_dx, view_dy;
 };
 
 // Whether the pixel's lobe is sharper than the sharpest level: its lookup is the map itself and that level.
@@ -59,14 +58,27 @@ bool below_levels(GltfPixel p) {
     return p.roughness < kSharpestRoughness;
 }
 
-// base_color: the texture's at this pixel; n_dot_v of the shading normal, r its mirror direction (in uniform
-// control flow: screen derivatives are taken).
-GltfPixel gltf_pixel(vec3 base_color, vec2 texcoord, float n_dot_v, vec3 r) {
+// base_color: the texture's at this pixel; n_dot_v of the shading normal; pixel_normal that normal at the pixel's
+// centre. The pixel's footprint from the screen derivatives (in uniform control flow) of the interpolated normal
+// and the view at the pixel's centre: with MSAA the shading point is the centroid, which moves within the pixel
+// from one pixel to the next.
+GltfPixel gltf_pixel(vec3 base_color, vec2 texcoord, float n_dot_v, vec3 pixel_normal, vec3 normal_at_centre,
+                     vec3 view_at_centre) {
     GltfPixel p;
     vec2 metallic_roughness = texture(u_metallic_roughness_texture, texcoord).bg;
     p.metallic = u_metallic * metallic_roughness.x;
     p.roughness = u_roughness * metallic_roughness.y;
-    p.mirror_spread = mirror_spread(r);
+    vec3 r = reflect(-view_at_centre, normal_at_centre);
+    vec3 dr_dx = dFdxFine(r), dr_dy = dFdyFine(r);
+    vec3 dn_dx = dFdxFine(normal_at_centre), dn_dy = dFdyFine(normal_at_centre);
+    vec3 dv_dx = dFdxFine(view_at_centre), dv_dy = dFdyFine(view_at_centre);
+    p.mirror_spread = u_pixel_footprint ? dot(dr_dx, dr_dx) + dot(dr_dy, dr_dy) : 0.0;
+    p.normal_dx = u_pixel_footprint ? dn_dx : vec3(0.0);
+    p.normal_dy = u_pixel_footprint ? dn_dy : vec3(0.0);
+    p.view_dx = u_pixel_footprint ? dv_dx : vec3(0.0);
+    p.view_dy = u_pixel_footprint ? dv_dy : vec3(0.0);
+    p.pixel_normal = pixel_normal;
+    p.pixel_view = view_at_centre;
     p.n_dot_v = clamp(n_dot_v, 0.0, 1.0);
     float alpha = max(p.roughness * p.roughness, kMinAlpha);
     p.alpha2 = alpha * alpha;

@@ -61,17 +61,13 @@ vec3 ggx_lobe_mean(GltfPixel p, vec3 r) {
 
 // k_d E(n) + k_s S_n(r): the paper's BRDF integrated over the visible environment without shadows, S_n
 // over the whole lobe (the cells' ratio clips it at the tangent plane); for a material with glTF's
-// parameters, that BRDF's split sum instead (its lobe is whole too) with its compact lights' correction.
+// parameters, that BRDF's split sum instead (its lobe is whole too) and its lobe about the compact sources.
 vec3 unshadowed_radiance(Surface s) {
     vec3 irradiance_over_pi = prefiltered(u_irradiance, latlong_uv(u_env_from_world * s.normal));
 #if defined(METALLIC_ROUGHNESS)
-    // The compact lights' reflection with the BRDF's lobe in place of the split sum's (docs/DESIGN.md §11). The
-    // split sum's share of a sun is modelled, not looked up: where its lookup holds less of it than modelled (a
-    // one-texel sun blurred by the bilinear filter at a lobe's edge), at most what it holds is taken away.
-    vec3 brdf_lobes, split_sum_lobes;
-    compact_light_lobes(s, brdf_lobes, split_sum_lobes);
-    vec3 specular = max(s.gltf.specular_albedo * ggx_lobe_mean(s.gltf, s.mirror) - split_sum_lobes, vec3(0.0));
-    return s.gltf.diffuse_albedo * irradiance_over_pi + specular + brdf_lobes;
+    // The split sum over the map without its compact sources, and theirs with the BRDF's lobe (docs/DESIGN.md §11).
+    vec3 specular = s.gltf.specular_albedo * ggx_lobe_mean(s.gltf, s.mirror);
+    return s.gltf.diffuse_albedo * irradiance_over_pi + specular + compact_light_lobes(s);
 #else
     vec3 result = s.k_d * (PI * irradiance_over_pi);
 #if !defined(DIFFUSE_ONLY)

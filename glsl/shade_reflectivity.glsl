@@ -4,8 +4,8 @@
 //   DIFFUSE_ONLY     for materials with k_s = 0: the specular code left out (a uniform branch on u_k_s
 //                    still costs its whole body on SIMD CPU rasterisers such as llvmpipe)
 //   SHADING_RATIO    the ratio estimator's clipping at the tangent plane (docs/DESIGN.md §4.1)
-//   METALLIC_ROUGHNESS (with SHADING_RATIO) glTF's BRDF in place of the paper's, and its compact lights'
-//                    correction of the split sum (docs/DESIGN.md §11)
+//   METALLIC_ROUGHNESS (with SHADING_RATIO) glTF's BRDF in place of the paper's, and the map's compact
+//                    sources (a sun) with that BRDF's own lobe beside the split sum (docs/DESIGN.md §11)
 #include "brdf.glsl"
 #include "cells.glsl"
 #include "shade_surface.glsl"
@@ -116,20 +116,18 @@ bool beyond_lobe(float t, float widened2) {
     return 1.0 - t > kLobeCutoffSquared * widened2 * (1.0 + t);
 }
 
-// The BRDF's specular lobe, f cos theta at w (cos_theta = n.w): F D V n.l.
-vec3 brdf_lobe(Surface s, vec3 w, float cos_theta, float widened2) {
+// The BRDF's specular lobe, f cos theta at w for the normal n and the view v (cos_theta = n.w): F D V n.l.
+vec3 brdf_lobe(Surface s, vec3 n, vec3 v, float n_dot_v, vec3 w, float cos_theta, float widened2) {
     if (cos_theta <= 0.0) return vec3(0.0);
-    vec3 h = normalize(s.view + w);
-    float m = 1.0 - max(dot(s.view, h), 0.0), m2 = m * m;
+    vec3 h = normalize(v + w);
+    float m = 1.0 - max(dot(v, h), 0.0), m2 = m * m;
     vec3 fresnel = s.gltf.f0 + (1.0 - s.gltf.f0) * (m2 * m2 * m);
-    return fresnel * (ggx_distribution(max(dot(s.normal, h), 0.0), widened2) *
-                      smith_visibility(cos_theta, max(s.gltf.n_dot_v, 1e-4), s.gltf.alpha2) * cos_theta);
+    return fresnel * (ggx_distribution(max(dot(n, h), 0.0), widened2) *
+                      smith_visibility(cos_theta, max(n_dot_v, 1e-4), s.gltf.alpha2) * cos_theta);
 }
 
-// The split sum's specular lobe at w: specular_albedo K(r.w) / integral K, whose sum over the map is
-// specular_albedo P(r, alpha).
-vec3 split_sum_lobe(Surface s, float t, float widened2) {
-    return s.gltf.specular_albedo * reflection_lobe(t, widened2);
+vec3 brdf_lobe(Surface s, vec3 w, float cos_theta, float widened2) {
+    return brdf_lobe(s, s.normal, s.view, s.gltf.n_dot_v, w, cos_theta, widened2);
 }
 
 // A cell's weight for glTF's BRDF, the same in both sums: the fraction is the BRDF's own, its diffuse
@@ -141,36 +139,61 @@ Reflectivity gltf_reflectivity(Surface s, vec3 w, float cos_r, float cos_theta) 
     return Reflectivity(a, a);
 }
 
-// FramePlan::compact_lights (render/lights.h): cells much brighter than the map's mean, a sun.
+// The map's compact sources (env/compact_sources.h), which the split sum's levels and mirror leave out: world
+// direction and cos r of each one's cap, and its integral of L dw.
 layout(location = LOC_COMPACT_LIGHT_COUNT) uniform int u_compact_light_count;
-layout(location = LOC_COMPACT_LIGHTS) uniform ivec4 u_compact_lights;
+layout(location = LOC_COMPACT_DIRECTIONS) uniform vec4 u_compact_directions[MAX_COMPACT_SOURCES];
+layout(location = LOC_COMPACT_RADIANCES) uniform vec4 u_compact_radiances[MAX_COMPACT_SOURCES];
 
-// The width the split sum's lookup gave a lobe of widened2: the levels about the roughness, or the map and the
-// sharpest level widened by the pixel's footprint up to that level's (ggx_lobe_mean, mirror_level_weight).
-float split_sum_alpha2(Surface s, float widened2) {
-    return widened2 + (below_levels(s.gltf) ? min(0.075 * s.gltf.mirror_spread, kSharpestAlpha * kSharpestAlpha) : 0.0);
+// Where the pixel's footprint is wider than this many times a source's lobe, the lobe is averaged over a grid
+// of sub-pixels rather than widened as a whole: a glint smaller than the pixel then lands in the sub-pixels
+// where the box-filtered reference has it, not in a round blur about the pixel's centre.
+const float kFootprintOverLobe = 0.25;
+const int kFootprintGrid = 8;
+
+// The BRDF's lobe at w averaged over the pixel: the normal n + dn/dx x + dn/dy y and the view likewise at the
+// centres of a kFootprintGrid^2 grid over the pixel, the lobe widened by its sub-pixel's share of the footprint
+// (twice the peak-matched width, which leaves the sum of the sub-pixels' lobes smooth).
+vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
+    const float cell = 1.0 / float(kFootprintGrid);
+    float sub_pixel2 = widened2 + 2.0 * footprint2 * (cell * cell);
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < kFootprintGrid; ++j) {
+        for (int i = 0; i < kFootprintGrid; ++i) {
+            vec2 offset = (vec2(i, j) + 0.5) * cell - 0.5;
+            vec3 n = normalize(s.gltf.pixel_normal + s.gltf.normal_dx * offset.x + s.gltf.normal_dy * offset.y);
+            vec3 v = normalize(s.gltf.pixel_view + s.gltf.view_dx * offset.x + s.gltf.view_dy * offset.y);
+            sum += brdf_lobe(s, n, v, max(dot(n, v), 0.0), w, dot(n, w), sub_pixel2);
+        }
+    }
+    return sum * (cell * cell);
 }
 
-// The compact lights' reflection both ways, summed over them: L~_i times the BRDF's lobe (`brdf`) and times the
-// split sum's (`split_sum`), which the split sum's lookup holds and the BRDF's replaces. The split sum's lobe is
-// round about r; the BRDF's, seen off the normal, is narrower and higher (by about 1 / n.v at its peak), so a
-// sun's highlight needs its true shape; over a smooth map the split sum is close and the rest of the cells are
-// left to it. The BRDF's lobe is widened by the pixel's footprint, the variance of a pixel-wide box in the half
-// vector, (|dn/dx|^2 + |dn/dy|^2) / 12 = mirror_spread / 48: a glint smaller than the pixel is its mean over the
-// pixel, not its value at the sample.
-void compact_light_lobes(Surface s, out vec3 brdf, out vec3 split_sum) {
-    brdf = vec3(0.0);
-    split_sum = vec3(0.0);
+// The compact sources' reflection, summed over them: L~ times the BRDF's lobe, widened by the source's cap and
+// the pixel's footprint to the peak of their convolution (a disc of radius a about a lobe alpha peaks at
+// 1 / (pi (alpha^2 + a^2)): the cap's half-vector radius^2 (1 - cos r) / 2, the footprint's a_x a_y / pi in
+// the normal against the half vector). The split sum's lobe is round about r; the BRDF's, seen off the normal,
+// is narrower and higher (by about 1 / n.v at its peak), so a sun's highlight needs its true shape. Where the
+// footprint is wide against the lobe the lobe is averaged over the pixel instead (brdf_lobe_over_pixel): a
+// glint smaller than the pixel is its mean over the pixel, not its value at the sample.
+vec3 compact_light_lobes(Surface s) {
+    vec3 brdf = vec3(0.0);
     for (int k = 0; k < u_compact_light_count; ++k) {
-        int i = u_compact_lights[k];
-        vec3 w = lights[i].direction.xyz;
-        float widened2 = widened_alpha2(s.gltf.alpha2, lights[i].direction.w);
-        float brdf2 = widened2 + s.gltf.mirror_spread / 48.0;
-        float t = dot(s.mirror, w);
-        if (beyond_lobe(t, brdf2)) continue;
-        brdf += lights[i].radiance.rgb * brdf_lobe(s, w, dot(s.normal, w), brdf2);
-        split_sum += lights[i].radiance.rgb * split_sum_lobe(s, t, split_sum_alpha2(s, widened2));
+        vec3 w = u_compact_directions[k].xyz;
+        // The normal's change across the pixel against the half vector's (dh = (I - h h^T) dv / |v + w|).
+        vec3 h = normalize(s.view + w);
+        float to_h = 1.0 / length(s.view + w);
+        vec3 dm_dx = s.gltf.normal_dx - (s.gltf.view_dx - h * dot(h, s.gltf.view_dx)) * to_h;
+        vec3 dm_dy = s.gltf.normal_dy - (s.gltf.view_dy - h * dot(h, s.gltf.view_dy)) * to_h;
+        float footprint2 = (dot(dm_dx, dm_dx) + dot(dm_dy, dm_dy)) / (2.0 * PI);
+        float widened2 = s.gltf.alpha2 + (1.0 - u_compact_directions[k].w) / 2.0;
+        if (beyond_lobe(dot(s.mirror, w), widened2 + footprint2)) continue;
+        vec3 lobe = footprint2 > kFootprintOverLobe * widened2
+                        ? brdf_lobe_over_pixel(s, w, widened2, footprint2)
+                        : brdf_lobe(s, w, dot(s.normal, w), widened2 + footprint2);
+        brdf += u_compact_radiances[k].rgb * lobe;
     }
+    return brdf;
 }
 #endif
 

@@ -98,7 +98,8 @@ vec3 shading_normal(vec3 interpolated, vec4 tangent, vec2 texcoord, vec3 view, v
 // The surface at the fragment's interpolated world position, normal, tangent and texture coordinates;
 // position_at_centre is the position interpolated at the pixel centre (not centroid: it may lie beyond
 // the triangle's edge, on its plane).
-Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal, vec4 tangent, vec2 texcoord) {
+Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal, vec3 normal_at_centre, vec4 tangent,
+                vec2 texcoord) {
     Surface s;
     s.texcoord = texcoord;
 #if defined(ALPHA_BLEND)
@@ -129,7 +130,11 @@ Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal
     s.mirror = reflect(-view, s.normal);
     s.view = view;
 #if defined(METALLIC_ROUGHNESS)
-    s.gltf = gltf_pixel(s.base_color, texcoord, dot(s.normal, view), s.mirror);
+    // The shading normal moved from the centroid to the pixel's centre by the interpolated normal's change.
+    vec3 centre_normal = normalize(normal_at_centre);
+    vec3 pixel_normal = normalize(s.normal + centre_normal - normalize(interpolated_normal));
+    s.gltf = gltf_pixel(s.base_color, texcoord, dot(s.normal, view), pixel_normal, centre_normal,
+                        normalize(u_eye - position_at_centre));
 #endif
     return s;
 }

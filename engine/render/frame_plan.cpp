@@ -117,7 +117,6 @@ void FramePlanner::set_lights(std::span<const WorldLight> lights) {
     frames_.clear();
     for (const WorldLight& light : lights_) frames_.push_back(light_frame(light.direction));
     neighbourhoods_ = light_neighbourhoods(lights_);
-    plan_.compact_lights = compact_lights(lights_);
     animation_fits_.clear();
 }
 

@@ -92,7 +92,6 @@ struct ObjectFrame {
 struct FramePlan {
     std::vector<ObjectFrame> objects;  // one per PlannedObject
     std::vector<LightRecord> lights;   // one per light: the GPU's light buffer
-    std::vector<int> compact_lights;   // render/lights.h compact_lights of them
     // Per light, caster_rects_per_light rectangles in its clip space (xy lower left, zw upper right),
     // each caster's box widened by 2 texels; never empty (one zero rectangle without lights).
     std::vector<glm::vec4> caster_rects;

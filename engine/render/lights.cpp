@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
@@ -101,29 +100,6 @@ std::vector<LightNeighbourhood> light_neighbourhoods(std::span<const WorldLight>
         neighbourhoods[i].surrounded = surround(lights[i].direction, around);
     }
     return neighbourhoods;
-}
-
-std::vector<int> compact_lights(std::span<const WorldLight> lights) {
-    const auto cap = [](float cos_radius) { return 2.0 * std::numbers::pi * (1.0 - double(cos_radius)); };
-    std::vector<double> radiance(lights.size());  // mean luminance over the radiance-weighted cap
-    double total_luminance = 0.0, total_solid_angle = 0.0;
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-        const double luminance = std::max(0.0, latlong::luminance(glm::dvec3(lights[i].radiance)));
-        const double weighted = cap(lights[i].cos_radius_weighted);
-        // All of a cell's light in one direction (a one-texel sun) is as concentrated as light gets.
-        radiance[i] =
-            weighted > 0.0 ? luminance / weighted : (luminance > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
-        total_luminance += luminance;
-        total_solid_angle += cap(lights[i].cos_radius);
-    }
-    std::vector<int> compact;
-    if (total_solid_angle <= 0.0) return compact;
-    const double threshold = kCompactRadianceFactor * total_luminance / total_solid_angle;
-    for (std::size_t i = 0; i < lights.size(); ++i)
-        if (radiance[i] > threshold) compact.push_back(int(i));
-    std::ranges::sort(compact, [&](int a, int b) { return radiance[std::size_t(a)] > radiance[std::size_t(b)]; });
-    if (compact.size() > std::size_t(kMaxCompactLights)) compact.resize(std::size_t(kMaxCompactLights));
-    return compact;
 }
 
 }  // namespace envshadow::render

@@ -87,14 +87,4 @@ struct LightNeighbourhood {
 // there. At most kMaxLights lights (std::invalid_argument).
 std::vector<LightNeighbourhood> light_neighbourhoods(std::span<const WorldLight> lights);
 
-// The compact lights: cells whose radiance is concentrated, a sun. Their mean radiance over the radiance-
-// weighted cap (luminance of L~_i over its solid angle; unbounded for a cap of none) is above
-// kCompactRadianceFactor times the map's mean (the luminance of all the cells over their solid angles, the
-// caps of cos_radius). At most kMaxCompactLights, the brightest, as indices into `lights`. glTF's BRDF takes
-// their reflection with its lobe's true shape instead of the split sum's (glsl/shade_reflectivity.glsl
-// compact_light_correction, docs/DESIGN.md §11).
-inline constexpr int kMaxCompactLights = 4;  // GLSL's ivec4 u_compact_lights
-inline constexpr double kCompactRadianceFactor = 8.0;
-std::vector<int> compact_lights(std::span<const WorldLight> lights);
-
 }  // namespace envshadow::render

@@ -265,7 +265,7 @@ void Renderer::set_prefiltered(const PrefilteredEnvironment& prefiltered) {
     }
 }
 
-void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered) {
+void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered, const CompactSourceSplit& split) {
     if (prefiltered.levels.size() != std::size_t(kGgxPrefilterLevels))
         throw std::invalid_argument("renderer: " + std::to_string(prefiltered.levels.size()) + " GGX levels given, " +
                                     std::to_string(kGgxPrefilterLevels) + " expected");
@@ -299,6 +299,9 @@ void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered)
     }
     ggx_level_texels_.set_filter(GL_LINEAR, GL_LINEAR);
     ggx_level_texels_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);  // never reached: each level's rows wrap
+    const EnvironmentMap& mirror = split.rest;
+    ggx_mirror_ = upload_rgb32f(mirror.width, mirror.height, mirror.texels.data());
+    compact_sources_ = split.sources;
     if (!dfg_) {
         const DfgTable table = compute_dfg_table(kDfgTableSize);
         dfg_ = upload_rgb32f(table.size, table.size, table.texels.data(), GL_CLAMP_TO_EDGE);
@@ -835,7 +838,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
             glProgramUniformMatrix3fv(shade->id(), loc::env_from_world, 1, GL_FALSE, &env_from_world[0][0]);
         if (!prefiltered_.empty()) prefiltered_[0].bind(unit::irradiance);
         if (draws_metallic_roughness(plan)) {
-            set_compact_lights(programs.metallic_roughness->id(), plan);
+            set_compact_sources(programs.metallic_roughness->id());
             glProgramUniform3iv(programs.metallic_roughness->id(), loc::ggx_levels, kGgxPrefilterLevels,
                                 &ggx_level_rows_[0][0]);
         }
@@ -887,12 +890,18 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
     glDepthFunc(GL_LESS);
 }
 
-void Renderer::set_compact_lights(GLuint program, const FramePlan& plan) const {
-    glm::ivec4 indices(0);
-    const int count = std::min(int(plan.compact_lights.size()), kMaxCompactLights);
-    for (int k = 0; k < count; ++k) indices[k] = plan.compact_lights[std::size_t(k)];
+void Renderer::set_compact_sources(GLuint program) const {
+    std::array<glm::vec4, kMaxCompactSources> directions{}, radiances{};
+    const int count = std::min(int(compact_sources_.size()), kMaxCompactSources);
+    const glm::mat3 world_from_map = glm::transpose(map_from_world(rotation_degrees_));
+    for (int k = 0; k < count; ++k) {
+        const CompactSource& source = compact_sources_[std::size_t(k)];
+        directions[std::size_t(k)] = glm::vec4(world_from_map * source.direction, source.cos_radius);
+        radiances[std::size_t(k)] = glm::vec4(source.radiance, 0.0f);
+    }
     glProgramUniform1i(program, loc::compact_light_count, count);
-    glProgramUniform4iv(program, loc::compact_lights, 1, &indices[0]);
+    glProgramUniform4fv(program, loc::compact_directions, kMaxCompactSources, &directions[0][0]);
+    glProgramUniform4fv(program, loc::compact_radiances, kMaxCompactSources, &radiances[0][0]);
 }
 
 void Renderer::set_sides(const ObjectFrame& object, std::size_t i) const {
@@ -924,7 +933,7 @@ void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object,
         (settings_.metallic_roughness_texture ? *instance_metallic_roughness_textures_[i] : white_texture_)
             .bind(unit::metallic_roughness_texture);
         ggx_level_texels_.bind(unit::ggx_level_texels);
-        environment_.bind(unit::ggx_mirror);
+        ggx_mirror_.bind(unit::ggx_mirror);
         dfg_.bind(unit::dfg);
     } else if (!prefiltered_.empty()) {
         const LevelPair pair = prefiltered_levels_.level_pair(object.shininess);

@@ -31,6 +31,7 @@
 
 #include "core/image.h"
 #include "env/cells.h"
+#include "env/compact_sources.h"
 #include "env/environment.h"
 #include "env/ggx_prefilter.h"
 #include "env/prefilter.h"
@@ -95,10 +96,11 @@ public:
     // uploaded, one texture per level. Ratio shading without it (a viewer whose first map is still loading)
     // leaves the objects black.
     void set_prefiltered(const PrefilteredEnvironment& prefiltered);
-    // The map prefiltered for glTF's BRDF (env/ggx_prefilter.h, the same hemisphere), uploaded with the split
-    // sum's DFG table (env/dfg_table.h): ratio shading draws materials with metallic-roughness parameters by
-    // them. Without it such materials get their Phong stand-in.
-    void set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered);
+    // The map prefiltered for glTF's BRDF (env/ggx_prefilter.h, the same hemisphere) without its compact sources,
+    // uploaded with that map (the split sum's mirror, below the sharpest level), the sources and the split sum's
+    // DFG table (env/dfg_table.h): ratio shading draws materials with metallic-roughness parameters by them.
+    // `prefiltered` must be of `split.rest`. Without it such materials get their Phong stand-in.
+    void set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered, const CompactSourceSplit& split);
     // Rotation of the map about +Y (env/orientation.h); set_scene sets the scene's.
     void set_environment_rotation(float degrees);
     // Cells of a decomposition, at most kMaxLights (std::invalid_argument otherwise); map-space ones
@@ -176,8 +178,8 @@ private:
                        std::span<const std::size_t> objects, bool blending = false);
     bool draws_metallic_roughness(const FramePlan& plan) const;
     const gl::Program& metallic_roughness_program(const FramePlan& plan);
-    // glTF's BRDF: the lights whose reflection takes the lobe's true shape (FramePlan::compact_lights).
-    void set_compact_lights(GLuint program, const FramePlan& plan) const;
+    // glTF's BRDF: the compact sources, whose reflection takes the lobe's true shape, in world space.
+    void set_compact_sources(GLuint program) const;
     // Ratio shading: the unshadowed part's uniforms, levels and textures of object i (glsl/shade_ratio.glsl).
     // `gltf`: drawn with the METALLIC_ROUGHNESS program.
     void bind_unshadowed_levels(GLuint program, const ObjectFrame& object, std::size_t i, bool gltf) const;
@@ -285,6 +287,8 @@ private:
     std::vector<gl::Texture> prefiltered_;       // per level, RGB32F lat-long
     // The GGX levels one above the other, RGB32F; level k's first row, width and height.
     gl::Texture ggx_level_texels_;
+    gl::Texture ggx_mirror_;                      // the map without its compact sources, RGB32F
+    std::vector<CompactSource> compact_sources_;  // map space
     std::array<glm::ivec3, kGgxPrefilterLevels> ggx_level_rows_{};
     Hemisphere ggx_hemisphere_ = Hemisphere::full;
     gl::Texture dfg_;  // (scale, bias, diffuse), RGB32F over (n.v, roughness)

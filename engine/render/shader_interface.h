@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "env/cells.h"
+#include "env/compact_sources.h"
 #include "env/ggx_prefilter.h"
 
 namespace envshadow::render::shader {
@@ -53,10 +54,11 @@ namespace envshadow::render::shader {
     X(loc, alpha_cutoff, 34)        /* 0: nothing cut out */                                           \
     X(loc, alpha_to_coverage, 35)   /* depth_prepass.frag ALPHA_MASK at MSAA */                        \
     X(loc, occlusion_strength, 36)  /* shade.frag: Material::occlusion_strength */                     \
-    X(loc, compact_light_count, 37) /* METALLIC_ROUGHNESS: FramePlan::compact_lights, their count */   \
-    X(loc, compact_lights, 38)      /* and the indices (ivec4) */                                      \
+    X(loc, compact_light_count, 37) /* METALLIC_ROUGHNESS: env/compact_sources.h, their count */       \
     X(loc, ggx_levels, 39)          /* METALLIC_ROUGHNESS: each GGX level's rows (ivec3, 39-54) */     \
     X(loc, normal_scale, 55)        /* shade.frag: Material::normal_scale, 0 without a normal map */   \
+    X(loc, compact_directions, 56)  /* world direction, cos radius (vec4[4]: 56-59) */                 \
+    X(loc, compact_radiances, 60)   /* integral of L dw (vec4[4]: 60-63) */                            \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -130,7 +132,8 @@ namespace envshadow::render::shader {
     X(size, fs_scan_run, 16)        /* fs_sampler.geom's unrolled run: the width must be a multiple */ \
     X(size, fs_texel_bits, 21)      /* a packed sample: texel index bits, multiplicity above them */   \
     /* the GGX levels (env/ggx_prefilter.h) */                                                         \
-    X(size, ggx_prefilter_levels, kGgxPrefilterLevels)
+    X(size, ggx_prefilter_levels, kGgxPrefilterLevels)                                                 \
+    X(size, max_compact_sources, kMaxCompactSources)
 
 #define ENVSHADOW_SHADER_CONSTANT(kind, name, value) \
     namespace kind {                                 \

@@ -139,35 +139,5 @@ TEST(LightNeighbourhoods, RefuseMoreLightsThanTheBitSetsHold) {
     EXPECT_THROW(light_neighbourhoods(lights), std::invalid_argument);
 }
 
-// A light with the given integral of luminance (grey radiance) over a cap of cos_radius, its radiance held
-// within a cap of cos_radius_weighted.
-WorldLight cell_light(glm::vec3 direction, float luminance, float cos_radius, float cos_radius_weighted) {
-    return {glm::normalize(direction), glm::vec3(luminance), cos_radius, cos_radius_weighted};
-}
-
-TEST(CompactLights, AreTheSunsNotTheSky) {
-    // A sky of 20 equal cells of 0.1 sr and two suns of a tenth of the sky's light, one held in a 0.5-degree
-    // cap inside its cell, the other spread over its cell.
-    const float cos_cell = 1.0f - 0.1f / (2.0f * std::numbers::pi_v<float>);
-    std::vector<WorldLight> lights;
-    for (int i = 0; i < 20; ++i)
-        lights.push_back(cell_light({std::cos(0.3f * i), 1.0f, std::sin(0.3f * i)}, 1.0f, cos_cell, cos_cell));
-    lights.push_back(cell_light({1, 1, 0}, 2.0f, cos_cell, std::cos(glm::radians(0.5f))));
-    lights.push_back(cell_light({0, 1, 1}, 2.0f, cos_cell, cos_cell));
-    EXPECT_EQ(compact_lights(lights), std::vector<int>{20});
-}
-
-TEST(CompactLights, AreTheBrightestFourAtMost) {
-    const float cos_cell = 0.98f, cos_sun = std::cos(glm::radians(1.0f));
-    std::vector<WorldLight> lights(50, cell_light({0, 1, 0}, 1.0f, cos_cell, cos_cell));
-    for (int k = 0; k < 6; ++k) lights.push_back(cell_light({1, 1, float(k)}, 1.0f + float(k), cos_cell, cos_sun));
-    EXPECT_EQ(compact_lights(lights), (std::vector<int>{55, 54, 53, 52}));
-    EXPECT_TRUE(compact_lights({}).empty());
-    lights.push_back(cell_light({0, 1, 1}, 0.5f, cos_cell, 1.0f));  // all of its light in one direction
-    EXPECT_EQ(compact_lights(lights).front(), 56);
-    const std::vector<WorldLight> black(4, cell_light({0, 1, 0}, 0.0f, cos_cell, cos_cell));
-    EXPECT_TRUE(compact_lights(black).empty());
-}
-
 }  // namespace
 }  // namespace envshadow::render

@@ -113,7 +113,8 @@ inline Image render_scene(const Scene& scene, const EnvironmentMap& map, const r
     renderer.set_scene(scene);
     renderer.set_environment(map);
     renderer.set_prefiltered(prefilter_environment(map, cells.hemisphere));
-    renderer.set_ggx_prefiltered(prefilter_environment_ggx(map, cells.hemisphere));
+    const CompactSourceSplit split = split_compact_sources(map, cells.hemisphere);
+    renderer.set_ggx_prefiltered(prefilter_environment_ggx(split.rest, cells.hemisphere), split);
     renderer.set_lights(decompose(map, cells).cells);
     renderer.render(0.0, render::camera_view(scene, width, height));
     return renderer.read_back();
