@@ -147,9 +147,11 @@ layout(location = LOC_COMPACT_RADIANCES) uniform vec4 u_compact_radiances[MAX_CO
 
 // Where the pixel's footprint is wider than this many times a source's lobe, the lobe is averaged over a grid
 // of sub-pixels rather than widened as a whole: a glint smaller than the pixel then lands in the sub-pixels
-// where the box-filtered reference has it, not in a round blur about the pixel's centre.
+// where the box-filtered reference has it, not in a round blur about the pixel's centre. Only within
+// kGridReach widths of the widened lobe (tan theta_h; GGX is 1% of its peak at 3): beyond, its tail is smooth.
 const float kFootprintOverLobe = 0.25;
 const int kFootprintGrid = 8;
+const float kGridReach = 3.0;
 
 // The BRDF's lobe at w averaged over the pixel: the normal n + dn/dx x + dn/dy y and the view likewise at the
 // centres of a kFootprintGrid^2 grid over the pixel, the lobe widened by its sub-pixel's share of the footprint
@@ -177,20 +179,24 @@ vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
 // footprint is wide against the lobe the lobe is averaged over the pixel instead (brdf_lobe_over_pixel): a
 // glint smaller than the pixel is its mean over the pixel, not its value at the sample.
 vec3 compact_light_lobes(Surface s) {
+    // At the pixel's centre, the same for every sample of the pixel the shader runs for.
+    vec3 n = s.gltf.pixel_normal, v = s.gltf.pixel_view, r = reflect(-v, n);
     vec3 brdf = vec3(0.0);
     for (int k = 0; k < u_compact_light_count; ++k) {
         vec3 w = u_compact_directions[k].xyz;
         // The normal's change across the pixel against the half vector's (dh = (I - h h^T) dv / |v + w|).
-        vec3 h = normalize(s.view + w);
-        float to_h = 1.0 / length(s.view + w);
+        vec3 h = normalize(v + w);
+        float to_h = 1.0 / length(v + w);
         vec3 dm_dx = s.gltf.normal_dx - (s.gltf.view_dx - h * dot(h, s.gltf.view_dx)) * to_h;
         vec3 dm_dy = s.gltf.normal_dy - (s.gltf.view_dy - h * dot(h, s.gltf.view_dy)) * to_h;
         float footprint2 = (dot(dm_dx, dm_dx) + dot(dm_dy, dm_dy)) / (2.0 * PI);
         float widened2 = s.gltf.alpha2 + (1.0 - u_compact_directions[k].w) / 2.0;
-        if (beyond_lobe(dot(s.mirror, w), widened2 + footprint2)) continue;
-        vec3 lobe = footprint2 > kFootprintOverLobe * widened2
+        float t = dot(r, w);
+        if (beyond_lobe(t, widened2 + footprint2)) continue;
+        bool in_grid_reach = 1.0 - t <= kGridReach * kGridReach * (widened2 + footprint2) * (1.0 + t);
+        vec3 lobe = footprint2 > kFootprintOverLobe * widened2 && in_grid_reach
                         ? brdf_lobe_over_pixel(s, w, widened2, footprint2)
-                        : brdf_lobe(s, w, dot(s.normal, w), widened2 + footprint2);
+                        : brdf_lobe(s, n, v, max(dot(n, v), 0.0), w, dot(n, w), widened2 + footprint2);
         brdf += u_compact_radiances[k].rgb * lobe;
     }
     return brdf;
