@@ -12,7 +12,7 @@ namespace envshadow {
 
 // A texel is part of a source where its luminance is above kCompactRadianceFactor times the map's mean
 // radiance over the hemisphere; a source is a 4-connected region of such texels (wrapping in u) whose
-// excess-weighted spread about its centre is at most kMaxCompactSourceRadius. At most kMaxCompactSources,
+// excess-weighted spread about its centre is at most kMaxCompactSourceRadiusDegrees. At most kMaxCompactSources,
 // those of most power.
 inline constexpr double kCompactRadianceFactor = 8.0;
 inline constexpr double kMaxCompactSourceRadiusDegrees = 5.0;
