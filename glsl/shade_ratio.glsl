@@ -67,7 +67,7 @@ vec3 unshadowed_radiance(Surface s) {
 #if defined(METALLIC_ROUGHNESS)
     // The split sum over the map without its compact sources, and theirs with the BRDF's lobe (docs/DESIGN.md §11).
     vec3 specular = s.gltf.specular_albedo * ggx_lobe_mean(s.gltf, s.mirror);
-    return s.gltf.diffuse_albedo * irradiance_over_pi + specular + compact_light_lobes(s);
+    return s.gltf.diffuse_albedo * irradiance_over_pi + specular + compact_source_lobes(s);
 #else
     vec3 result = s.k_d * (PI * irradiance_over_pi);
 #if !defined(DIFFUSE_ONLY)

@@ -178,7 +178,7 @@ vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
 // is narrower and higher (by about 1 / n.v at its peak), so a sun's highlight needs its true shape. Where the
 // footprint is wide against the lobe the lobe is averaged over the pixel instead (brdf_lobe_over_pixel): a
 // glint smaller than the pixel is its mean over the pixel, not its value at the sample.
-vec3 compact_light_lobes(Surface s) {
+vec3 compact_source_lobes(Surface s) {
     // At the pixel's centre, the same for every sample of the pixel the shader runs for.
     vec3 n = s.gltf.pixel_normal, v = s.gltf.pixel_view, r = reflect(-v, n);
     vec3 brdf = vec3(0.0);
