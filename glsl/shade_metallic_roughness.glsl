@@ -8,6 +8,7 @@
 // metallic-roughness texture's B and G (linear; white without one).
 #include "constants.glsl"
 #include "ggx.glsl"
+#include "pixel_footprint.glsl"
 
 layout(location = LOC_BASE_COLOR_FACTOR) uniform vec3 u_base_color_factor;  // times the base-colour texture
 layout(location = LOC_METALLIC) uniform float u_metallic;
@@ -19,11 +20,6 @@ layout(binding = UNIT_DFG) uniform sampler2D u_dfg;
 // Below the sharpest GGX level the lower level is the map itself (shade_ratio.glsl's ggx_lobe_mean); u_upper_only:
 // the levels' hemisphere is the upper one.
 layout(location = LOC_UPPER_ONLY) uniform bool u_upper_only;
-
-// With multisampling (u_pixel_footprint) one shading sample stands for the pixel's mean, as the resolve and the
-// box-filtered reference take it: where a mirror's reflection changes within the pixel, the lobe is widened
-// by the pixel's footprint, from the screen derivatives of the normal and the view (0 without multisampling).
-layout(location = LOC_PIXEL_FOOTPRINT) uniform bool u_pixel_footprint;
 
 // The sharpest level's weight against the map itself (env/ggx_prefilter.h ggx_sharpest_level_weight: alpha over
 // the level's), alpha^2 widened by Kaplanyan et al. 2016's specular anti-aliasing with Filament's constants
@@ -47,10 +43,7 @@ struct GltfPixel {
     vec3 f0;               // mix(0.04, baseColor, metallic)
     vec3 diffuse_albedo;   // (1 - metallic)(1 - 0.04) baseColor diffuse(n.v): L_diff = it E(n) / pi
     vec3 specular_albedo;  // F0 scale(n.v, roughness) + bias(n.v, roughness): L_spec = it P(r, alpha)
-    float mirror_spread;             // |dr/dx|^2 + |dr/dy|^2 with u_pixel_footprint, else 0
-    vec3 pixel_normal, pixel_view;   // the shading normal and the view at the pixel's centre
-    vec3 normal_dx, normal_dy;       // their screen derivatives with u_pixel_footprint, else 0
-    vec3 view_dx, view_dy;
+    float mirror_spread;   // |dr/dx|^2 + |dr/dy|^2 of the pixel's footprint (0 without multisampling)
 };
 
 // Whether the pixel's lobe is sharper than the sharpest level: its lookup is the map itself and that level.
@@ -58,27 +51,13 @@ bool below_levels(GltfPixel p) {
     return p.roughness < kSharpestRoughness;
 }
 
-// base_color: the texture's at this pixel; n_dot_v of the shading normal; pixel_normal that normal at the pixel's
-// centre. The pixel's footprint from the screen derivatives (in uniform control flow) of the interpolated normal
-// and the view at the pixel's centre: with MSAA the shading point is the centroid, which moves within the pixel
-// from one pixel to the next.
-GltfPixel gltf_pixel(vec3 base_color, vec2 texcoord, float n_dot_v, vec3 pixel_normal, vec3 normal_at_centre,
-                     vec3 view_at_centre) {
+// base_color: the texture's at this pixel; n_dot_v of the shading normal; pixel the pixel's footprint.
+GltfPixel gltf_pixel(vec3 base_color, vec2 texcoord, float n_dot_v, PixelFootprint pixel) {
     GltfPixel p;
     vec2 metallic_roughness = texture(u_metallic_roughness_texture, texcoord).bg;
     p.metallic = u_metallic * metallic_roughness.x;
     p.roughness = u_roughness * metallic_roughness.y;
-    vec3 r = reflect(-view_at_centre, normal_at_centre);
-    vec3 dr_dx = dFdxFine(r), dr_dy = dFdyFine(r);
-    vec3 dn_dx = dFdxFine(normal_at_centre), dn_dy = dFdyFine(normal_at_centre);
-    vec3 dv_dx = dFdxFine(view_at_centre), dv_dy = dFdyFine(view_at_centre);
-    p.mirror_spread = u_pixel_footprint ? dot(dr_dx, dr_dx) + dot(dr_dy, dr_dy) : 0.0;
-    p.normal_dx = u_pixel_footprint ? dn_dx : vec3(0.0);
-    p.normal_dy = u_pixel_footprint ? dn_dy : vec3(0.0);
-    p.view_dx = u_pixel_footprint ? dv_dx : vec3(0.0);
-    p.view_dy = u_pixel_footprint ? dv_dy : vec3(0.0);
-    p.pixel_normal = pixel_normal;
-    p.pixel_view = view_at_centre;
+    p.mirror_spread = dot(pixel.mirror_dx, pixel.mirror_dx) + dot(pixel.mirror_dy, pixel.mirror_dy);
     p.n_dot_v = clamp(n_dot_v, 0.0, 1.0);
     float alpha = max(p.roughness * p.roughness, kMinAlpha);
     p.alpha2 = alpha * alpha;

@@ -163,8 +163,8 @@ vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
     for (int j = 0; j < kFootprintGrid; ++j) {
         for (int i = 0; i < kFootprintGrid; ++i) {
             vec2 offset = (vec2(i, j) + 0.5) * cell - 0.5;
-            vec3 n = normalize(s.gltf.pixel_normal + s.gltf.normal_dx * offset.x + s.gltf.normal_dy * offset.y);
-            vec3 v = normalize(s.gltf.pixel_view + s.gltf.view_dx * offset.x + s.gltf.view_dy * offset.y);
+            vec3 n = normalize(s.pixel.normal + s.pixel.normal_dx * offset.x + s.pixel.normal_dy * offset.y);
+            vec3 v = normalize(s.pixel.view + s.pixel.view_dx * offset.x + s.pixel.view_dy * offset.y);
             sum += brdf_lobe(s, n, v, max(dot(n, v), 0.0), w, dot(n, w), sub_pixel2);
         }
     }
@@ -180,15 +180,15 @@ vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
 // glint smaller than the pixel is its mean over the pixel, not its value at the sample.
 vec3 compact_source_lobes(Surface s) {
     // At the pixel's centre, the same for every sample of the pixel the shader runs for.
-    vec3 n = s.gltf.pixel_normal, v = s.gltf.pixel_view, r = reflect(-v, n);
+    vec3 n = s.pixel.normal, v = s.pixel.view, r = reflect(-v, n);
     vec3 brdf = vec3(0.0);
     for (int k = 0; k < u_compact_light_count; ++k) {
         vec3 w = u_compact_directions[k].xyz;
         // The normal's change across the pixel against the half vector's (dh = (I - h h^T) dv / |v + w|).
         vec3 h = normalize(v + w);
         float to_h = 1.0 / length(v + w);
-        vec3 dm_dx = s.gltf.normal_dx - (s.gltf.view_dx - h * dot(h, s.gltf.view_dx)) * to_h;
-        vec3 dm_dy = s.gltf.normal_dy - (s.gltf.view_dy - h * dot(h, s.gltf.view_dy)) * to_h;
+        vec3 dm_dx = s.pixel.normal_dx - (s.pixel.view_dx - h * dot(h, s.pixel.view_dx)) * to_h;
+        vec3 dm_dy = s.pixel.normal_dy - (s.pixel.view_dy - h * dot(h, s.pixel.view_dy)) * to_h;
         float footprint2 = (dot(dm_dx, dm_dx) + dot(dm_dy, dm_dy)) / (2.0 * PI);
         float widened2 = s.gltf.alpha2 + (1.0 - u_compact_directions[k].w) / 2.0;
         float t = dot(r, w);

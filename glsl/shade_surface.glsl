@@ -1,6 +1,7 @@
 // The surface point a fragment of shade.frag shades, and its material (the paper's modified Phong BRDF:
 // k_d, k_s and the shininess n, Barsi et al. §2.3; or glTF's, METALLIC_ROUGHNESS). Fragment stage only (screen
 // derivatives, gl_FrontFacing).
+#include "pixel_footprint.glsl"
 #if defined(METALLIC_ROUGHNESS)
 #include "shade_metallic_roughness.glsl"
 #endif
@@ -32,6 +33,7 @@ struct Surface {
     vec3 k_d;           // u_k_d times base_color
     vec2 texcoord;
     vec3 view;          // towards the eye
+    PixelFootprint pixel;
 #if defined(ALPHA_BLEND)
     float alpha;        // how much of the pixel's footprint the blended surface covers
 #endif
@@ -129,12 +131,12 @@ Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal
                            : position;
     s.mirror = reflect(-view, s.normal);
     s.view = view;
-#if defined(METALLIC_ROUGHNESS)
     // The shading normal moved from the centroid to the pixel's centre by the interpolated normal's change.
     vec3 centre_normal = normalize(normal_at_centre);
-    vec3 pixel_normal = normalize(s.normal + centre_normal - normalize(interpolated_normal));
-    s.gltf = gltf_pixel(s.base_color, texcoord, dot(s.normal, view), pixel_normal, centre_normal,
-                        normalize(u_eye - position_at_centre));
+    s.pixel = pixel_footprint(normalize(s.normal + centre_normal - normalize(interpolated_normal)), centre_normal,
+                              normalize(u_eye - position_at_centre));
+#if defined(METALLIC_ROUGHNESS)
+    s.gltf = gltf_pixel(s.base_color, texcoord, dot(s.normal, view), s.pixel);
 #endif
     return s;
 }

@@ -1,0 +1,34 @@
+// The pixel a shading sample stands for (docs/DESIGN.md §4.1, §11): its centre's normal and view and their change
+// across it. Fragment stage only (screen derivatives).
+
+// With multisampling (u_pixel_footprint) one shading sample stands for the pixel's mean, as the resolve and the
+// box-filtered reference take it: where a mirror's reflection changes within the pixel, its lobe is taken over
+// the pixel's footprint, from the screen derivatives of the normal and the view at the pixel's centre. With MSAA
+// the shading point is the centroid, which moves within the pixel from one pixel to the next.
+layout(location = LOC_PIXEL_FOOTPRINT) uniform bool u_pixel_footprint;
+
+struct PixelFootprint {
+    vec3 normal, view;          // the shading normal and the view at the pixel's centre
+    vec3 normal_dx, normal_dy;  // their screen derivatives with u_pixel_footprint, else 0
+    vec3 view_dx, view_dy;
+    vec3 mirror_dx, mirror_dy;  // the mirror direction's likewise
+};
+
+// normal: the shading normal at the pixel's centre; normal_at_centre and view_at_centre the interpolated normal
+// and the view there, whose screen derivatives (in uniform control flow) span the footprint.
+PixelFootprint pixel_footprint(vec3 normal, vec3 normal_at_centre, vec3 view_at_centre) {
+    PixelFootprint p;
+    p.normal = normal;
+    p.view = view_at_centre;
+    vec3 r = reflect(-view_at_centre, normal_at_centre);
+    vec3 dn_dx = dFdxFine(normal_at_centre), dn_dy = dFdyFine(normal_at_centre);
+    vec3 dv_dx = dFdxFine(view_at_centre), dv_dy = dFdyFine(view_at_centre);
+    vec3 dr_dx = dFdxFine(r), dr_dy = dFdyFine(r);
+    p.normal_dx = u_pixel_footprint ? dn_dx : vec3(0.0);
+    p.normal_dy = u_pixel_footprint ? dn_dy : vec3(0.0);
+    p.view_dx = u_pixel_footprint ? dv_dx : vec3(0.0);
+    p.view_dy = u_pixel_footprint ? dv_dy : vec3(0.0);
+    p.mirror_dx = u_pixel_footprint ? dr_dx : vec3(0.0);
+    p.mirror_dy = u_pixel_footprint ? dr_dy : vec3(0.0);
+    return p;
+}
