@@ -33,7 +33,7 @@ struct Surface {
     vec3 k_d;           // u_k_d times base_color
     vec2 texcoord;
     vec3 view;          // towards the eye
-    PixelFootprint pixel;
+    PixelFootprint pixel;  // the pixel this sample stands for (pixel_footprint.glsl)
 #if defined(ALPHA_BLEND)
     float alpha;        // how much of the pixel's footprint the blended surface covers
 #endif

@@ -921,8 +921,9 @@ void Renderer::bind_alpha_mask(GLuint program, const ObjectFrame& object, std::s
 }
 
 void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object, std::size_t i, bool gltf) const {
-    // glTF's BRDF: all the GGX levels and the map itself, each pixel reading those about its own roughness; else
-    // the two Phong levels about the shininess, interpolated in log lobe width.
+    // With multisampling both BRDFs read their lobes over the pixel's footprint. glTF's BRDF: all the GGX levels and
+    // the map itself, each pixel reading those about its own roughness; else the two Phong levels about the
+    // shininess, interpolated in log lobe width.
     glProgramUniform1i(program, loc::pixel_footprint, samples_ > 1 ? 1 : 0);
     if (gltf) {
         glProgramUniform1i(program, loc::upper_only, ggx_hemisphere_ == Hemisphere::upper ? 1 : 0);
