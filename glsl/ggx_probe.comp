@@ -6,7 +6,7 @@ layout(local_size_x = 64) in;
 
 // x: cos theta_h (and t = r.l), y: n.l, z: n.v, w: alpha^2.
 layout(std430, binding = 1) readonly buffer ProbeInputs { vec4 probe_inputs[]; };
-// x: ggx_distribution, y: smith_visibility, z: reflection_lobe_integral, w: reflection_lobe.
+// x: ggx_distribution, y: smith_visibility (z, w: 0).
 layout(std430, binding = 2) writeonly buffer ProbeOutputs { vec4 probe_outputs[]; };
 
 layout(location = 0) uniform uint u_count;
@@ -15,6 +15,5 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= u_count) return;
     vec4 p = probe_inputs[i];
-    probe_outputs[i] = vec4(ggx_distribution(p.x, p.w), smith_visibility(p.y, p.z, p.w), reflection_lobe_integral(p.w),
-                            reflection_lobe(p.x, p.w));
+    probe_outputs[i] = vec4(ggx_distribution(p.x, p.w), smith_visibility(p.y, p.z, p.w), 0.0, 0.0);
 }

@@ -32,3 +32,11 @@ PixelFootprint pixel_footprint(vec3 normal, vec3 normal_at_centre, vec3 view_at_
     p.mirror_dy = u_pixel_footprint ? dr_dy : vec3(0.0);
     return p;
 }
+
+// The normal and the view at `offset` from the pixel's centre (in pixels), carried there by their derivatives.
+vec3 normal_at(PixelFootprint p, vec2 offset) {
+    return normalize(p.normal + p.normal_dx * offset.x + p.normal_dy * offset.y);
+}
+vec3 view_at(PixelFootprint p, vec2 offset) {
+    return normalize(p.view + p.view_dx * offset.x + p.view_dy * offset.y);
+}

@@ -43,8 +43,8 @@ vec3 lobe_mean_over_pixel(Surface s) {
     vec3 sum = vec3(0.0);
     for (int q = 0; q < 4; ++q) {
         vec2 offset = vec2(q & 1, q >> 1) * 0.5 - 0.25;
-        vec3 n = normalize(s.pixel.normal + s.pixel.normal_dx * offset.x + s.pixel.normal_dy * offset.y);
-        vec3 v = normalize(s.pixel.view + s.pixel.view_dx * offset.x + s.pixel.view_dy * offset.y);
+        vec3 n = normal_at(s.pixel, offset);
+        vec3 v = view_at(s.pixel, offset);
         float facing = dot(n, v);  // turned towards the viewer as shading_normal turns it
         if (facing < kFacingEpsilon) n = normalize(n + (kFacingEpsilon - facing) * v);
         sum += lobe_mean(reflect(-v, n));

@@ -163,8 +163,8 @@ vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
     for (int j = 0; j < kFootprintGrid; ++j) {
         for (int i = 0; i < kFootprintGrid; ++i) {
             vec2 offset = (vec2(i, j) + 0.5) * cell - 0.5;
-            vec3 n = normalize(s.pixel.normal + s.pixel.normal_dx * offset.x + s.pixel.normal_dy * offset.y);
-            vec3 v = normalize(s.pixel.view + s.pixel.view_dx * offset.x + s.pixel.view_dy * offset.y);
+            vec3 n = normal_at(s.pixel, offset);
+            vec3 v = view_at(s.pixel, offset);
             sum += brdf_lobe(s, n, v, max(dot(n, v), 0.0), w, dot(n, w), sub_pixel2);
         }
     }

@@ -299,8 +299,9 @@ void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered,
     }
     ggx_level_texels_.set_filter(GL_LINEAR, GL_LINEAR);
     ggx_level_texels_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);  // never reached: each level's rows wrap
-    const EnvironmentMap& mirror = split.rest;
-    ggx_mirror_ = upload_rgb32f(mirror.width, mirror.height, mirror.texels.data());
+    // The split sum's mirror: the map without its sources; a map without any is its own (environment_).
+    ggx_mirror_ = split.sources.empty() ? gl::Texture{}
+                                        : upload_rgb32f(split.rest.width, split.rest.height, split.rest.texels.data());
     compact_sources_ = split.sources;
     if (!dfg_) {
         const DfgTable table = compute_dfg_table(kDfgTableSize);
@@ -934,7 +935,7 @@ void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object,
         (settings_.metallic_roughness_texture ? *instance_metallic_roughness_textures_[i] : white_texture_)
             .bind(unit::metallic_roughness_texture);
         ggx_level_texels_.bind(unit::ggx_level_texels);
-        ggx_mirror_.bind(unit::ggx_mirror);
+        (ggx_mirror_ ? ggx_mirror_ : environment_).bind(unit::ggx_mirror);
         dfg_.bind(unit::dfg);
     } else if (!prefiltered_.empty()) {
         const LevelPair pair = prefiltered_levels_.level_pair(object.shininess);

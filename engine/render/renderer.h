@@ -287,7 +287,7 @@ private:
     std::vector<gl::Texture> prefiltered_;       // per level, RGB32F lat-long
     // The GGX levels one above the other, RGB32F; level k's first row, width and height.
     gl::Texture ggx_level_texels_;
-    gl::Texture ggx_mirror_;                      // the map without its compact sources, RGB32F
+    gl::Texture ggx_mirror_;                      // the map without its compact sources (none: environment_)
     std::vector<CompactSource> compact_sources_;  // map space
     std::array<glm::ivec3, kGgxPrefilterLevels> ggx_level_rows_{};
     Hemisphere ggx_hemisphere_ = Hemisphere::full;

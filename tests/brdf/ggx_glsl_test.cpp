@@ -1,10 +1,6 @@
-// glsl/ggx.glsl against its C++ twin (engine/env/gltf_brdf.h: GGX's D and Smith's visibility) and against
-// quadrature (the split sum's round lobe K and its integral in closed form): glsl/ggx_probe.comp evaluates
-// them over a grid of inputs into an SSBO.
-#include <algorithm>
+// glsl/ggx.glsl against its C++ twin (engine/env/gltf_brdf.h: GGX's D and Smith's visibility): glsl/ggx_probe.comp
+// evaluates them over a grid of inputs into an SSBO.
 #include <cmath>
-#include <cstdio>
-#include <numbers>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -16,26 +12,7 @@
 namespace envshadow::testing {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-// K(t) = D(sqrt((1 + t) / 2)) max(0, t) integrated over the sphere, 2 pi times its integral over t in [0, 1], by
-// midpoints on panels of s = 1 - t growing tenfold from 1e-14 (a sharp lobe's width in s is about 2 alpha^2).
-double reflection_lobe_integral_by_quadrature(double alpha) {
-    const auto k = [&](double s) {
-        const double t = 1.0 - s;
-        return gltf_brdf::ggx_distribution(std::sqrt((1.0 + t) / 2.0), alpha) * t;
-    };
-    double sum = 0.0, low = 0.0;
-    for (double high = 1e-14; low < 1.0; high = std::min(1.0, high * 10.0)) {
-        constexpr int kSteps = 4000;
-        const double step = (high - low) / kSteps;
-        for (int i = 0; i < kSteps; ++i) sum += k(low + (i + 0.5) * step) * step;
-        low = high;
-    }
-    return 2.0 * kPi * sum;
-}
-
-// x: cos theta_h (and t), y: n.l, z: n.v, w: alpha^2 (ggx_probe.comp's layout): angles in multiples of alpha
+// x: cos theta_h, y: n.l, z: n.v, w: alpha^2 (ggx_probe.comp's layout): angles in multiples of alpha
 // about the peak and across the hemisphere, every n.l with a n.v of its own.
 std::vector<glm::vec4> probe_inputs() {
     constexpr double kCosines[] = {0.02, 0.1, 0.3, 0.6, 1.0};
@@ -55,13 +32,12 @@ std::vector<glm::vec4> probe_inputs() {
 
 using GgxGlslTest = GlTest;
 
-TEST_P(GgxGlslTest, GlslLobesEqualTheCppTwinAndQuadrature) {
+TEST_P(GgxGlslTest, GlslLobesEqualTheCppTwin) {
     const std::vector<glm::vec4> inputs = probe_inputs();
     gl::Program program = project_shaders().build({{GL_COMPUTE_SHADER, "ggx_probe.comp"}});
     const std::vector<glm::vec4> outputs = run_compute_probe(program, inputs, GLuint(inputs.size()));
 
     int failures = 0;
-    double worst_integral = 0.0;
     const auto check = [&](const char* name, double got, double want, double tolerance, const glm::vec4& in) {
         if (std::abs(got - want) <= tolerance) return;
         if (++failures <= 40)
@@ -76,16 +52,8 @@ TEST_P(GgxGlslTest, GlslLobesEqualTheCppTwinAndQuadrature) {
         check("ggx_distribution", outputs[i].x, d, 2e-4 * d + 1e-6 * peak, in);
         const double v = gltf_brdf::smith_visibility(in.y, in.z, alpha);
         check("smith_visibility", outputs[i].y, v, 1e-4 * v, in);
-        const double integral = reflection_lobe_integral_by_quadrature(alpha);
-        worst_integral = std::max(worst_integral, std::abs(outputs[i].z - integral) / integral);
-        check("reflection_lobe_integral", outputs[i].z, integral, 1e-4 * integral, in);
-        const double t = in.x;  // as r.l
-        const double lobe =
-            t > 0.0 ? gltf_brdf::ggx_distribution(std::sqrt((1.0 + t) / 2.0), alpha) * t / integral : 0.0;
-        check("reflection_lobe", outputs[i].w, lobe, 3e-4 * lobe + 1e-6 * peak, in);
     }
     EXPECT_EQ(failures, 0) << "of " << inputs.size() << " inputs";
-    std::printf("reflection_lobe_integral: worst relative error %.3g over %zu inputs\n", worst_integral, inputs.size());
 }
 
 ENVSHADOW_INSTANTIATE_GL_TEST(GgxGlslTest);
