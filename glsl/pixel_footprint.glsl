@@ -6,12 +6,18 @@
 // the pixel's footprint, from the screen derivatives of the normal and the view at the pixel's centre. With MSAA
 // the shading point is the centroid, which moves within the pixel from one pixel to the next.
 layout(location = LOC_PIXEL_FOOTPRINT) uniform bool u_pixel_footprint;
+// Bit k of component q: the target's sample k lies in the pixel's quarter q (Renderer::sample_quarters_).
+layout(location = LOC_SAMPLE_QUARTERS) uniform uvec4 u_sample_quarters;
 
 struct PixelFootprint {
     vec3 normal, view;          // the shading normal and the view at the pixel's centre
     vec3 normal_dx, normal_dy;  // their screen derivatives with u_pixel_footprint, else 0
     vec3 view_dx, view_dy;
     vec3 mirror_dx, mirror_dy;  // the mirror direction's likewise
+    // Bit q: the fragment covers a sample in the pixel's quarter q (x = q & 1, y = q >> 1, from the lower left). A
+    // lobe taken over the pixel is taken over these quarters: where a silhouette or another surface covers the
+    // rest, the resolve gives the rest its own colour.
+    uint quarters;
 };
 
 // normal: the shading normal at the pixel's centre; normal_at_centre and view_at_centre the interpolated normal
@@ -30,7 +36,15 @@ PixelFootprint pixel_footprint(vec3 normal, vec3 normal_at_centre, vec3 view_at_
     p.view_dy = u_pixel_footprint ? dv_dy : vec3(0.0);
     p.mirror_dx = u_pixel_footprint ? dr_dx : vec3(0.0);
     p.mirror_dy = u_pixel_footprint ? dr_dy : vec3(0.0);
+    p.quarters = 0u;
+    for (int q = 0; q < 4; ++q)
+        if ((uint(gl_SampleMaskIn[0]) & u_sample_quarters[q]) != 0u) p.quarters |= 1u << uint(q);
+    if (p.quarters == 0u) p.quarters = 15u;
     return p;
+}
+
+bool covers_quarter(PixelFootprint p, int q) {
+    return (p.quarters & (1u << uint(q))) != 0u;
 }
 
 // The normal and the view at `offset` from the pixel's centre (in pixels), carried there by their derivatives.

@@ -31,25 +31,33 @@ vec3 lobe_mean(vec3 r) {
 // (cos^n of an angle t is about exp(-n t^2 / 2)), the pixel's mean differs from its centre's value.
 const float kTurnOverLobeWidth = 1.0 / 3.0;
 
-// lobe_mean over the pixel (pixel_footprint.glsl), as the box-filtered reference integrates it: where the mirror
-// direction turns by more than kTurnOverLobeWidth across the pixel (a highlight not much larger than the pixel),
-// the mean of lobe_mean at the centres of the pixel's four quarters, the normal and view at each from the centre's
-// and their derivatives; else lobe_mean at the shaded sample's r. Four, not a finer grid: llvmpipe shades every
-// MSAA sample, and a 4 x 4 grid where the quarters differ nearly doubled the default scene's shading pass
-// (docs/DESIGN.md §4.1).
+// lobe_mean over the part of the pixel the fragment covers (pixel_footprint.glsl), as the box-filtered reference
+// integrates it: where the mirror direction turns by more than kTurnOverLobeWidth across the pixel (a highlight not
+// much larger than the pixel), the mean of lobe_mean at the centres of the covered quarters (of a lone covered
+// quarter's own four quarters: a silhouette's sliver gets four lookups too), the normal and view at each carried
+// from the centre's by their derivatives; else lobe_mean at the shaded sample's r. Quarters, not a finer grid:
+// llvmpipe shades every MSAA sample, and a 4 x 4 grid where the quarters differ nearly doubled the default scene's
+// shading pass (docs/DESIGN.md §4.1).
 vec3 lobe_mean_over_pixel(Surface s) {
     float turn = max(length(s.pixel.mirror_dx), length(s.pixel.mirror_dy));
     if (turn * sqrt(u_shininess) <= kTurnOverLobeWidth) return lobe_mean(s.mirror);
+    bool one_quarter = bitCount(s.pixel.quarters) == 1;
     vec3 sum = vec3(0.0);
+    float lookups = 0.0;
     for (int q = 0; q < 4; ++q) {
-        vec2 offset = vec2(q & 1, q >> 1) * 0.5 - 0.25;
-        vec3 n = normal_at(s.pixel, offset);
-        vec3 v = view_at(s.pixel, offset);
-        float facing = dot(n, v);  // turned towards the viewer as shading_normal turns it
-        if (facing < kFacingEpsilon) n = normalize(n + (kFacingEpsilon - facing) * v);
-        sum += lobe_mean(reflect(-v, n));
+        if (!covers_quarter(s.pixel, q)) continue;
+        vec2 centre = vec2(q & 1, q >> 1) * 0.5 - 0.25;
+        for (int k = 0; k < (one_quarter ? 4 : 1); ++k) {
+            vec2 offset = one_quarter ? centre + vec2(k & 1, k >> 1) * 0.25 - 0.125 : centre;
+            vec3 n = normal_at(s.pixel, offset);
+            vec3 v = view_at(s.pixel, offset);
+            float facing = dot(n, v);  // turned towards the viewer as shading_normal turns it
+            if (facing < kFacingEpsilon) n = normalize(n + (kFacingEpsilon - facing) * v);
+            sum += lobe_mean(reflect(-v, n));
+            lookups += 1.0;
+        }
     }
-    return 0.25 * sum;
+    return sum / lookups;
 }
 
 #if defined(METALLIC_ROUGHNESS)

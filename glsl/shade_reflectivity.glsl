@@ -153,22 +153,26 @@ const float kFootprintOverLobe = 0.25;
 const int kFootprintGrid = 8;
 const float kGridReach = 3.0;
 
-// The BRDF's lobe at w averaged over the pixel: the normal n + dn/dx x + dn/dy y and the view likewise at the
-// centres of a kFootprintGrid^2 grid over the pixel, the lobe widened by its sub-pixel's share of the footprint
-// (twice the peak-matched width, which leaves the sum of the sub-pixels' lobes smooth).
+// The BRDF's lobe at w averaged over the part of the pixel the fragment covers: the normal n + dn/dx x + dn/dy y
+// and the view likewise at the centres of a kFootprintGrid^2 grid over the pixel, those in the covered quarters
+// (pixel_footprint.glsl), the lobe widened by its sub-pixel's share of the footprint (twice the peak-matched width,
+// which leaves the sum of the sub-pixels' lobes smooth).
 vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
     const float cell = 1.0 / float(kFootprintGrid);
     float sub_pixel2 = widened2 + 2.0 * footprint2 * (cell * cell);
     vec3 sum = vec3(0.0);
+    float sub_pixels = 0.0;
     for (int j = 0; j < kFootprintGrid; ++j) {
         for (int i = 0; i < kFootprintGrid; ++i) {
+            if (!covers_quarter(s.pixel, 2 * i / kFootprintGrid + 2 * (2 * j / kFootprintGrid))) continue;
             vec2 offset = (vec2(i, j) + 0.5) * cell - 0.5;
             vec3 n = normal_at(s.pixel, offset);
             vec3 v = view_at(s.pixel, offset);
             sum += brdf_lobe(s, n, v, max(dot(n, v), 0.0), w, dot(n, w), sub_pixel2);
+            sub_pixels += 1.0;
         }
     }
-    return sum * (cell * cell);
+    return sum / sub_pixels;
 }
 
 // The compact sources' reflection, summed over them: L~ times the BRDF's lobe, widened by the source's cap and

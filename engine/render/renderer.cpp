@@ -380,6 +380,36 @@ int Renderer::drawn_samples() const {
     return std::min(settings_.msaa, max_samples_);
 }
 
+namespace {
+
+// Which of the pixel's quarters each of the framebuffer's sample positions lies in (GL's positions are
+// implementation-defined); a quarter holding none takes the bit of the sample nearest its centre, so that a
+// fragment covering that sample covers it.
+std::array<GLuint, 4> sample_quarters(const gl::Framebuffer& framebuffer, int samples) {
+    std::array<glm::vec2, 32> positions{};
+    const int count = std::min(samples, int(positions.size()));
+    framebuffer.bind();
+    for (int k = 0; k < count; ++k) glGetMultisamplefv(GL_SAMPLE_POSITION, GLuint(k), &positions[std::size_t(k)].x);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    std::array<GLuint, 4> masks{};
+    for (int k = 0; k < count; ++k) {
+        const glm::vec2 p = positions[std::size_t(k)];
+        masks[std::size_t((p.x >= 0.5f ? 1 : 0) + (p.y >= 0.5f ? 2 : 0))] |= 1u << k;
+    }
+    for (int q = 0; q < 4; ++q) {
+        if (masks[std::size_t(q)] != 0) continue;
+        const glm::vec2 centre(0.25f + 0.5f * float(q & 1), 0.25f + 0.5f * float(q >> 1));
+        int nearest = 0;
+        for (int k = 1; k < count; ++k)
+            if (glm::length(positions[std::size_t(k)] - centre) < glm::length(positions[std::size_t(nearest)] - centre))
+                nearest = k;
+        masks[std::size_t(q)] = 1u << nearest;
+    }
+    return masks;
+}
+
+}  // namespace
+
 void Renderer::ensure_target(int width, int height) {
     if (color_ && color_.width() == width && color_.height() == height && depth_.samples() == samples_) return;
     color_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
@@ -404,6 +434,8 @@ void Renderer::ensure_target(int width, int height) {
                                      std::size_t(size::max_lights + 1) * sizeof(std::uint32_t));
     target_.attach(GL_DEPTH_ATTACHMENT, depth_);
     target_.check_complete("render target");
+    // At one sample that sample stands for the whole pixel.
+    sample_quarters_ = samples_ > 1 ? sample_quarters(target_, samples_) : std::array<GLuint, 4>{1, 1, 1, 1};
 }
 
 void Renderer::ensure_fraction_target(int width, int height) {
@@ -926,6 +958,7 @@ void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object,
     // the map itself, each pixel reading those about its own roughness; else the two Phong levels about the
     // shininess, interpolated in log lobe width.
     glProgramUniform1i(program, loc::pixel_footprint, samples_ > 1 ? 1 : 0);
+    glProgramUniform4uiv(program, loc::sample_quarters, 1, sample_quarters_.data());
     if (gltf) {
         glProgramUniform1i(program, loc::upper_only, ggx_hemisphere_ == Hemisphere::upper ? 1 : 0);
         const MetallicRoughness& m = *object.metallic_roughness;

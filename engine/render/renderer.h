@@ -299,6 +299,9 @@ private:
     int max_samples_ = 1;  // what the driver supports for RGBA32F colour and 32-bit float depth together
     gl::Texture color_, depth_, multisample_color_;
     gl::Framebuffer target_, resolved_;
+    // Bit k of quarter q's mask: target_'s sample k lies in the pixel's quarter q (x = q & 1, y = q >> 1, from
+    // the lower left); which quarters a fragment covers, for lobes taken over the pixel (glsl/pixel_footprint.glsl).
+    std::array<GLuint, 4> sample_quarters_{1, 1, 1, 1};
     glm::ivec2 screen_tiles_{0, 0};  // shader::size::screen_tile^2-pixel tiles of the target
     gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
     gl::Buffer caster_rect_buffer_;  // FramePlan::caster_rects

@@ -47,8 +47,9 @@ namespace envshadow::render::shader {
     X(loc, base_color_factor, 27)                                                                      \
     X(loc, metallic, 28)                                                                               \
     X(loc, roughness, 29)                                                                              \
-    X(loc, upper_only, 31) /* the levels' hemisphere is the upper one */                               \
-    X(loc, emission, 32)   /* shade.frag: Material::emission (times u_emission_texture) */             \
+    X(loc, sample_quarters, 30) /* each quarter of the pixel: its MSAA samples (bits) */               \
+    X(loc, upper_only, 31)      /* the levels' hemisphere is the upper one */                          \
+    X(loc, emission, 32)        /* shade.frag: Material::emission (times u_emission_texture) */        \
     /* alpha_mask.glsl: shade.frag ALPHA_TEST, depth_prepass.frag, shadow_atlas_mask.frag */           \
     X(loc, base_alpha, 33)                                                                             \
     X(loc, alpha_cutoff, 34)        /* 0: nothing cut out */                                           \
