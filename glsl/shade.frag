@@ -41,9 +41,7 @@ void main() {
     vec3 reflected = unshadowed_radiance(s) * fraction_at_fragment(s.normal);
     o_color = vec4(reflected * occlusion(s) + emitted_radiance(s), 1.0);
 #else
-    CellSums sums = sums_before_lookups(s);
-    LookedUpCells cells = looked_up_cells();
-    for (uint k = 0u; k < cells.count; ++k) add_cell(sums, s, cell_index(cells, k));
+    CellSums sums = cell_sums(s);
 #if defined(SHADOWED_FRACTION_OUT)
     o_color = fraction_texel(shadowed_fraction(shadowed_sum(sums), sums.whole_lobe), s.normal);
 #else

@@ -1,7 +1,7 @@
 // The sums over the cells that shade.frag's one loop builds, and which cells that loop visits:
-//   SHADOW_TILE_LISTS  every cell is summed unshadowed first, and the loop takes off (1 - V) L~ a for the
-//                      cells listed for the pixel's screen tile only (glsl/shadow_tiles.comp; the others see
-//                      V = 1 there; docs/DESIGN.md §5.5); without it the loop sums V L~ a over every cell
+//   SHADOW_TILE_LISTS  every cell is summed unshadowed, and the loop takes off (1 - V) L~ a for the cells
+//                      listed for the pixel's screen tile only (glsl/shadow_tiles.comp; the others see V = 1
+//                      there; docs/DESIGN.md §5.5); without it the loop sums V L~ a over every cell
 //   FLAT_RECEIVER      (with DIFFUSE_ONLY and SHADOW_TILE_LISTS) the unshadowed sum from u_unshadowed
 #include "cells.glsl"
 #include "shade_reflectivity.glsl"
@@ -47,57 +47,78 @@ int cell_index(LookedUpCells cells, uint k) {
 #endif
 }
 
-// Both sums with every cell unshadowed (V = 1).
-CellSums unshadowed_sums(Surface s) {
-#if defined(FLAT_RECEIVER)
-    // A plane with a diffuse material: its normal, hence every a_i up to the texture's factor, is constant;
-    // diffuse only, there is nothing of a lobe to clip.
-    vec3 unshadowed = u_unshadowed * s.base_color;
-    return CellSums(unshadowed, unshadowed);
-#else
-    CellSums sums = CellSums(vec3(0.0), vec3(0.0));
-    for (int i = 0; i < u_light_count; ++i) {
-        Reflectivity a = reflectivity(s, i);
-        sums.shadowed += lights[i].radiance.rgb * a.kept;
-        sums.whole_lobe += lights[i].radiance.rgb * a.whole_lobe;
-    }
-    return sums;
-#endif
-}
-
-// The sums before the loop: every cell unshadowed with the tile lists, else nothing yet.
-CellSums sums_before_lookups(Surface s) {
-#if defined(SOFT_SHADOWS)
-    begin_penumbra_bound();
-#endif
-#if defined(SHADOW_TILE_LISTS)
-    return unshadowed_sums(s);
-#else
-    return CellSums(vec3(0.0), vec3(0.0));
-#endif
-}
-
-// Cell i's shadow into the sums; a cell that reflects nothing is skipped without a shadow lookup.
+// The sums without the tile lists: V L~ a over every cell that reflects.
 void add_cell(inout CellSums sums, Surface s, int i) {
     Reflectivity a = reflectivity(s, i);
-    vec3 light = lights[i].radiance.rgb * a.kept;
-#if defined(SHADOW_TILE_LISTS)
-    if (!reflects(a.kept)) {
-        skip_cell(s, i);
-        return;
-    }
-    sums.shadowed -= (1.0 - cell_visibility(s, i, light)) * light;
-#else
     if (!reflects(a.whole_lobe)) {
         skip_cell(s, i);
         return;
     }
     sums.whole_lobe += lights[i].radiance.rgb * a.whole_lobe;
+    vec3 light = lights[i].radiance.rgb * a.kept;
     if (reflects(a.kept))
         sums.shadowed += cell_visibility(s, i, light) * light;
     else
         skip_cell(s, i);
+}
+
+// With the tile lists, cell i's shadow (1 - V) L~ a taken off the unshadowed sum; a cell that reflects nothing
+// is skipped without a shadow lookup.
+void take_off_shadow(inout CellSums sums, Surface s, int i, vec3 light) {
+    if (!reflects(light)) {
+        skip_cell(s, i);
+        return;
+    }
+    sums.shadowed -= (1.0 - cell_visibility(s, i, light)) * light;
+}
+
+// Both sums over the cells: the loop of shade.frag.
+CellSums cell_sums(Surface s) {
+#if defined(SOFT_SHADOWS)
+    begin_penumbra_bound();
 #endif
+    CellSums sums = CellSums(vec3(0.0), vec3(0.0));
+    LookedUpCells cells = looked_up_cells();
+#if defined(SHADOW_TILE_LISTS) && defined(FLAT_RECEIVER)
+    // A plane with a diffuse material: its normal, hence every a_i up to the texture's factor, is constant;
+    // diffuse only, there is nothing of a lobe to clip.
+    sums.shadowed = sums.whole_lobe = u_unshadowed * s.base_color;
+    for (uint k = 0u; k < cells.count; ++k) {
+        int i = cell_index(cells, k);
+        take_off_shadow(sums, s, i, lights[i].radiance.rgb * reflectivity(s, i).kept);
+    }
+#elif defined(SHADOW_TILE_LISTS) && defined(SOFT_SHADOWS)
+    // Every cell unshadowed, then the listed cells' shadows, each listed a_i evaluated again: on llvmpipe the soft
+    // filter's loops inside the loop over every cell cost more than that (docs/PERFORMANCE.md, "What each
+    // optimisation does").
+    for (int i = 0; i < u_light_count; ++i) {
+        Reflectivity a = reflectivity(s, i);
+        sums.shadowed += lights[i].radiance.rgb * a.kept;
+        sums.whole_lobe += lights[i].radiance.rgb * a.whole_lobe;
+    }
+    for (uint k = 0u; k < cells.count; ++k) {
+        int i = cell_index(cells, k);
+        take_off_shadow(sums, s, i, lights[i].radiance.rgb * reflectivity(s, i).kept);
+    }
+#elif defined(SHADOW_TILE_LISTS)
+    // Every cell unshadowed and, in the same pass, the listed cells' shadows (the list is in increasing order), so
+    // that each a_i is evaluated once.
+    uint k = 0u;
+    int listed = cells.count > 0u ? cell_index(cells, 0u) : -1;  // the next cell listed
+    for (int i = 0; i < u_light_count; ++i) {
+        Reflectivity a = reflectivity(s, i);
+        vec3 light = lights[i].radiance.rgb * a.kept;
+        sums.shadowed += light;
+        sums.whole_lobe += lights[i].radiance.rgb * a.whole_lobe;
+        if (i == listed) {
+            take_off_shadow(sums, s, i, light);
+            listed = ++k < cells.count ? cell_index(cells, k) : -1;
+        }
+    }
+#else
+    for (uint k = 0u; k < cells.count; ++k) add_cell(sums, s, cell_index(cells, k));
+#endif
+    return sums;
 }
 
 // sum_i V_i L~_i a_i once the loop is done.
