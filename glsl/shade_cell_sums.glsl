@@ -72,37 +72,49 @@ void take_off_shadow(inout CellSums sums, Surface s, int i, vec3 light) {
     sums.shadowed -= (1.0 - cell_visibility(s, i, light)) * light;
 }
 
-// Both sums over the cells: the loop of shade.frag.
-CellSums cell_sums(Surface s) {
-#if defined(SOFT_SHADOWS)
-    begin_penumbra_bound();
-#endif
-    CellSums sums = CellSums(vec3(0.0), vec3(0.0));
-    LookedUpCells cells = looked_up_cells();
-#if defined(SHADOW_TILE_LISTS) && defined(FLAT_RECEIVER)
-    // A plane with a diffuse material: its normal, hence every a_i up to the texture's factor, is constant;
-    // diffuse only, there is nothing of a lobe to clip.
-    sums.shadowed = sums.whole_lobe = u_unshadowed * s.base_color;
+void take_off_listed_shadows(inout CellSums sums, Surface s, LookedUpCells cells) {
     for (uint k = 0u; k < cells.count; ++k) {
         int i = cell_index(cells, k);
         take_off_shadow(sums, s, i, lights[i].radiance.rgb * reflectivity(s, i).kept);
     }
-#elif defined(SHADOW_TILE_LISTS) && defined(SOFT_SHADOWS)
-    // Every cell unshadowed, then the listed cells' shadows, each listed a_i evaluated again: on llvmpipe the soft
-    // filter's loops inside the loop over every cell cost more than that (docs/PERFORMANCE.md, "What each
-    // optimisation does").
+}
+
+// Both sums with every cell unshadowed (V = 1).
+CellSums unshadowed_sums(Surface s) {
+    CellSums sums = CellSums(vec3(0.0), vec3(0.0));
     for (int i = 0; i < u_light_count; ++i) {
         Reflectivity a = reflectivity(s, i);
         sums.shadowed += lights[i].radiance.rgb * a.kept;
         sums.whole_lobe += lights[i].radiance.rgb * a.whole_lobe;
     }
-    for (uint k = 0u; k < cells.count; ++k) {
-        int i = cell_index(cells, k);
-        take_off_shadow(sums, s, i, lights[i].radiance.rgb * reflectivity(s, i).kept);
-    }
-#elif defined(SHADOW_TILE_LISTS)
+    return sums;
+}
+
+// Both sums over the cells: the loop of shade.frag.
+CellSums cell_sums(Surface s) {
+#if defined(SOFT_SHADOWS)
+    begin_penumbra_bound();
+#endif
+    LookedUpCells cells = looked_up_cells();
+#if !defined(SHADOW_TILE_LISTS)
+    CellSums sums = CellSums(vec3(0.0), vec3(0.0));
+    for (uint k = 0u; k < cells.count; ++k) add_cell(sums, s, cell_index(cells, k));
+#elif defined(FLAT_RECEIVER)
+    // A plane with a diffuse material: its normal, hence every a_i up to the texture's factor, is constant;
+    // diffuse only, there is nothing of a lobe to clip.
+    vec3 unshadowed = u_unshadowed * s.base_color;
+    CellSums sums = CellSums(unshadowed, unshadowed);
+    take_off_listed_shadows(sums, s, cells);
+#elif defined(SOFT_SHADOWS)
+    // Every cell unshadowed, then the listed cells' shadows, each listed a_i evaluated again: on llvmpipe the soft
+    // filter's loops inside the loop over every cell cost more than that (docs/PERFORMANCE.md, "What each
+    // optimisation does").
+    CellSums sums = unshadowed_sums(s);
+    take_off_listed_shadows(sums, s, cells);
+#else
     // Every cell unshadowed and, in the same pass, the listed cells' shadows (the list is in increasing order), so
     // that each a_i is evaluated once.
+    CellSums sums = CellSums(vec3(0.0), vec3(0.0));
     uint k = 0u;
     int listed = cells.count > 0u ? cell_index(cells, 0u) : -1;  // the next cell listed
     for (int i = 0; i < u_light_count; ++i) {
@@ -115,8 +127,6 @@ CellSums cell_sums(Surface s) {
             listed = ++k < cells.count ? cell_index(cells, k) : -1;
         }
     }
-#else
-    for (uint k = 0u; k < cells.count; ++k) add_cell(sums, s, cell_index(cells, k));
 #endif
     return sums;
 }
