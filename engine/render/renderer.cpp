@@ -227,14 +227,6 @@ void Renderer::set_material(std::size_t object, const Material& material) {
         planner_.set_material(std::size_t(instance_of_object_[object]), material);
 }
 
-void Renderer::set_environment(const EnvironmentMap& map) {
-    environment_ = gl::Texture::create_2d(GL_RGB32F, map.width, map.height);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(environment_.id(), 0, 0, 0, map.width, map.height, GL_RGB, GL_FLOAT, map.texels.data());
-    environment_.set_filter(GL_LINEAR, GL_LINEAR);
-    environment_.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);  // u wraps around the sphere, v stops at the poles
-}
-
 namespace {
 
 // An RGB32F table, bilinear, clamped in v. A prefiltered level repeats in u (lat-long, as the map: u wraps,
@@ -252,6 +244,10 @@ gl::Texture upload_rgb32f(int width, int height, const glm::vec3* texels, GLenum
 constexpr int kDfgTableSize = 32;
 
 }  // namespace
+
+void Renderer::set_environment(const EnvironmentMap& map) {
+    environment_ = upload_rgb32f(map.width, map.height, map.texels.data());  // u wraps around the sphere
+}
 
 void Renderer::set_prefiltered(const PrefilteredEnvironment& prefiltered) {
     prefiltered_.clear();
