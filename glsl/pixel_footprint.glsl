@@ -47,6 +47,11 @@ bool covers_quarter(PixelFootprint p, int q) {
     return (p.quarters & (1u << uint(q))) != 0u;
 }
 
+// Whether the fragment covers the quarter that `offset` from the pixel's centre (in pixels) lies in.
+bool covers(PixelFootprint p, vec2 offset) {
+    return covers_quarter(p, (offset.x >= 0.0 ? 1 : 0) + (offset.y >= 0.0 ? 2 : 0));
+}
+
 // The normal and the view at `offset` from the pixel's centre (in pixels), carried there by their derivatives.
 vec3 normal_at(PixelFootprint p, vec2 offset) {
     return normalize(p.normal + p.normal_dx * offset.x + p.normal_dy * offset.y);

@@ -164,8 +164,8 @@ vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
     float sub_pixels = 0.0;
     for (int j = 0; j < kFootprintGrid; ++j) {
         for (int i = 0; i < kFootprintGrid; ++i) {
-            if (!covers_quarter(s.pixel, 2 * i / kFootprintGrid + 2 * (2 * j / kFootprintGrid))) continue;
             vec2 offset = (vec2(i, j) + 0.5) * cell - 0.5;
+            if (!covers(s.pixel, offset)) continue;
             vec3 n = normal_at(s.pixel, offset);
             vec3 v = view_at(s.pixel, offset);
             sum += brdf_lobe(s, n, v, max(dot(n, v), 0.0), w, dot(n, w), sub_pixel2);

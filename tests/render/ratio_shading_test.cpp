@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <map>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include <glm/ext/matrix_transform.hpp>
@@ -100,16 +101,19 @@ TEST_P(RatioShadingTest, WhiteFurnaceReturnsTheAlbedoAtAnyN) {
     }
 }
 
-// The reference of the sphere of shininess n under a map, made once per process (both backends).
-const Image& reference_of(const Scene& scene, const EnvironmentMap& map, float shininess) {
-    static std::map<std::pair<std::string, float>, Image> cache;
-    const std::pair<std::string, float> key{scene.environment.source, shininess};
+// The reference of the sphere of shininess n under a map, made once per process (both backends): through pixel
+// centres by default, as the render at one sample per pixel; box-filtered, as the MSAA resolve.
+const Image& reference_of(const Scene& scene, const EnvironmentMap& map, float shininess,
+                          reference::PixelFilter filter = reference::PixelFilter::point, double target_error = 0.002) {
+    using Key = std::tuple<std::string, float, reference::PixelFilter, double>;
+    static std::map<Key, Image> cache;
+    const Key key{scene.environment.source, shininess, filter, target_error};
     auto it = cache.find(key);
     if (it == cache.end()) {
         reference::ReferenceOptions options;
         options.width = options.height = kSize;
-        options.target_error = 0.002;
-        options.pixel_filter = reference::PixelFilter::point;  // as the render, one sample per pixel
+        options.target_error = target_error;
+        options.pixel_filter = filter;
         it = cache.emplace(key, reference::render_reference(scene, map, options).image).first;
     }
     return it->second;
@@ -193,11 +197,7 @@ TEST_P(RatioShadingTest, WithMsaaAGlossyHighlightIsThePixelsMean) {
     const std::string spec = "builtin:sky";
     const EnvironmentMap map = load_environment(spec);
     const Scene scene = sphere(Material{glm::vec3(0.2f), 0.6f, 1000.0f}, spec);
-    reference::ReferenceOptions options;
-    options.width = options.height = kSize;
-    options.target_error = 0.005;
-    options.pixel_filter = reference::PixelFilter::box;
-    const Image truth = reference::render_reference(scene, map, options).image;
+    const Image& truth = reference_of(scene, map, 1000.0f, reference::PixelFilter::box, 0.005);
     const Image image = render_ratio(scene, map, 8, render::ShadowRate::half, 4);
     const double error = relative_rmse(image, truth, /*inner=*/true);
     std::printf("n = 1000 under the sky, MSAA 4 against the box reference: relative RMSE %.4f inside\n", error);
@@ -231,13 +231,7 @@ TEST_P(RatioShadingTest, OnTheSilhouetteAHighlightIsTheMeanOverTheCoveredPart) {
     const std::string spec = "/usr/share/blender/datafiles/studiolights/world/studio.exr";
     const EnvironmentMap map = load_environment(spec);
     const Scene scene = sphere(Material{glm::vec3(0.2f), 0.6f, 100.0f}, spec);
-    static const Image truth = [&] {
-        reference::ReferenceOptions options;
-        options.width = options.height = kSize;
-        options.target_error = 0.005;
-        options.pixel_filter = reference::PixelFilter::box;
-        return reference::render_reference(scene, map, options).image;
-    }();
+    const Image& truth = reference_of(scene, map, 100.0f, reference::PixelFilter::box, 0.005);
     const Image image = render_ratio(scene, map, 8, render::ShadowRate::half, 4);
     const double error = silhouette_rmse(image, truth);
     std::printf("n = 100 under studio, MSAA 4 against the box reference: relative RMSE %.4f on the silhouette\n",
