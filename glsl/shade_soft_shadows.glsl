@@ -1,28 +1,32 @@
 // Percentage-closer soft shadows per cell (SOFT_SHADOWS, docs/DESIGN.md §5.9): a cap of radius r_i
 // shadows a receiver at depth d behind a blocker at depth d_b over a penumbra of (d - d_b) tan r_i;
-// light.bias.zw turns a depth difference into tile texels. Taps on Vogel discs (radius
-// sqrt((k + 0.5) / K), golden angle).
+// light.bias.zw turns a depth difference into tile texels.
 #include "shade_atlas.glsl"
 #include "shade_surface.glsl"
 #include "shade_tile_lookup.glsl"
 
 const int kBlockerTaps = 8;
-const vec2 kBlockerDisc[kBlockerTaps] = vec2[](vec2(0.2500, 0.0000), vec2(-0.3193, 0.2925), vec2(0.0489, -0.5569),
-                                               vec2(0.4024, 0.5249), vec2(-0.7385, -0.1306), vec2(0.6996, -0.4450),
-                                               vec2(-0.2340, 0.8705), vec2(-0.4463, -0.8593));
 const int kFilterTaps = 12;
-const vec2 kFilterDisc[kFilterTaps] = vec2[](
-    vec2(0.2041, 0.0000), vec2(-0.2607, 0.2388), vec2(0.0399, -0.4547), vec2(0.3286, 0.4286), vec2(-0.6030, -0.1067),
-    vec2(0.5712, -0.3634), vec2(-0.1911, 0.7107), vec2(-0.3644, -0.7016), vec2(0.7906, 0.2887), vec2(-0.8224, 0.3395),
-    vec2(0.3965, -0.8472), vec2(0.2930, 0.9341));
 
-// A per-pixel, per-light rotation of the discs: interleaved gradient noise of the pixel (deterministic:
-// the same every frame and run) plus a hash of the tile's corner, so the N cells' patterns differ.
-mat2 disc_rotation(Light light) {
+// Vogel discs: tap k of K at radius sqrt((k + 0.5) / K), k golden angles round from a first direction. The
+// taps are made by one rotation each, not read from constant arrays: llvmpipe keeps an array indexed by the
+// loop's counter in memory, which made the soft shadows' lookups half as long again (docs/PERFORMANCE.md).
+const mat2 kGoldenAngle = mat2(-0.7373688, 0.6754903, -0.6754903, -0.7373688);  // 137.508 degrees
+
+// The next tap of a disc of `taps` (the k-th) and the direction of the one after it.
+vec2 vogel_tap(inout vec2 direction, int k, int taps) {
+    vec2 tap = direction * sqrt((float(k) + 0.5) / float(taps));
+    direction = kGoldenAngle * direction;
+    return tap;
+}
+
+// The discs' first direction, per pixel and per light: interleaved gradient noise of the pixel
+// (deterministic: the same every frame and run) plus a hash of the tile's corner, so the N cells' patterns
+// differ.
+vec2 disc_direction(Light light) {
     float noise = fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715))));
     float angle = 6.2831853 * fract(noise + dot(light.tile.xy, vec2(7.1313, 3.7171)));
-    float c = cos(angle), s = sin(angle);
-    return mat2(c, s, -s, c);
+    return vec2(cos(angle), sin(angle));
 }
 
 // Cell i's soft visibility at the receiver `lookup`, whose hard 2x2 lookup is `hard`: x the whole, y the part
@@ -39,10 +43,11 @@ vec2 soft_visibility(Surface s, int i, TileLookup lookup, float hard) {
     if (max(search.x, search.y) < 1.0) return vec2(hard, 0.0);
     vec2 lo = light.tile.xy + 0.5 * u_atlas_texel, hi = light.tile.xy + light.tile.zw - 0.5 * u_atlas_texel;
     vec2 slope = receiver_depth_slope(light, s.normal, 0.2);
-    mat2 rotation = disc_rotation(light);
+    vec2 first_direction = disc_direction(light);
+    vec2 direction = first_direction;
     float blockers = 0.0, closest_blocker = 0.0, empty = 0.0;
     for (int k = 0; k < kBlockerTaps; ++k) {
-        vec2 offset = rotation * kBlockerDisc[k] * search;  // texels
+        vec2 offset = vogel_tap(direction, k, kBlockerTaps) * search;  // texels
         float z = textureLod(u_atlas_depth, clamp(lookup.unclamped + offset * u_atlas_texel, lo, hi), 0.0).r;
         if (z < lookup.depth + dot(slope, offset)) {
             if (blockers == 0.0) closest_blocker = z;
@@ -57,8 +62,9 @@ vec2 soft_visibility(Surface s, int i, TileLookup lookup, float hard) {
     vec2 radius = per_depth * max(lookup.depth - closest_blocker, 0.0);
     if (max(radius.x, radius.y) < 1.0) return vec2(hard, 0.0);  // the penumbra is under a texel
     float sum = 0.0;
+    direction = first_direction;
     for (int k = 0; k < kFilterTaps; ++k) {
-        vec2 offset = rotation * kFilterDisc[k] * radius;
+        vec2 offset = vogel_tap(direction, k, kFilterTaps) * radius;
         sum += plane_pcf(clamp(lookup.unclamped + offset * u_atlas_texel, lo, hi), lookup.depth + dot(slope, offset),
                          lookup.slope);
     }
