@@ -1,6 +1,6 @@
 // The ratio estimator (SHADING_RATIO, docs/DESIGN.md §4.1): the unshadowed k_d E(n) + k_s S_n(r) from the
 // prefiltered map (or glTF's BRDF by its split sum, docs/DESIGN.md §11), times the cells' shadowed fraction
-//   L(x, w) = [k_d E(n) + k_s S_n(r)] sum_i V_i L~_i a_i / sum_i L~_i a^_i   (1 where the denominator is 0),
+//   L(x, w) = [k_d E(n) + k_s S_n(r)] sum_i V_i L~_i a_i / sum_i L~_i a^_i   (0 where the denominator is 0),
 // a^_i with the whole specular lobe (Reflectivity.whole_lobe; glTF's BRDF: a_i itself). Without it the cells'
 // sum itself.
 #include "latlong.glsl"
@@ -110,9 +110,9 @@ vec3 unshadowed_radiance(Surface s) {
 #endif
 }
 
-// The shadowed fraction per channel, 1 where no cell reflects (denominator 0).
+// The shadowed fraction per channel; 0 where no cell reflects (denominator 0): no cell's light reaches the point.
 vec3 shadowed_fraction(vec3 shadowed, vec3 unshadowed) {
-    return mix(vec3(1.0), clamp(shadowed / max(unshadowed, vec3(1e-30)), 0.0, 1.0), greaterThan(unshadowed, vec3(0.0)));
+    return clamp(shadowed / max(unshadowed, vec3(1e-30)), 0.0, 1.0);
 }
 
 // The reflected radiance from the cells' sums sum_i V_i L~_i a_i (`shadowed`) and sum_i L~_i a^_i.
