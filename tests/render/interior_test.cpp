@@ -7,6 +7,7 @@
 // Ratio shading took the fraction as 1 where no cell lies above the tangent plane and lit a roof's underside
 // with the prefiltered map's ringing; it is 0 there now.
 #include <algorithm>
+#include <cstdio>
 #include <initializer_list>
 #include <string>
 #include <vector>
@@ -94,20 +95,34 @@ Image render_room(bool roof, const render::RenderSettings& settings, const rende
     return renderer.read_back();
 }
 
+float luminance(const glm::vec4& p) {
+    return 0.2126f * p.r + 0.7152f * p.g + 0.0722f * p.b;
+}
+
 float max_luminance(const Image& image) {
     float most = 0.0f;
-    for (const glm::vec4& p : image.pixels) most = std::max(most, 0.2126f * p.r + 0.7152f * p.g + 0.0722f * p.b);
+    for (const glm::vec4& p : image.pixels) most = std::max(most, luminance(p));
     return most;
+}
+
+float mean_luminance(const Image& image) {
+    double sum = 0.0;
+    for (const glm::vec4& p : image.pixels) sum += luminance(p);
+    return float(sum / double(image.pixels.size()));
 }
 
 // Looking into the corner where the north and east walls meet the floor and the roof: every junction.
 const render::CameraView kCornerView = look_at({-1.6f, 1.2f, 1.6f}, {1.2f, 1.0f, -1.2f}, kWidth, kHeight, 70.0f);
 
-// The open room's brightest pixel: the scale of the bound (the reference of a sealed box is 0).
-float open_room_light(const render::CameraView& view, const Sky& sky) {
-    render::RenderSettings settings;
-    settings.background = false;
-    return max_luminance(render_room(false, settings, view, sky));
+// The open room's light in the same view: the scale of the bounds (the reference of a sealed box is 0).
+struct RoomLight {
+    float brightest;
+    float mean;
+};
+
+RoomLight room_light(bool roof, const render::RenderSettings& settings, const Sky& sky) {
+    const Image image = render_room(roof, settings, kCornerView, sky);
+    return {max_luminance(image), mean_luminance(image)};
 }
 
 // Every shadow mode of `shadow_modes` at cells and ratio shading, MSAA 1 and 4 (ratio at MSAA 4 with the
@@ -129,26 +144,44 @@ void for_each_mode(std::initializer_list<render::ShadowMode> shadow_modes, Check
             }
 }
 
-// The sealed box's brightest pixel under `share` of the open room's, under `sky`, at every mode.
-void expect_black_inside(const Sky& sky, std::initializer_list<render::ShadowMode> shadow_modes, float share) {
-    const float open = open_room_light(kCornerView, sky);
-    ASSERT_GT(open, 0.0f);
+// The sealed box's brightest pixel under `brightest` of the open room's and its mean under `mean` of the open
+// room's, under `sky`, at every mode.
+void expect_black_inside(const Sky& sky, std::initializer_list<render::ShadowMode> shadow_modes, float brightest,
+                         float mean) {
+    render::RenderSettings open_settings;
+    open_settings.background = false;
+    const RoomLight open = room_light(false, open_settings, sky);
+    ASSERT_GT(open.mean, 0.0f);
+    RoomLight worst{0.0f, 0.0f};
     for_each_mode(shadow_modes, [&](const render::RenderSettings& settings) {
-        EXPECT_LT(max_luminance(render_room(true, settings, kCornerView, sky)), share * open);
+        const RoomLight sealed = room_light(true, settings, sky);
+        EXPECT_LT(sealed.brightest, brightest * open.brightest);
+        EXPECT_LT(sealed.mean, mean * open.mean);
+        worst = {std::max(worst.brightest, sealed.brightest), std::max(worst.mean, sealed.mean)};
     });
+    std::printf("sealed box against the open room: brightest pixel %.4f, mean %.5f\n", worst.brightest / open.brightest,
+                worst.mean / open.mean);
 }
 
 // Under the sky with a sun, hard shadows: under 1% of the open room's brightest pixel. The junctions glowed
 // at 2.7% of it; at most 0.6% is left, where the 128^2 tiles' texels meet the roof's edge.
 TEST_P(InteriorTest, ASealedBoxIsBlackInsideWithHardShadowsAtEveryShadingAndMsaa) {
-    expect_black_inside(sun_sky(), {render::ShadowMode::hard}, 1e-2f);
+    expect_black_inside(sun_sky(), {render::ShadowMode::hard}, 1e-2f, 1.0f);
 }
 
 // Under a uniform sky, soft shadows too (and hard ones again): the brightest pixel under 2.5% of the open
 // room's. Before the bound the soft shadows' junctions reached 4.8-8.2% of it; hard shadows leave at most
 // 1.2% (MSAA 4, where the tiles' texels meet the roof's edge), soft ones 2.1%.
 TEST_P(InteriorTest, ASealedBoxIsBlackInsideUnderAUniformSkyAtEveryShadowModeShadingAndMsaa) {
-    expect_black_inside(uniform_sky(), {render::ShadowMode::hard, render::ShadowMode::soft}, 2.5e-2f);
+    expect_black_inside(uniform_sky(), {render::ShadowMode::hard, render::ShadowMode::soft}, 2.5e-2f, 1.0f);
+}
+
+// Under city.exr, every shadow mode: the brightest pixel under 1% of the open room's (0.62% is measured), the
+// mean under 3e-4 of its mean (2.2e-4 is measured). Most of that is a band under the roof on the walls that two
+// of its cells graze (cos theta 0.013 and 0.018), where the lookup's depth is lowered by its plane's bound over
+// the footprint, as a convex terminator needs, past the roof's top (docs/accuracy/interiors_by_hand.md).
+TEST_P(InteriorTest, ASealedBoxIsBlackInsideUnderAPhotographAtEveryShadowModeShadingAndMsaa) {
+    expect_black_inside(city_sky(), {render::ShadowMode::hard, render::ShadowMode::soft}, 1e-2f, 3e-4f);
 }
 
 // Looking up at the roof from the middle of the room, nothing but its underside in view: no cell of the upper
