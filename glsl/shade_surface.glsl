@@ -28,6 +28,7 @@ struct Surface {
     vec3 position;      // x, in world space
     vec3 normal;        // the shading normal n (shading_normal)
     vec3 plane_normal;  // the triangle's plane (either side): the surface the shadow atlas holds
+    bool curved;        // the interpolated normal turns across the pixel: a smooth-shaded curved surface
     vec3 mirror;        // r: the direction to the viewer reflected about n
     vec3 base_color;    // the base-colour texture at this pixel (ALPHA_BLEND: where the surface is)
     vec3 k_d;           // u_k_d times base_color
@@ -123,6 +124,8 @@ Surface surface(vec3 position, vec3 position_at_centre, vec3 interpolated_normal
     s.normal = shading_normal(normalize(interpolated_normal), tangent, texcoord, view,
                               dot(plane, view) < 0.0 ? -plane : plane);
     s.plane_normal = has_plane ? plane : s.normal;
+    vec3 turn = abs(dFdx(normal_at_centre)) + abs(dFdy(normal_at_centre));  // 0 on a flat face, to rounding
+    s.curved = max(turn.x, max(turn.y, turn.z)) > 1e-5;
     // The shaded point is the centroid position put onto that plane: with MSAA the centroid sample lies
     // inside the triangle, but the position interpolated there need not lie on the triangle's plane
     // (llvmpipe's does not), and a point below it is shadowed by its own triangle. At one sample per

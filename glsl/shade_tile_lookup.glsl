@@ -47,10 +47,13 @@ TileLookup tile_lookup(Light light, Surface s, float cos_theta) {
     lookup.slope = receiver_depth_slope(light, s.plane_normal, kPlaneBiasMinNormalZ);
     float plane_bias = u_slope_bias * (abs(lookup.slope.x) + abs(lookup.slope.y));
     // A triangle turned away from the light while its shading normal is not (a coarse sphere's
-    // terminator) is not itself in the atlas, and one within the slope clamp of grazing has a plane
-    // steeper than the carried one: there the texels are compared with one depth lowered by the plane's
-    // bound over the footprint, as a convex neighbour nearer the light would otherwise shadow it.
-    if (dot(s.plane_normal, s.normal) * dot(s.plane_normal, light.direction.xyz) <= kPlaneBiasMinNormalZ) {
+    // terminator) is not itself in the atlas, and one of a curved surface within the slope clamp of grazing
+    // has a plane steeper than the carried one: there the texels are compared with one depth lowered by the
+    // plane's bound over the footprint, as a convex neighbour nearer the light would otherwise shadow it. A
+    // flat face at grazing keeps its carried plane: its texels are its own plane's, and lowered by the bound
+    // (up to 50 texels of depth a texel) a wall under a roof passed the roof's top (docs/DESIGN.md §5.3).
+    float grazing = s.curved ? kPlaneBiasMinNormalZ : 0.0;
+    if (dot(s.plane_normal, s.normal) * dot(s.plane_normal, light.direction.xyz) <= grazing) {
         plane_bias += (filter_reach_texels() + 0.5) * (abs(lookup.slope.x) + abs(lookup.slope.y));
         lookup.slope = vec2(0.0);
     }
