@@ -18,6 +18,7 @@
 #include "env/cells.h"
 #include "env/env_test_data.h"
 #include "env/environment.h"
+#include "env/latlong.h"
 #include "env/prefilter.h"
 #include "gl_fixture.h"
 #include "render/render_test_util.h"
@@ -97,19 +98,15 @@ Image render_room(bool roof, const render::RenderSettings& settings, const rende
     return renderer.read_back();
 }
 
-float luminance(const glm::vec4& p) {
-    return 0.2126f * p.r + 0.7152f * p.g + 0.0722f * p.b;
-}
-
 float max_luminance(const Image& image) {
     float most = 0.0f;
-    for (const glm::vec4& p : image.pixels) most = std::max(most, luminance(p));
+    for (const glm::vec4& p : image.pixels) most = std::max(most, float(latlong::luminance(glm::dvec3(p))));
     return most;
 }
 
 float mean_luminance(const Image& image) {
     double sum = 0.0;
-    for (const glm::vec4& p : image.pixels) sum += luminance(p);
+    for (const glm::vec4& p : image.pixels) sum += latlong::luminance(glm::dvec3(p));
     return float(sum / double(image.pixels.size()));
 }
 
