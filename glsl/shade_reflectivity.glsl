@@ -126,6 +126,21 @@ vec3 brdf_lobe(Surface s, vec3 n, vec3 v, float n_dot_v, vec3 w, float cos_theta
                       smith_visibility(cos_theta, max(n_dot_v, 1e-4), s.gltf.alpha2) * cos_theta);
 }
 
+// The lobe widened by the pixel's footprint (the normal's turn across it, footprint2 in alpha^2): the glint lies
+// where the normal turns to h, so the visibility and the cosine are taken at the normal the glint most likely has,
+// n moved towards h by the footprint's share of the widened width (the two spreads' product), D at n itself. At
+// n's own n.v they blew up where the footprint reaches over a silhouette (V ~ 1 / (2 alpha n.l) at n.v = 0).
+vec3 brdf_lobe_over_footprint(Surface s, vec3 n, vec3 v, vec3 w, float widened2, float footprint2) {
+    vec3 h = normalize(v + w);
+    vec3 at_glint = normalize(mix(n, h, footprint2 / (widened2 + footprint2)));
+    float n_dot_v = dot(at_glint, v), cos_theta = dot(at_glint, w);
+    if (cos_theta <= 0.0 || n_dot_v <= 0.0) return vec3(0.0);
+    float m = 1.0 - max(dot(v, h), 0.0), m2 = m * m;
+    vec3 fresnel = s.gltf.f0 + (1.0 - s.gltf.f0) * (m2 * m2 * m);
+    return fresnel * (ggx_distribution(max(dot(n, h), 0.0), widened2 + footprint2) *
+                      smith_visibility(cos_theta, n_dot_v, s.gltf.alpha2) * cos_theta);
+}
+
 vec3 brdf_lobe(Surface s, vec3 w, float cos_theta, float widened2) {
     return brdf_lobe(s, s.normal, s.view, s.gltf.n_dot_v, w, cos_theta, widened2);
 }
@@ -149,7 +164,7 @@ layout(location = LOC_COMPACT_RADIANCES) uniform vec4 u_compact_radiances[MAX_CO
 // of sub-pixels rather than widened as a whole: a glint smaller than the pixel then lands in the sub-pixels
 // where the box-filtered reference has it, not in a round blur about the pixel's centre. Only within
 // kGridReach widths of the widened lobe (tan theta_h; GGX is 1% of its peak at 3): beyond, its tail is smooth.
-const float kFootprintOverLobe = 0.25;
+const float kFootprintOverLobe = 0.05;
 const int kFootprintGrid = 8;
 const float kGridReach = 3.0;
 
@@ -168,11 +183,13 @@ vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
             if (!covers(s.pixel, offset)) continue;
             vec3 n = normal_at(s.pixel, offset);
             vec3 v = view_at(s.pixel, offset);
-            sum += brdf_lobe(s, n, v, max(dot(n, v), 0.0), w, dot(n, w), sub_pixel2);
+            float n_dot_v = dot(n, v);
+            if (n_dot_v <= 0.0) continue;  // carried past the silhouette: not on the surface
+            sum += brdf_lobe_over_footprint(s, n, v, w, widened2, sub_pixel2 - widened2);
             sub_pixels += 1.0;
         }
     }
-    return sum / sub_pixels;
+    return sub_pixels > 0.0 ? sum / sub_pixels : vec3(0.0);
 }
 
 // The compact sources' reflection, summed over them: L~ times the BRDF's lobe, widened by the source's cap and
@@ -183,8 +200,11 @@ vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
 // footprint is wide against the lobe the lobe is averaged over the pixel instead (brdf_lobe_over_pixel): a
 // glint smaller than the pixel is its mean over the pixel, not its value at the sample.
 vec3 compact_source_lobes(Surface s) {
-    // At the pixel's centre, the same for every sample of the pixel the shader runs for.
-    vec3 n = s.pixel.normal, v = s.pixel.view, r = reflect(-v, n);
+    // At the pixel's centre, the same for every sample of the pixel the shader runs for; at the sample where the
+    // centre lies past the silhouette (the normal carried there faces away).
+    bool centre_on_surface = dot(s.pixel.normal, s.pixel.view) > 0.0;
+    vec3 n = centre_on_surface ? s.pixel.normal : s.normal, v = centre_on_surface ? s.pixel.view : s.view;
+    vec3 r = reflect(-v, n);
     vec3 brdf = vec3(0.0);
     for (int k = 0; k < u_compact_light_count; ++k) {
         vec3 w = u_compact_directions[k].xyz;
@@ -200,7 +220,7 @@ vec3 compact_source_lobes(Surface s) {
         bool in_grid_reach = 1.0 - t <= kGridReach * kGridReach * (widened2 + footprint2) * (1.0 + t);
         vec3 lobe = footprint2 > kFootprintOverLobe * widened2 && in_grid_reach
                         ? brdf_lobe_over_pixel(s, w, widened2, footprint2)
-                        : brdf_lobe(s, n, v, max(dot(n, v), 0.0), w, dot(n, w), widened2 + footprint2);
+                        : brdf_lobe_over_footprint(s, n, v, w, widened2, footprint2);
         brdf += u_compact_radiances[k].rgb * lobe;
     }
     return brdf;

@@ -15,9 +15,9 @@ namespace {
 
 struct Region {
     std::vector<std::size_t> texels;
-    glm::dvec3 radiance{0.0};       // excess L dw
+    glm::dvec3 radiance{0.0};       // L dw
     glm::dvec3 moment{0.0};         // excess luminance dw times the direction
-    double excess_luminance = 0.0;  // excess luminance dw
+    double excess_luminance = 0.0;  // excess luminance dw (over the threshold)
 };
 
 }  // namespace
@@ -53,7 +53,7 @@ CompactSourceSplit split_compact_sources(const EnvironmentMap& map, Hemisphere h
                 const glm::dvec3 radiance(map.at(i, j));
                 const double luminance = latlong::luminance(radiance);
                 const double dw = hemisphere_texel_solid_angle(j, width, map.height, hemisphere);
-                region.radiance += radiance * ((1.0 - threshold / luminance) * dw);
+                region.radiance += radiance * dw;
                 region.excess_luminance += (luminance - threshold) * dw;
                 region.moment += (luminance - threshold) * dw * latlong::texel_direction(i, j, width, map.height);
                 const std::pair<int, int> neighbours[] = {
@@ -84,7 +84,7 @@ CompactSourceSplit split_compact_sources(const EnvironmentMap& map, Hemisphere h
     for (const auto& [source, region] : kept) {
         for (const std::size_t t : region->texels) {
             glm::vec3& texel = split.rest.texels[t];
-            texel *= float(threshold / latlong::luminance(glm::dvec3(texel)));
+            texel = glm::vec3(0.0f);
         }
         split.sources.push_back(source);
     }

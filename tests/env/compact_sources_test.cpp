@@ -51,14 +51,15 @@ TEST(CompactSources, CarryWhatTheyTakeFromTheMap) {
     const glm::dvec3 total = integral(split.rest) + glm::dvec3(sun.radiance);
     const glm::dvec3 expected = integral(map);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(total[c], expected[c], 1e-6 * expected[c]);
-    // The disc's texels above the threshold hold nearly all of its light: what is left of it is the threshold.
-    EXPECT_GT(sun.radiance.g, 0.95 * (expected.g - 1.2 * 4.0 * std::numbers::pi));
+    // The source takes the disc's texels whole: its light is the map's less the sky's.
+    EXPECT_NEAR(sun.radiance.g, expected.g - integral(split.rest).g, 1e-6 * expected.g);
+    EXPECT_GT(sun.radiance.g, 0.99 * (expected.g - 1.2 * 4.0 * std::numbers::pi));
     EXPECT_GT(glm::dot(glm::dvec3(sun.direction), sun_direction), std::cos(0.1 * kDegree));
     // A uniform disc of radius 2 degrees: the cap of its mean cosine is the disc.
     EXPECT_NEAR(std::acos(sun.cos_radius) / kDegree, 2.0, 0.25);
-    // The rest is the sky everywhere but the disc, and no brighter than the threshold there.
+    // The rest is the sky everywhere but the disc, and black there.
     EXPECT_EQ(split.rest.at(0, split.rest.height - 1), map.at(0, map.height - 1));
-    for (const glm::vec3& texel : split.rest.texels) EXPECT_LT(texel.g, 100.0f);
+    for (const glm::vec3& texel : split.rest.texels) EXPECT_TRUE(texel.g == 0.0f || texel.g == 1.2f);
 }
 
 TEST(CompactSources, AreTheBrightestFourSmallOnes) {

@@ -298,6 +298,42 @@ TEST_P(MetallicRoughnessTest, ASmoothMetalsGlintHoldsTheSunOnceInItsPixels) {
     EXPECT_LT(error, 0.12);
 }
 
+// A smooth gold sphere's silhouette under a sun, at the commands' defaults (MSAA 4), against the box-filtered
+// reference over the pixels the sphere partly covers. The sun's lobe is widened by the pixel's footprint; at a
+// silhouette that is the normal's turn to grazing, where the visibility term at the sample's own n.v
+// (1 / (2 alpha n.l) at n.v = 0), or at the pixel's centre carried past the silhouette, made a ring of sunlight
+// round the sphere (docs/DESIGN.md §11, *Compact sources*): 339% over these pixels, 17.7% with the visibility
+// and the cosine at the normal the glint lies at.
+TEST_P(MetallicRoughnessTest, ASmoothMetalsSilhouetteHasNoRingOfSunlight) {
+    const std::string spec = "builtin:sky:azimuth=0";
+    const EnvironmentMap map = load_environment(spec);
+    Scene scene = sphere(material_from_metallic_roughness({glm::vec3(1.0f, 0.78f, 0.34f), 1.0f, 0.1f}));
+    scene.environment.source = spec;
+    const Image image =
+        render_scene(scene, map, commands_defaults(), kSize, kSize, {.method = Method::lloyd, .lights = 32});
+    reference::ReferenceOptions options;
+    options.width = options.height = kSize;
+    options.target_error = 0.01;
+    const Image truth = reference::render_reference(scene, map, options).image;
+    double error2 = 0.0, reference2 = 0.0;
+    int pixels = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const float coverage = truth.at(x, y).a;
+            if (coverage <= 0.02f || coverage >= 0.98f) continue;
+            ++pixels;
+            for (int c = 0; c < 3; ++c) {
+                const double e = double(image.at(x, y)[c]) - double(truth.at(x, y)[c]);
+                error2 += e * e;
+                reference2 += double(truth.at(x, y)[c]) * double(truth.at(x, y)[c]);
+            }
+        }
+    ASSERT_GT(pixels, 100);
+    const double error = std::sqrt(error2 / reference2);
+    std::printf("gold, roughness 0.1, under a sun: relative RMSE %.4f over %d silhouette pixels\n", error, pixels);
+    EXPECT_LT(error, 0.3);
+}
+
 ENVSHADOW_INSTANTIATE_GL_TEST(MetallicRoughnessTest);
 
 }  // namespace
