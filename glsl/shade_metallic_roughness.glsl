@@ -44,7 +44,18 @@ struct GltfPixel {
     vec3 diffuse_albedo;   // (1 - metallic)(1 - 0.04) baseColor diffuse(n.v): L_diff = it E(n) / pi
     vec3 specular_albedo;  // F0 scale(n.v, roughness) + bias(n.v, roughness): L_spec = it P(r, alpha)
     float mirror_spread;   // |dr/dx|^2 + |dr/dy|^2 of the pixel's footprint (0 without multisampling)
+    float lobe_axis;       // the lobe's centroid at this share of the angle from the normal to the mirror
 };
+
+// The direction the split sum looks its round lobe up in: the BRDF lobe's centroid, turned from the normal
+// towards the mirror direction r by the table's share of their angle (docs/DESIGN.md §11, "The lobe's axis").
+vec3 lobe_axis(GltfPixel p, vec3 n, vec3 r) {
+    vec3 across = r - n * dot(n, r);
+    float length_across = length(across);
+    if (length_across < 1e-6) return r;
+    float angle = p.lobe_axis * atan(length_across, dot(n, r));
+    return n * cos(angle) + across * (sin(angle) / length_across);
+}
 
 // Whether the pixel's lobe is sharper than the sharpest level: its lookup is the map itself and that level.
 bool below_levels(GltfPixel p) {
@@ -62,7 +73,8 @@ GltfPixel gltf_pixel(vec3 base_color, vec2 texcoord, float n_dot_v, PixelFootpri
     float alpha = max(p.roughness * p.roughness, kMinAlpha);
     p.alpha2 = alpha * alpha;
     vec3 base = u_base_color_factor * base_color;
-    vec3 dfg = texture(u_dfg, vec2(p.n_dot_v, p.roughness)).rgb;
+    vec4 dfg = texture(u_dfg, vec2(p.n_dot_v, p.roughness));
+    p.lobe_axis = dfg.w;
     p.f0 = mix(vec3(kDielectricF0), base, p.metallic);
     p.diffuse_albedo = base * ((1.0 - p.metallic) * (1.0 - kDielectricF0) * dfg.z);
     p.specular_albedo = p.f0 * dfg.x + dfg.y;

@@ -99,7 +99,7 @@ vec3 unshadowed_radiance(Surface s) {
     vec3 irradiance_over_pi = prefiltered(u_irradiance, latlong_uv(u_env_from_world * s.normal));
 #if defined(METALLIC_ROUGHNESS)
     // The split sum over the map without its compact sources, and theirs with the BRDF's lobe (docs/DESIGN.md §11).
-    vec3 specular = s.gltf.specular_albedo * ggx_lobe_mean(s.gltf, s.mirror);
+    vec3 specular = s.gltf.specular_albedo * ggx_lobe_mean(s.gltf, lobe_axis(s.gltf, s.normal, s.mirror));
     return s.gltf.diffuse_albedo * irradiance_over_pi + specular + compact_source_lobes(s);
 #else
     vec3 result = s.k_d * (PI * irradiance_over_pi);

@@ -45,16 +45,33 @@ glm::dvec3 dfg_integrals(double n_dot_v, double roughness, int samples_per_axis)
     return glm::dvec3(scale, bias, diffuse) / total_weight;
 }
 
-glm::vec3 DfgTable::lookup(double n_dot_v, double roughness) const {
+double ggx_lobe_axis(double n_dot_v, double roughness, int samples_per_axis) {
+    const double alpha = gltf_brdf::alpha_from_roughness(roughness);
+    const glm::dvec3 n(0.0, 0.0, 1.0);
+    const glm::dvec3 v(std::sqrt(std::max(0.0, 1.0 - n_dot_v * n_dot_v)), 0.0, n_dot_v);
+    glm::dvec3 moment(0.0);
+    for (int a = 0; a < samples_per_axis; ++a)
+        for (int b = 0; b < samples_per_axis; ++b) {
+            const double w = (a + 0.5) / samples_per_axis, u2 = (b + 0.5) / samples_per_axis;
+            const double u1 = 1.0 - (1.0 - w) * (1.0 - w), stratum = 2.0 * (1.0 - w);
+            const glm::dvec3 l = gltf_brdf::sample_ggx_reflection(n, v, alpha, u1, u2).direction;
+            if (l.z > 0.0) moment += stratum * gltf_brdf::smith_visibility(l.z, n_dot_v, alpha) * l.z * l;
+        }
+    const double to_mirror = std::acos(std::clamp(n_dot_v, -1.0, 1.0));  // r is v mirrored about n
+    if (!(to_mirror > 0.0) || !(glm::length(moment) > 0.0)) return 1.0;
+    return std::acos(std::clamp(glm::normalize(moment).z, -1.0, 1.0)) / to_mirror;
+}
+
+glm::vec4 DfgTable::lookup(double n_dot_v, double roughness) const {
     const double x = std::clamp(n_dot_v * size - 0.5, 0.0, double(size - 1));
     const double y = std::clamp(roughness * size - 0.5, 0.0, double(size - 1));
     const int i0 = std::min(int(x), size - 1), j0 = std::min(int(y), size - 1);
     const int i1 = std::min(i0 + 1, size - 1), j1 = std::min(j0 + 1, size - 1);
     const double ax = x - i0, ay = y - j0;
-    auto at = [&](int i, int j) { return glm::dvec3(texels[std::size_t(j) * std::size_t(size) + std::size_t(i)]); };
-    const glm::dvec3 low = at(i0, j0) * (1.0 - ax) + at(i1, j0) * ax;
-    const glm::dvec3 high = at(i0, j1) * (1.0 - ax) + at(i1, j1) * ax;
-    return glm::vec3(low * (1.0 - ay) + high * ay);
+    auto at = [&](int i, int j) { return glm::dvec4(texels[std::size_t(j) * std::size_t(size) + std::size_t(i)]); };
+    const glm::dvec4 low = at(i0, j0) * (1.0 - ax) + at(i1, j0) * ax;
+    const glm::dvec4 high = at(i0, j1) * (1.0 - ax) + at(i1, j1) * ax;
+    return glm::vec4(low * (1.0 - ay) + high * ay);
 }
 
 DfgTable compute_dfg_table(int size, int samples_per_axis) {
@@ -62,9 +79,12 @@ DfgTable compute_dfg_table(int size, int samples_per_axis) {
     table.size = size;
     table.texels.resize(std::size_t(size) * std::size_t(size));
     tbb::parallel_for(0, size, [&](int j) {
-        for (int i = 0; i < size; ++i)
+        for (int i = 0; i < size; ++i) {
+            const double n_dot_v = (i + 0.5) / size, roughness = (j + 0.5) / size;
             table.texels[std::size_t(j) * std::size_t(size) + std::size_t(i)] =
-                glm::vec3(dfg_integrals((i + 0.5) / size, (j + 0.5) / size, samples_per_axis));
+                glm::vec4(glm::vec3(dfg_integrals(n_dot_v, roughness, samples_per_axis)),
+                          float(ggx_lobe_axis(n_dot_v, roughness, samples_per_axis)));
+        }
     });
     return table;
 }

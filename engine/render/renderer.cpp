@@ -301,7 +301,10 @@ void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered,
     compact_sources_ = split.sources;
     if (!dfg_) {
         const DfgTable table = compute_dfg_table(kDfgTableSize);
-        dfg_ = upload_rgb32f(table.size, table.size, table.texels.data(), GL_CLAMP_TO_EDGE);
+        dfg_ = gl::Texture::create_2d(GL_RGBA32F, table.size, table.size);
+        glTextureSubImage2D(dfg_.id(), 0, 0, 0, table.size, table.size, GL_RGBA, GL_FLOAT, table.texels.data());
+        dfg_.set_filter(GL_LINEAR, GL_LINEAR);
+        dfg_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
     }
 }
 

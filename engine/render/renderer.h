@@ -291,7 +291,7 @@ private:
     std::vector<CompactSource> compact_sources_;  // map space
     std::array<glm::ivec3, kGgxPrefilterLevels> ggx_level_rows_{};
     Hemisphere ggx_hemisphere_ = Hemisphere::full;
-    gl::Texture dfg_;  // (scale, bias, diffuse), RGB32F over (n.v, roughness)
+    gl::Texture dfg_;  // (scale, bias, diffuse, axis), RGBA32F over (n.v, roughness)
     // Drawn into target_: colour and depth with samples_ samples per pixel. At one sample color_ is target_'s
     // colour; with more, target_'s is multisample_color_, resolved into color_ through resolved_.
     int samples_ = 1;
