@@ -116,14 +116,19 @@ bool beyond_lobe(float t, float widened2) {
     return 1.0 - t > kLobeCutoffSquared * widened2 * (1.0 + t);
 }
 
+// Schlick's Fresnel F0 + (1 - F0)(1 - v.h)^5.
+vec3 schlick_fresnel(vec3 f0, float v_dot_h) {
+    float m = 1.0 - max(v_dot_h, 0.0), m2 = m * m;
+    return f0 + (1.0 - f0) * (m2 * m2 * m);
+}
+
 // The BRDF's specular lobe, f cos theta at w for the normal n and the view v (cos_theta = n.w): F D V n.l.
 vec3 brdf_lobe(Surface s, vec3 n, vec3 v, float n_dot_v, vec3 w, float cos_theta, float widened2) {
     if (cos_theta <= 0.0) return vec3(0.0);
     vec3 h = normalize(v + w);
-    float m = 1.0 - max(dot(v, h), 0.0), m2 = m * m;
-    vec3 fresnel = s.gltf.f0 + (1.0 - s.gltf.f0) * (m2 * m2 * m);
-    return fresnel * (ggx_distribution(max(dot(n, h), 0.0), widened2) *
-                      smith_visibility(cos_theta, max(n_dot_v, 1e-4), s.gltf.alpha2) * cos_theta);
+    float d_v = ggx_distribution(max(dot(n, h), 0.0), widened2) *
+                smith_visibility(cos_theta, max(n_dot_v, 1e-4), s.gltf.alpha2);
+    return schlick_fresnel(s.gltf.f0, dot(v, h)) * (d_v * cos_theta);
 }
 
 // The lobe widened by the pixel's footprint (the normal's turn across it, footprint2 in alpha^2): the glint lies
@@ -135,10 +140,9 @@ vec3 brdf_lobe_over_footprint(Surface s, vec3 n, vec3 v, vec3 w, float widened2,
     vec3 at_glint = normalize(mix(n, h, footprint2 / (widened2 + footprint2)));
     float n_dot_v = dot(at_glint, v), cos_theta = dot(at_glint, w);
     if (cos_theta <= 0.0 || n_dot_v <= 0.0) return vec3(0.0);
-    float m = 1.0 - max(dot(v, h), 0.0), m2 = m * m;
-    vec3 fresnel = s.gltf.f0 + (1.0 - s.gltf.f0) * (m2 * m2 * m);
-    return fresnel * (ggx_distribution(max(dot(n, h), 0.0), widened2 + footprint2) *
-                      smith_visibility(cos_theta, n_dot_v, s.gltf.alpha2) * cos_theta);
+    float d_v = ggx_distribution(max(dot(n, h), 0.0), widened2 + footprint2) *
+                smith_visibility(cos_theta, n_dot_v, s.gltf.alpha2);
+    return schlick_fresnel(s.gltf.f0, dot(v, h)) * (d_v * cos_theta);
 }
 
 vec3 brdf_lobe(Surface s, vec3 w, float cos_theta, float widened2) {

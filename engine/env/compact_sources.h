@@ -27,7 +27,7 @@ struct CompactSource {
 };
 
 struct CompactSourceSplit {
-    EnvironmentMap rest;  // the map with each source's texels black
+    EnvironmentMap rest;                 // the map with each source's texels black
     std::vector<CompactSource> sources;  // brightest first
 };
 
