@@ -222,9 +222,13 @@ vec3 compact_source_lobes(Surface s) {
         float t = dot(r, w);
         if (beyond_lobe(t, widened2 + footprint2)) continue;
         bool in_grid_reach = 1.0 - t <= kGridReach * kGridReach * (widened2 + footprint2) * (1.0 + t);
-        vec3 lobe = footprint2 > kFootprintOverLobe * widened2 && in_grid_reach
-                        ? brdf_lobe_over_pixel(s, w, widened2, footprint2)
-                        : brdf_lobe_over_footprint(s, n, v, w, widened2, footprint2);
+        vec3 lobe;
+        if (footprint2 <= kFootprintOverLobe * widened2)
+            lobe = brdf_lobe_over_footprint(s, n, v, w, widened2, footprint2);
+        else if (in_grid_reach)
+            lobe = brdf_lobe_over_pixel(s, w, widened2, footprint2);
+        else  // the tail, smooth over the pixel: its value at the centre, not widened (which raises the tail)
+            lobe = brdf_lobe_over_footprint(s, n, v, w, widened2, 0.0);
         brdf += u_compact_radiances[k].rgb * lobe;
     }
     return brdf;

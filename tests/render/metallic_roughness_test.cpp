@@ -285,16 +285,25 @@ TEST_P(MetallicRoughnessTest, ASmoothMetalsGlintHoldsTheSunOnceInItsPixels) {
     for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x)
             if (truth.at(x, y).g > truth.at(peak_x, peak_y).g) peak_x = x, peak_y = y;
-    double rendered = 0.0, expected = 0.0;
+    double rendered = 0.0, expected = 0.0, rendered_ring = 0.0, expected_ring = 0.0;
     for (int y = peak_y - 2; y <= peak_y + 2; ++y)
         for (int x = peak_x - 2; x <= peak_x + 2; ++x) {
             rendered += image.at(x, y).g;
             expected += truth.at(x, y).g;
+            if (std::max(std::abs(x - peak_x), std::abs(y - peak_y)) == 2) {
+                rendered_ring += image.at(x, y).g;
+                expected_ring += truth.at(x, y).g;
+            }
         }
     const double error = reference::compare_images(truth, image).rel_rmse;
-    std::printf("gold, roughness 0.08: the glint's light %.3f of the reference's, relative RMSE %.4f\n",
-                rendered / expected, error);
+    std::printf(
+        "gold, roughness 0.08: the glint's light %.3f of the reference's (%.3f two pixels out), relative RMSE "
+        "%.4f\n",
+        rendered / expected, rendered_ring / expected_ring, error);
     EXPECT_NEAR(rendered / expected, 1.0, 0.05);
+    // Its tail two pixels out: 1.19 of the reference's while the lobe beyond the pixel grid was widened by the
+    // footprint (docs/DESIGN.md §11, *Compact sources*), 1.05 taken at the pixel's centre unwidened.
+    EXPECT_NEAR(rendered_ring / expected_ring, 1.0, 0.08);
     EXPECT_LT(error, 0.12);
 }
 
