@@ -122,7 +122,8 @@ vec3 schlick_fresnel(vec3 f0, float v_dot_h) {
     return f0 + (1.0 - f0) * (m2 * m2 * m);
 }
 
-// The BRDF's specular lobe, f cos theta at w for the normal n and the view v (cos_theta = n.w): F D V n.l.
+// The BRDF's specular lobe, f cos theta at w for the view v: F D V n.l, with D at the normal n and V and the
+// cosine at the n.v and n.l given (cos_theta; those of n itself, but for brdf_lobe_over_footprint).
 vec3 brdf_lobe(Surface s, vec3 n, vec3 v, float n_dot_v, vec3 w, float cos_theta, float widened2) {
     if (cos_theta <= 0.0) return vec3(0.0);
     vec3 h = normalize(v + w);
@@ -136,13 +137,10 @@ vec3 brdf_lobe(Surface s, vec3 n, vec3 v, float n_dot_v, vec3 w, float cos_theta
 // n moved towards h by the footprint's share of the widened width (the two spreads' product), D at n itself. At
 // n's own n.v they blew up where the footprint reaches over a silhouette (V ~ 1 / (2 alpha n.l) at n.v = 0).
 vec3 brdf_lobe_over_footprint(Surface s, vec3 n, vec3 v, vec3 w, float widened2, float footprint2) {
-    vec3 h = normalize(v + w);
-    vec3 at_glint = normalize(mix(n, h, footprint2 / (widened2 + footprint2)));
-    float n_dot_v = dot(at_glint, v), cos_theta = dot(at_glint, w);
-    if (cos_theta <= 0.0 || n_dot_v <= 0.0) return vec3(0.0);
-    float d_v = ggx_distribution(max(dot(n, h), 0.0), widened2 + footprint2) *
-                smith_visibility(cos_theta, n_dot_v, s.gltf.alpha2);
-    return schlick_fresnel(s.gltf.f0, dot(v, h)) * (d_v * cos_theta);
+    vec3 at_glint = normalize(mix(n, normalize(v + w), footprint2 / (widened2 + footprint2)));
+    float n_dot_v = dot(at_glint, v);
+    if (n_dot_v <= 0.0) return vec3(0.0);
+    return brdf_lobe(s, n, v, n_dot_v, w, dot(at_glint, w), widened2 + footprint2);
 }
 
 vec3 brdf_lobe(Surface s, vec3 w, float cos_theta, float widened2) {

@@ -13,12 +13,13 @@
 
 namespace envshadow {
 
-glm::dvec3 dfg_integrals(double n_dot_v, double roughness, int samples_per_axis) {
+glm::dvec4 dfg_texel(double n_dot_v, double roughness, int samples_per_axis) {
     const double alpha = gltf_brdf::alpha_from_roughness(roughness);
     const glm::dvec3 n(0.0, 0.0, 1.0);
     const glm::dvec3 v(std::sqrt(std::max(0.0, 1.0 - n_dot_v * n_dot_v)), 0.0, n_dot_v);
     const double view_masking = gltf_brdf::smith_masking(n_dot_v, alpha);
     double scale = 0.0, bias = 0.0, diffuse = 0.0;
+    glm::dvec3 moment(0.0);  // of D V n.l dl: the lobe's centroid
     // u1 = 1 - (1 - w)^2 with w at the strata's midpoints, weighted by du1/dw = 2 (1 - w): the visible normals'
     // map has sqrt(1 - u1) in it, so plain midpoints in u1 leave the last ring of strata at the horizon (1.6% off
     // at n.v = 1, roughness 0.3, 64 samples per axis).
@@ -36,30 +37,22 @@ glm::dvec3 dfg_integrals(double n_dot_v, double roughness, int samples_per_axis)
                     4.0 * gltf_brdf::smith_visibility(l.z, n_dot_v, alpha) * l.z * n_dot_v / view_masking;
                 scale += stratum * (1.0 - s) * weight;
                 bias += stratum * s * weight;
+                moment += stratum * weight * l;
             }
             // (1 - s) n.l / pi over the cosine's density n.l / pi.
             const double radius = std::sqrt(u1), phi = 2.0 * std::numbers::pi * u2;
             const glm::dvec3 c(radius * std::cos(phi), radius * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - u1)));
             diffuse += stratum * (1.0 - gltf_brdf::schlick_weight(glm::dot(v, glm::normalize(v + c))));
         }
-    return glm::dvec3(scale, bias, diffuse) / total_weight;
+    const double to_mirror = std::acos(std::clamp(n_dot_v, -1.0, 1.0));  // r is v mirrored about n
+    const double axis = to_mirror > 0.0 && glm::length(moment) > 0.0
+                            ? std::acos(std::clamp(glm::normalize(moment).z, -1.0, 1.0)) / to_mirror
+                            : 1.0;
+    return glm::dvec4(glm::dvec3(scale, bias, diffuse) / total_weight, axis);
 }
 
-double ggx_lobe_axis(double n_dot_v, double roughness, int samples_per_axis) {
-    const double alpha = gltf_brdf::alpha_from_roughness(roughness);
-    const glm::dvec3 n(0.0, 0.0, 1.0);
-    const glm::dvec3 v(std::sqrt(std::max(0.0, 1.0 - n_dot_v * n_dot_v)), 0.0, n_dot_v);
-    glm::dvec3 moment(0.0);
-    for (int a = 0; a < samples_per_axis; ++a)
-        for (int b = 0; b < samples_per_axis; ++b) {
-            const double w = (a + 0.5) / samples_per_axis, u2 = (b + 0.5) / samples_per_axis;
-            const double u1 = 1.0 - (1.0 - w) * (1.0 - w), stratum = 2.0 * (1.0 - w);
-            const glm::dvec3 l = gltf_brdf::sample_ggx_reflection(n, v, alpha, u1, u2).direction;
-            if (l.z > 0.0) moment += stratum * gltf_brdf::smith_visibility(l.z, n_dot_v, alpha) * l.z * l;
-        }
-    const double to_mirror = std::acos(std::clamp(n_dot_v, -1.0, 1.0));  // r is v mirrored about n
-    if (!(to_mirror > 0.0) || !(glm::length(moment) > 0.0)) return 1.0;
-    return std::acos(std::clamp(glm::normalize(moment).z, -1.0, 1.0)) / to_mirror;
+glm::dvec3 dfg_integrals(double n_dot_v, double roughness, int samples_per_axis) {
+    return glm::dvec3(dfg_texel(n_dot_v, roughness, samples_per_axis));
 }
 
 glm::vec4 DfgTable::lookup(double n_dot_v, double roughness) const {
@@ -79,12 +72,9 @@ DfgTable compute_dfg_table(int size, int samples_per_axis) {
     table.size = size;
     table.texels.resize(std::size_t(size) * std::size_t(size));
     tbb::parallel_for(0, size, [&](int j) {
-        for (int i = 0; i < size; ++i) {
-            const double n_dot_v = (i + 0.5) / size, roughness = (j + 0.5) / size;
+        for (int i = 0; i < size; ++i)
             table.texels[std::size_t(j) * std::size_t(size) + std::size_t(i)] =
-                glm::vec4(glm::vec3(dfg_integrals(n_dot_v, roughness, samples_per_axis)),
-                          float(ggx_lobe_axis(n_dot_v, roughness, samples_per_axis)));
-        }
+                glm::vec4(dfg_texel((i + 0.5) / size, (j + 0.5) / size, samples_per_axis));
     });
     return table;
 }

@@ -20,8 +20,9 @@ namespace envshadow {
 // stratum midpoints.
 glm::dvec3 dfg_integrals(double n_dot_v, double roughness, int samples_per_axis);
 
-// axis at one point, n_dot_v in (0, 1), by the same visible-normal strata.
-double ggx_lobe_axis(double n_dot_v, double roughness, int samples_per_axis);
+// (scale, bias, diffuse, axis) at one point, n_dot_v in (0, 1): the integrals above and the lobe's centroid from
+// the same strata, in one pass.
+glm::dvec4 dfg_texel(double n_dot_v, double roughness, int samples_per_axis);
 
 struct DfgTable {
     int size = 0;

@@ -229,12 +229,15 @@ void Renderer::set_material(std::size_t object, const Material& material) {
 
 namespace {
 
-// An RGB32F table, bilinear, clamped in v. A prefiltered level repeats in u (lat-long, as the map: u wraps,
-// v stops at the poles); the DFG table clamps in both (texel centres at (i + 0.5) / size, as DfgTable::lookup).
-gl::Texture upload_rgb32f(int width, int height, const glm::vec3* texels, GLenum wrap_s = GL_REPEAT) {
-    gl::Texture texture = gl::Texture::create_2d(GL_RGB32F, width, height);
+// An RGB32F (glm::vec3 texels) or RGBA32F (glm::vec4) table, bilinear, clamped in v. A prefiltered level repeats
+// in u (lat-long, as the map: u wraps, v stops at the poles); the DFG table clamps in both (texel centres at
+// (i + 0.5) / size, as DfgTable::lookup).
+template <typename Texel>
+gl::Texture upload_float_texels(int width, int height, const Texel* texels, GLenum wrap_s = GL_REPEAT) {
+    constexpr bool rgba = Texel::length() == 4;
+    gl::Texture texture = gl::Texture::create_2d(rgba ? GL_RGBA32F : GL_RGB32F, width, height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, GL_RGB, GL_FLOAT, texels);
+    glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, rgba ? GL_RGBA : GL_RGB, GL_FLOAT, texels);
     texture.set_filter(GL_LINEAR, GL_LINEAR);
     texture.set_wrap(wrap_s, GL_CLAMP_TO_EDGE);
     return texture;
@@ -246,14 +249,14 @@ constexpr int kDfgTableSize = 32;
 }  // namespace
 
 void Renderer::set_environment(const EnvironmentMap& map) {
-    environment_ = upload_rgb32f(map.width, map.height, map.texels.data());  // u wraps around the sphere
+    environment_ = upload_float_texels(map.width, map.height, map.texels.data());  // u wraps around the sphere
 }
 
 void Renderer::set_prefiltered(const PrefilteredEnvironment& prefiltered) {
     prefiltered_.clear();
     prefiltered_levels_ = {};
     for (const PrefilteredLevel& level : prefiltered.levels) {
-        prefiltered_.push_back(upload_rgb32f(level.width, level.height, level.texels.data()));
+        prefiltered_.push_back(upload_float_texels(level.width, level.height, level.texels.data()));
         PrefilteredLevel& kept = prefiltered_levels_.levels.emplace_back();
         kept.shininess = level.shininess;
         kept.width = level.width;
@@ -296,15 +299,13 @@ void Renderer::set_ggx_prefiltered(const GgxPrefilteredEnvironment& prefiltered,
     ggx_level_texels_.set_filter(GL_LINEAR, GL_LINEAR);
     ggx_level_texels_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);  // never reached: each level's rows wrap
     // The split sum's mirror: the map without its sources; a map without any is its own (environment_).
-    ggx_mirror_ = split.sources.empty() ? gl::Texture{}
-                                        : upload_rgb32f(split.rest.width, split.rest.height, split.rest.texels.data());
+    ggx_mirror_ = split.sources.empty()
+                      ? gl::Texture{}
+                      : upload_float_texels(split.rest.width, split.rest.height, split.rest.texels.data());
     compact_sources_ = split.sources;
     if (!dfg_) {
         const DfgTable table = compute_dfg_table(kDfgTableSize);
-        dfg_ = gl::Texture::create_2d(GL_RGBA32F, table.size, table.size);
-        glTextureSubImage2D(dfg_.id(), 0, 0, 0, table.size, table.size, GL_RGBA, GL_FLOAT, table.texels.data());
-        dfg_.set_filter(GL_LINEAR, GL_LINEAR);
-        dfg_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+        dfg_ = upload_float_texels(table.size, table.size, table.texels.data(), GL_CLAMP_TO_EDGE);
     }
 }
 
