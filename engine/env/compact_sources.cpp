@@ -16,8 +16,9 @@ namespace {
 struct Region {
     std::vector<std::size_t> texels;
     glm::dvec3 radiance{0.0};       // L dw
-    glm::dvec3 moment{0.0};         // excess luminance dw times the direction
-    double excess_luminance = 0.0;  // excess luminance dw (over the threshold)
+    glm::dvec3 moment{0.0};         // luminance dw times the direction
+    glm::dvec3 excess_moment{0.0};  // the same of the excess over the threshold
+    double excess_luminance = 0.0;  // excess luminance dw
 };
 
 }  // namespace
@@ -55,7 +56,9 @@ CompactSourceSplit split_compact_sources(const EnvironmentMap& map, Hemisphere h
                 const double dw = hemisphere_texel_solid_angle(j, width, map.height, hemisphere);
                 region.radiance += radiance * dw;
                 region.excess_luminance += (luminance - threshold) * dw;
-                region.moment += (luminance - threshold) * dw * latlong::texel_direction(i, j, width, map.height);
+                const glm::dvec3 direction = latlong::texel_direction(i, j, width, map.height);
+                region.moment += luminance * dw * direction;
+                region.excess_moment += (luminance - threshold) * dw * direction;
                 const std::pair<int, int> neighbours[] = {
                     {(i + 1) % width, j}, {(i + width - 1) % width, j}, {i, j - 1}, {i, j + 1}};
                 for (const auto& [ni, nj] : neighbours) {
@@ -71,9 +74,10 @@ CompactSourceSplit split_compact_sources(const EnvironmentMap& map, Hemisphere h
     std::vector<std::pair<CompactSource, const Region*>> kept;
     for (const Region& region : regions) {
         if (!(region.excess_luminance > 0.0) || glm::length(region.moment) <= 0.0) continue;
+        // The centre of the light taken (the glint lies there); the spread about it of the excess, the part
+        // that makes the source compact: the cap with the same mean cosine (decompose.cpp's).
         const glm::dvec3 centre = glm::normalize(region.moment);
-        // Mean cosine about the centre, excess weighted; the cap with the same mean cosine (decompose.cpp's).
-        const double mean_cos = glm::dot(centre, region.moment) / region.excess_luminance;
+        const double mean_cos = glm::dot(centre, region.excess_moment) / region.excess_luminance;
         const double cos_radius = std::clamp(2.0 * mean_cos - 1.0, -1.0, 1.0);
         if (cos_radius < min_cos_radius) continue;
         kept.push_back({CompactSource{glm::vec3(centre), float(cos_radius), glm::vec3(region.radiance)}, &region});

@@ -64,6 +64,26 @@ TEST(CompactSources, CarryWhatTheyTakeFromTheMap) {
     for (const glm::vec3& texel : split.rest.texels) EXPECT_TRUE(texel.g == 0.0f || texel.g == 1.2f);
 }
 
+TEST(CompactSources, SitAtTheCentreOfTheLightTheyTake) {
+    // A sun with a glow on one side, the glow at twice the threshold (about 4.1): the source takes both whole,
+    // so its direction is their light's centre, not the centre of the excess over the threshold (0.25 degrees
+    // nearer the core here).
+    const glm::dvec3 core = glm::normalize(glm::dvec3(0.3, 0.9, -0.2));
+    const glm::dvec3 side = glm::normalize(glm::cross(core, glm::dvec3(0.0, 0.0, 1.0)));
+    const glm::dvec3 glow = std::cos(3.0 * kDegree) * core + std::sin(3.0 * kDegree) * side;
+    const double core_radiance = 100.0, glow_radiance = 8.0;
+    const EnvironmentMap map = sky_with_discs(
+        glm::vec3(1.0f), {{glow, 2.0, glm::vec3(float(glow_radiance))}, {core, 1.0, glm::vec3(float(core_radiance))}},
+        2048);
+    const CompactSourceSplit split = split_compact_sources(map, Hemisphere::full);
+    ASSERT_EQ(split.sources.size(), 1u);
+    const auto cap = [](double radius_degrees) {
+        return 2.0 * std::numbers::pi * (1.0 - std::cos(radius_degrees * kDegree));
+    };
+    const glm::dvec3 expected = glm::normalize(core_radiance * cap(1.0) * core + glow_radiance * cap(2.0) * glow);
+    EXPECT_LT(std::acos(std::min(1.0, glm::dot(glm::dvec3(split.sources[0].direction), expected))) / kDegree, 0.06);
+}
+
 TEST(CompactSources, AreTheBrightestFourSmallOnes) {
     // Six suns of increasing power, and a bright region too wide to be a source (10 degrees).
     std::initializer_list<Disc> discs = {
