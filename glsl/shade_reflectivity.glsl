@@ -200,7 +200,8 @@ vec3 brdf_lobe_over_pixel(Surface s, vec3 w, float widened2, float footprint2) {
 // the normal against the half vector). The split sum's lobe is round about r; the BRDF's, seen off the normal,
 // is narrower and higher (by about 1 / n.v at its peak), so a sun's highlight needs its true shape. Where the
 // footprint is wide against the lobe the lobe is averaged over the pixel instead (brdf_lobe_over_pixel): a
-// glint smaller than the pixel is its mean over the pixel, not its value at the sample.
+// glint smaller than the pixel is its mean over the pixel, not its value at the sample. The whole lobe, without
+// the cells' cut-off (beyond_lobe): a sun's tail beyond it holds 1/37 of its light.
 vec3 compact_source_lobes(Surface s) {
     // At the pixel's centre, the same for every sample of the pixel the shader runs for; at the sample where the
     // centre lies past the silhouette (the normal carried there faces away).
@@ -218,7 +219,6 @@ vec3 compact_source_lobes(Surface s) {
         float footprint2 = (dot(dm_dx, dm_dx) + dot(dm_dy, dm_dy)) / (2.0 * PI);
         float widened2 = s.gltf.alpha2 + (1.0 - u_compact_directions[k].w) / 2.0;
         float t = dot(r, w);
-        if (beyond_lobe(t, widened2 + footprint2)) continue;
         bool in_grid_reach = 1.0 - t <= kGridReach * kGridReach * (widened2 + footprint2) * (1.0 + t);
         vec3 lobe;
         if (footprint2 <= kFootprintOverLobe * widened2)
