@@ -1,11 +1,13 @@
 #version 450 core
-// The environment behind the objects: each pixel's direction from the inverse view-projection,
-// rotated into map space, looked up in the lat-long map. Computed per pixel, so there is no pinch
+// The environment behind the objects: each sample's direction from the inverse view-projection,
+// rotated into map space, looked up in the lat-long map. Computed per sample (v_ndc is interpolated
+// there), so that with MSAA a pixel is the map's mean over it, as the box-filtered reference takes
+// it, and a pixel an object covers in part shows the map beside the object; no pinch
 // at the poles; the map repeats in u (no seam at the wrap) and is clamped in v; no mipmaps, so the
 // jump of u at the wrap cannot select a blurry level.
 #include "latlong.glsl"
 
-layout(location = 0) in vec2 v_ndc;
+layout(location = 0) sample in vec2 v_ndc;
 
 layout(location = LOC_DIRECTION_FROM_CLIP) uniform mat4 u_direction_from_clip;  // world_from_view (rotation) * view_from_clip
 layout(location = LOC_MAP_FROM_WORLD) uniform mat3 u_map_from_world;

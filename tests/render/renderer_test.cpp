@@ -566,6 +566,48 @@ TEST_P(RendererTest, ReportsTheAtlasAndThePasses) {
     EXPECT_EQ(image.at(32, 32).a, 1.0f);  // object
 }
 
+// With multisampling the background is the map's mean over the pixel's samples, as the box-filtered reference
+// takes it, not its value at the pixel's centre: behind an edge of the map's radiance (here a meridian from black
+// to white, 0.03 degrees a texel against 0.6 a pixel) a pixel the edge crosses takes the share of its samples on
+// either side. At its centre alone the edge showed as a hard step, and a pixel an object covers in part showed
+// the map where the object is instead of beside it.
+TEST_P(RendererTest, MultisampledBackgroundIsTheMapsMeanOverThePixel) {
+    EnvironmentMap map;
+    map.width = 8192;
+    map.height = 4096;
+    map.texels.resize(std::size_t(map.width) * std::size_t(map.height));
+    for (int j = 0; j < map.height; ++j)
+        for (int i = 0; i < map.width; ++i) map.at(i, j) = glm::vec3(i >= map.width / 2 ? 1.0f : 0.0f);
+    Scene scene;  // one small sphere, out of the edge's way
+    scene.objects.push_back(make_object(mesh_of(SphereShape{0.05f, 8}), glm::vec3(-1.0f, -0.3f, 0.4f), diffuse(0.5f)));
+    RenderSettings settings;
+    settings.msaa = 4;
+    Renderer renderer(settings);
+    renderer.set_scene(scene);
+    renderer.set_lights(cells_of("builtin:constant", 8));
+    renderer.set_environment(map);
+    // Looking along -x (u = 1/2, the edge) and up a little, so that the meridian crosses the rows aslant.
+    constexpr int kSize = 64;
+    renderer.render(0.0, look_at(glm::vec3(0.0f), {-1.0f, 0.5f, 0.02f}, kSize, kSize));
+    const Image image = renderer.read_back();
+    int rows_with_edge = 0, rows_with_share = 0;
+    for (int y = 0; y < kSize; ++y) {
+        bool dark = false, light = false, share = false;
+        for (int x = 0; x < kSize; ++x) {
+            const glm::vec4 p = image.at(x, y);
+            if (p.a != 0.0f) continue;
+            dark |= p.r < 0.01f;
+            light |= p.r > 0.99f;
+            share |= p.r > 0.2f && p.r < 0.8f;
+        }
+        rows_with_edge += dark && light;
+        rows_with_share += dark && light && share;
+    }
+    EXPECT_GT(rows_with_edge, kSize / 2);
+    // Four samples at offsets 1/8 and 3/8 from the centre: an edge crossing a pixel splits them in most rows.
+    EXPECT_GT(rows_with_share, rows_with_edge / 2) << rows_with_edge << " rows cross the edge";
+}
+
 // The optimisations (docs/PERFORMANCE.md) against the first working renderer (RenderSettings baseline()): a figure
 // standing on the ground beside a sphere, 40 lights of the sky, each optimisation alone and all
 // together. The caster LOD must draw fewer triangles and stay within 45 dB of the full casters (the
