@@ -61,14 +61,26 @@ vec2 soft_visibility(Surface s, int i, TileLookup lookup, float hard) {
     if (blockers == float(kBlockerTaps) && hard == 0.0) return vec2(0.0);
     vec2 radius = per_depth * max(lookup.depth - closest_blocker, 0.0);
     if (max(radius.x, radius.y) < 1.0) return vec2(hard, 0.0);  // the penumbra is under a texel
-    float sum = 0.0;
+    // Each tap is a direction of the cap, w + tan r (t.x e_x + t.y e_y) for the tap t of the unit disc and the
+    // tile's axes e_x, e_y, weighted by the receiver's cosine there: where an edge cuts the cap, the part it
+    // leaves lies to one side of w, and its cosine is not w's.
+    float cos_r = light.direction.w;
+    float tan_r = sqrt(max(1.0 - cos_r * cos_r, 0.0)) / max(cos_r, 1e-4);
+    mat3 m = mat3(light.clip_from_world);
+    vec2 lateral = tan_r * vec2(dot(s.normal, normalize(vec3(m[0][0], m[1][0], m[2][0]))),
+                                dot(s.normal, normalize(vec3(m[0][1], m[1][1], m[2][1]))));
+    float cos_w = dot(s.normal, light.direction.xyz);
+    float sum = 0.0, weights = 0.0;
     direction = first_direction;
     for (int k = 0; k < kFilterTaps; ++k) {
-        vec2 offset = vogel_tap(direction, k, kFilterTaps) * radius;
-        sum += plane_pcf(clamp(lookup.unclamped + offset * u_atlas_texel, lo, hi), lookup.depth + dot(slope, offset),
-                         lookup.slope);
+        vec2 tap = vogel_tap(direction, k, kFilterTaps);
+        vec2 offset = tap * radius;
+        float weight = max(cos_w + dot(tap, lateral), 0.0);
+        sum += weight * plane_pcf(clamp(lookup.unclamped + offset * u_atlas_texel, lo, hi),
+                                  lookup.depth + dot(slope, offset), lookup.slope);
+        weights += weight;
     }
     // The part through empty texels: the lit taps' share that read none in the search.
-    float v = sum / float(kFilterTaps);
+    float v = weights > 0.0 ? sum / weights : 0.0;
     return vec2(v, v * empty / max(float(kBlockerTaps) - blockers, 1.0));
 }

@@ -5,7 +5,9 @@
 // penumbra's light.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include <glm/ext/matrix_clip_space.hpp>
@@ -209,6 +211,90 @@ TEST_P(SoftShadowsTest, UnderAUniformSkyTheBoundKeepsTheOpenPenumbrasLight) {
     ASSERT_GT(hard, 0.0f);
     EXPECT_GT(soft / hard, 0.985f) << "hard " << hard << ", soft " << soft;
     EXPECT_LT(soft / hard, 1.03f) << "hard " << hard << ", soft " << soft;
+}
+
+// Where an edge cuts a cell's cap, the part that passes lies to one side of the cell's direction, and the
+// receiver's cosine there is not the direction's: each filter tap is a direction of the cap and counts by
+// its cosine (docs/DESIGN.md §5.9). A cell at 30 degrees from +x, cap 0.3 rad, and the ground where its
+// centre grazes an edge, so that half the cap passes: under a long slab's lower edge the high half is hidden
+// and the low half's cosine passes, 0.39 of the cap's; behind a low wall's top the low half is hidden, 0.61.
+// The solid angle's share is 0.5 at both (the unweighted filter's).
+bool hits_box(glm::vec3 origin, glm::vec3 direction, glm::vec3 lo, glm::vec3 hi) {
+    float near = 1e-5f, far = 1e30f;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (std::abs(direction[axis]) < 1e-9f) {
+            if (origin[axis] < lo[axis] || origin[axis] > hi[axis]) return false;
+            continue;
+        }
+        float t0 = (lo[axis] - origin[axis]) / direction[axis], t1 = (hi[axis] - origin[axis]) / direction[axis];
+        if (t0 > t1) std::swap(t0, t1);
+        near = std::max(near, t0);
+        far = std::min(far, t1);
+    }
+    return near <= far;
+}
+
+TEST_P(SoftShadowsTest, AnEdgeCuttingTheCapPassesItsPartsCosine) {
+    const float elevation = glm::radians(30.0f), radius = 0.3f;
+    const glm::vec3 towards(std::cos(elevation), std::sin(elevation), 0.0f);
+    const Cell cell = cell_towards(towards, radius);
+    struct Caster {
+        glm::vec3 lo, hi;
+    };
+    const Caster slab{{-0.5f, 1.0f, -2.0f}, {0.5f, 1.1f, 2.0f}};  // its lower edge at x = 0.5, y = 1
+    const Caster wall{{0.5f, 0.0f, 3.0f}, {0.6f, 0.5f, 7.0f}};    // its top edge at x = 0.5, y = 0.5
+    Scene scene;
+    scene.has_ground = true;
+    scene.objects.push_back(ground(20.0f, false));
+    for (const Caster& c : {slab, wall}) scene.objects.push_back(box(c.hi - c.lo, 0.5f * (c.lo + c.hi)));
+    const render::CameraView view = look_at({-1.0f, 6.0f, -3.0f}, {-0.8f, 0.0f, 2.5f});
+    const Image image = render_one(scene, cell, render::ShadowMode::soft, view);
+    const Image lit_image = [&] {  // the same light with nothing to cast
+        Scene open;
+        open.has_ground = true;
+        open.objects.push_back(ground(20.0f, false));
+        return render_one(open, cell, render::ShadowMode::soft, view);
+    }();
+    // The cap's directions, uniform in solid angle (a Fibonacci spiral).
+    const glm::vec3 up_axis(-towards.y, towards.x, 0.0f), side_axis(0.0f, 0.0f, 1.0f);
+    std::vector<glm::vec3> cap;
+    constexpr int kCapDirections = 4000;
+    for (int i = 0; i < kCapDirections; ++i) {
+        const float c = 1.0f - (1.0f - std::cos(radius)) * (float(i) + 0.5f) / float(kCapDirections);
+        const float phi = std::numbers::pi_v<float> * (1.0f + std::sqrt(5.0f)) * (float(i) + 0.5f);
+        const float sine = std::sqrt(1.0f - c * c);
+        cap.push_back(c * towards + sine * (std::cos(phi) * up_axis + std::sin(phi) * side_axis));
+    }
+    // Over 3 x 9 ground points about (x, 0, z): the render's light over the open ground's, and the cap's shares
+    // that pass, (solid angle, cosine).
+    auto measure = [&](float x, float z) {
+        float rendered = 0.0f;
+        glm::vec2 share(0.0f);
+        for (int i = -1; i <= 1; ++i)
+            for (int k = -4; k <= 4; ++k) {
+                const glm::vec3 p(x + 0.02f * float(i), 0.0f, z + 0.05f * float(k));
+                const glm::ivec2 px = pixel_of(view, p);
+                rendered += image.at(px.x, px.y).g / lit_image.at(px.x, px.y).g / 27.0f;
+                float passes = 0.0f, cosine = 0.0f, cosine_all = 0.0f;
+                for (const glm::vec3& w : cap) {
+                    const bool open = !hits_box(p, w, slab.lo, slab.hi) && !hits_box(p, w, wall.lo, wall.hi);
+                    passes += open ? 1.0f : 0.0f;
+                    cosine += open ? w.y : 0.0f;
+                    cosine_all += w.y;
+                }
+                share += glm::vec2(passes / float(cap.size()), cosine / cosine_all) / 27.0f;
+            }
+        return std::pair{rendered, share};
+    };
+    const float under_slab = 0.5f - 1.0f / std::tan(elevation), behind_wall = 0.5f - 0.5f / std::tan(elevation);
+    for (const auto& [x, z] : {std::pair{under_slab, 0.0f}, std::pair{behind_wall, 5.0f}}) {
+        const auto [rendered, share] = measure(x, z);
+        std::printf("ground at (%.2f, 0, %.1f): render %.3f, the solid angle's share %.3f, the cosine's %.3f\n", x, z,
+                    rendered, share.x, share.y);
+        EXPECT_NEAR(share.x, 0.5f, 0.05f);
+        EXPECT_GT(std::abs(share.y - share.x), 0.08f);
+        EXPECT_LT(std::abs(rendered - share.y), 0.5f * std::abs(rendered - share.x)) << "at x " << x;
+    }
 }
 
 }  // namespace
