@@ -222,9 +222,23 @@ void Renderer::set_scene(const Scene& scene, const std::function<void(std::size_
     select_lights();
 }
 
+namespace {
+
+// Whether two materials give their caster the same depths in the opaque atlas: drawn there or not (blended
+// casters go to the translucent layer), and cut out alike.
+bool casts_alike(const Material& a, const Material& b) {
+    return a.masked() == b.masked() && a.blended() == b.blended() &&
+           (!a.masked() || (a.alpha_cutoff == b.alpha_cutoff && a.base_alpha == b.base_alpha));
+}
+
+}  // namespace
+
 void Renderer::set_material(std::size_t object, const Material& material) {
-    if (object < instance_of_object_.size() && instance_of_object_[object] >= 0)
-        planner_.set_material(std::size_t(instance_of_object_[object]), material);
+    if (object >= instance_of_object_.size() || instance_of_object_[object] < 0) return;
+    const auto instance = std::size_t(instance_of_object_[object]);
+    if (!casts_alike(planner_.objects()[instance].object.material, material))
+        ++content_version_;  // the shadow cache holds the caster as it was cut
+    planner_.set_material(instance, material);
 }
 
 namespace {
@@ -488,8 +502,13 @@ void Renderer::draw_opaque_atlas(const FramePlan& plan, FrameStats& stats) {
     atlas_triangles_ = 0;
     int moving = 0;
     for (std::size_t i = 0; i < plan.objects.size(); ++i) moving += plan.objects[i].casts_shadows && moves(i);
-    const AtlasKey key{plan.fit_version,          content_version_, settings_.caster_lod, settings_.caster_lod_per_tile,
-                       settings_.cull_back_faces, variant_.atlas};
+    const AtlasKey key{plan.fit_version,
+                       content_version_,
+                       settings_.caster_lod,
+                       settings_.caster_lod_per_tile,
+                       settings_.cull_back_faces,
+                       settings_.base_color_texture,
+                       variant_.atlas};
     const std::optional<AtlasKey> last = std::exchange(last_key_, key);
     if (!settings_.shadow_cache || plan.lights.empty()) {
         atlas_holds_static_.reset();

@@ -88,7 +88,8 @@ public:
     // animation) and the environment's rotation. The scene may be destroyed afterwards.
     // `progress` (optional) hears the triangles prepared so far of all there are: seconds per million.
     void set_scene(const Scene& scene, const std::function<void(std::size_t done, std::size_t total)>& progress = {});
-    // Changes the material of scene.objects[object] (as given to set_scene) without re-uploading.
+    // Changes the material of scene.objects[object] (as given to set_scene) without re-uploading; one that cuts
+    // the caster out otherwise renews the shadow cache (docs/DESIGN.md §5.11).
     void set_material(std::size_t object, const Material& material);
     // The lat-long map drawn behind the objects.
     void set_environment(const EnvironmentMap& map);
@@ -268,10 +269,11 @@ private:
     // The shadow cache (docs/DESIGN.md §5.11). What went into a depth layer: the same key, the same depths.
     struct AtlasKey {
         std::uint64_t fit_version = 0;      // FramePlan::fit_version
-        std::uint64_t content_version = 0;  // bumped by set_scene and by a new atlas texture
+        std::uint64_t content_version = 0;  // bumped by set_scene, a new atlas texture and a caster's cut-out
         float caster_lod = 0.0f;
         bool caster_lod_per_tile = false;
         bool cull_back_faces = false;
+        bool base_color_texture = true;  // masked casters cut out by their texture's alpha, or by the factor's
         AtlasMode atlas = AtlasMode::clip_distances;
         bool operator==(const AtlasKey&) const = default;
     };

@@ -114,6 +114,51 @@ TEST_P(AlphaMaskTest, AMaskedCardLooksAndCastsLikeTheHalfItKeeps) {
     }
 }
 
+// The shadow cache keeps a still scene's atlas from frame to frame (docs/DESIGN.md §5.11); what cuts a masked
+// caster is part of what it holds. Switching the base-colour textures off (the viewer's debug view) or making the
+// card opaque by set_material must give the next frame of a fresh renderer with that setting or material: the
+// whole card's shadow, not the half card's kept from the frame before.
+TEST_P(AlphaMaskTest, TheCachedAtlasFollowsWhatCutsTheMaskedCaster) {
+    const Scene scene = card_over_ground(Card::masked);
+    const EnvironmentMap map = load_environment(scene.environment.source);
+    const DecomposeOptions cells{.method = Method::lloyd, .lights = 32, .hemisphere = Hemisphere::upper};
+    const render::CameraView view = render::camera_view(scene, kWidth, kHeight);
+    const auto made = [&](const render::RenderSettings& settings, const Scene& with) {
+        auto renderer = std::make_unique<render::Renderer>(settings);
+        renderer->set_scene(with);
+        renderer->set_environment(map);
+        renderer->set_lights(decompose(map, cells).cells);
+        return renderer;
+    };
+    render::RenderSettings cached;
+    ASSERT_TRUE(cached.shadow_cache);
+    render::RenderSettings untextured = cached;
+    untextured.base_color_texture = false;
+    Scene opaque = scene;
+    opaque.objects[1].material.alpha_mode = AlphaMode::opaque;
+    const auto image_of = [&](const render::RenderSettings& settings, const Scene& with) {
+        const auto renderer = made(settings, with);
+        renderer->render(0.0, view);
+        return renderer->read_back();
+    };
+    const Image masked = image_of(cached, scene);
+    const Image without_textures = image_of(untextured, scene), made_opaque = image_of(cached, opaque);
+    ASSERT_GT(relative_difference(masked, without_textures), 0.02);  // the cut half's shadow and its ground
+    ASSERT_GT(relative_difference(masked, made_opaque), 0.02);
+
+    const auto switching = made(cached, scene);
+    switching->render(0.0, view);
+    switching->set_settings(untextured);
+    switching->render(0.0, view);
+    EXPECT_LT(relative_difference(switching->read_back(), without_textures), 1e-5) << "textures off";
+    switching->set_settings(cached);
+    switching->render(0.0, view);
+    EXPECT_LT(relative_difference(switching->read_back(), masked), 1e-5) << "textures on again";
+    switching->set_material(1, opaque.objects[1].material);
+    switching->render(0.0, view);
+    EXPECT_LT(relative_difference(switching->read_back(), made_opaque), 1e-5) << "the card made opaque";
+}
+
 TEST(AlphaMaskReferenceTest, AMaskedCardLooksAndCastsLikeTheHalfItKeeps) {
     const auto trace = [](Card kind) { return reference_image(card_over_ground(kind), kWidth, kHeight, 0.03); };
     expect_masked_is_the_half_card(trace(Card::masked), trace(Card::left_half), trace(Card::whole), 0.005);
