@@ -1,5 +1,6 @@
 #include "gl/objects.h"
 
+#include <cstdio>
 #include <string>
 
 #include "core/error.h"
@@ -119,10 +120,15 @@ void Framebuffer::attach(GLenum attachment, const Texture& texture, int level) {
     glNamedFramebufferTexture(id(), attachment, texture.id(), level);
 }
 
-void Framebuffer::check_complete(const char* what) const {
+void Framebuffer::check_complete(const std::string& what) const {
     const GLenum status = glCheckNamedFramebufferStatus(id(), GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE)
-        throw PlatformError(std::string(what) + ": framebuffer incomplete (status 0x" + std::to_string(status) + ")");
+    if (status == GL_FRAMEBUFFER_COMPLETE) return;
+    char code[16];
+    std::snprintf(code, sizeof code, "0x%04X", unsigned(status));
+    // An attachment without storage is what a texture too large for the GL's memory leaves.
+    const char* reason =
+        status == GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT ? ", an attachment without storage: too large?" : "";
+    throw PlatformError(what + ": framebuffer incomplete (status " + code + reason + ")");
 }
 
 VertexArray VertexArray::create() {

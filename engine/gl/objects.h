@@ -3,6 +3,7 @@
 // an empty object can be made without a context and its destructor does nothing. Objects are made
 // with direct state access (glCreate*, GL 4.5).
 #include <cstddef>
+#include <string>
 #include <utility>
 
 #include "gl/gl.h"
@@ -95,7 +96,7 @@ public:
     explicit operator bool() const { return id() != 0; }
     void attach(GLenum attachment, const Texture& texture, int level = 0);
     // Throws PlatformError with the status if the framebuffer is incomplete.
-    void check_complete(const char* what) const;
+    void check_complete(const std::string& what) const;
     void bind() const { glBindFramebuffer(GL_FRAMEBUFFER, id()); }
 
 private:

@@ -424,6 +424,15 @@ std::array<GLuint, 4> sample_quarters(const gl::Framebuffer& framebuffer, int sa
 
 }  // namespace
 
+namespace {
+
+std::string target_name(int width, int height, int samples, const char* what) {
+    return std::string(what) + " of " + std::to_string(width) + "x" + std::to_string(height) +
+           (samples > 1 ? " at " + std::to_string(samples) + " samples" : "");
+}
+
+}  // namespace
+
 void Renderer::ensure_target(int width, int height) {
     if (color_ && color_.width() == width && color_.height() == height && depth_.samples() == samples_) return;
     color_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
@@ -434,7 +443,7 @@ void Renderer::ensure_target(int width, int height) {
         target_.attach(GL_COLOR_ATTACHMENT0, multisample_color_);
         resolved_ = gl::Framebuffer::create();
         resolved_.attach(GL_COLOR_ATTACHMENT0, color_);
-        resolved_.check_complete("resolved render target");
+        resolved_.check_complete(target_name(width, height, 1, "resolved render target"));
     } else {
         multisample_color_ = {};
         resolved_ = {};
@@ -447,7 +456,7 @@ void Renderer::ensure_target(int width, int height) {
     tile_lists_ = gl::Buffer::create(std::size_t(screen_tiles_.x) * std::size_t(screen_tiles_.y) *
                                      std::size_t(size::max_lights + 1) * sizeof(std::uint32_t));
     target_.attach(GL_DEPTH_ATTACHMENT, depth_);
-    target_.check_complete("render target");
+    target_.check_complete(target_name(width, height, samples_, "render target"));
     // At one sample that sample stands for the whole pixel.
     sample_quarters_ = samples_ > 1 ? sample_quarters(target_, samples_) : std::array<GLuint, 4>{1, 1, 1, 1};
 }

@@ -1,6 +1,7 @@
 // Contexts on both headless backends: a known image rendered into an FBO and read back, shader
 // errors that name file and line, #include working through the real compiler, sampler objects.
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "core/error.h"
@@ -128,6 +129,19 @@ TEST_P(ContextTest, SamplerTakesItsDescriptionAndDefaultsToGls) {
     EXPECT_TRUE(bool(shadow));
     EXPECT_EQ(parameters(shadow.id()), (std::vector<GLint>{GL_LINEAR, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT,
                                                            GL_COMPARE_REF_TO_TEXTURE, GL_GEQUAL}));
+}
+
+// An incomplete framebuffer names itself and GL's status as the hexadecimal enum the GL headers spell.
+TEST_P(ContextTest, AnIncompleteFramebufferSaysWhatAndItsStatusInHex) {
+    gl::Framebuffer empty = gl::Framebuffer::create();  // no attachment
+    try {
+        empty.check_complete("the empty target");
+        FAIL() << "no error";
+    } catch (const PlatformError& e) {
+        EXPECT_NE(std::string(e.what()).find("the empty target: framebuffer incomplete (status 0x8CD7"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 ENVSHADOW_INSTANTIATE_GL_TEST(ContextTest);
