@@ -236,8 +236,10 @@ bool casts_alike(const Material& a, const Material& b) {
 void Renderer::set_material(std::size_t object, const Material& material) {
     if (object >= instance_of_object_.size() || instance_of_object_[object] < 0) return;
     const auto instance = std::size_t(instance_of_object_[object]);
-    if (!casts_alike(planner_.objects()[instance].object.material, material))
-        ++content_version_;  // the shadow cache holds the caster as it was cut
+    const Material& old = planner_.objects()[instance].object.material;
+    if (!casts_alike(old, material)) ++content_version_;  // the shadow cache holds the caster as it was cut
+    if ((old.blended() || material.blended()) && old.base_alpha != material.base_alpha)
+        ++translucent_version_;  // the translucent layer holds its transmittance
     planner_.set_material(instance, material);
 }
 
@@ -487,22 +489,28 @@ void Renderer::upload(const FramePlan& plan) {
 void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
     draw_opaque_atlas(plan, stats);
     if (!variant_.translucent_shadows) return;
-    // Every frame: its depth test reads the opaque layer, which any caster's move may have changed.
-    ensure_translucent_layer();
+    // Its depth test reads the opaque layer: kept while that is kept whole (nothing moves) and no blended
+    // caster's alpha changed.
+    const bool made = ensure_translucent_layer();
+    std::optional<TranslucentKey> key;
+    if (atlas_holds_static_) key = TranslucentKey{*atlas_holds_static_, translucent_version_};
+    if (!made && key && translucent_holds_ == key) return;
     gl::ScopedPass pass(&timer_, "translucent atlas");
     draw_casters(
         plan, [](std::size_t) { return true; }, AtlasStart::cleared, CasterLayer::translucent);
+    translucent_holds_ = key;
 }
 
-void Renderer::ensure_translucent_layer() {
+bool Renderer::ensure_translucent_layer() {
     if (atlas_transmittance_ && atlas_transmittance_.width() == atlas_depth_.width() &&
         atlas_transmittance_.height() == atlas_depth_.height())
-        return;
+        return false;
     atlas_transmittance_ = gl::Texture::create_2d(GL_R8, atlas_depth_.width(), atlas_depth_.height());
     atlas_translucent_depth_ = gl::Texture::create_2d(GL_R16, atlas_depth_.width(), atlas_depth_.height());
     for (gl::Texture* t : {&atlas_transmittance_, &atlas_translucent_depth_}) t->set_filter(GL_NEAREST, GL_NEAREST);
     atlas_translucent_ =
         two_colour_target(atlas_transmittance_, atlas_translucent_depth_, atlas_depth_, "translucent shadow layer");
+    return true;
 }
 
 void Renderer::draw_opaque_atlas(const FramePlan& plan, FrameStats& stats) {

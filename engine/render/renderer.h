@@ -158,7 +158,7 @@ private:
                       CasterLayer layer = CasterLayer::opaque);
     // The opaque casters into atlas_, through the shadow cache (docs/DESIGN.md §5.11).
     void draw_opaque_atlas(const FramePlan& plan, FrameStats& stats);
-    void ensure_translucent_layer();
+    bool ensure_translucent_layer();  // whether it made the layer's textures anew
     void draw_objects(const FramePlan& plan, const CameraView& view);
     // The objects' depths into the bound framebuffer, timed as `pass`.
     // Into the bound framebuffer of `samples` samples per pixel.
@@ -281,7 +281,16 @@ private:
     std::optional<AtlasKey> atlas_holds_static_;  // atlas_depth_ holds exactly the static casters for this key
     std::optional<AtlasKey> static_layer_holds_;  // static_depth_ holds them for this key
     std::optional<AtlasKey> last_key_;            // the last frame's key
-    gl::Texture static_depth_;                    // the static casters' depths, atlas_depth_'s size and format
+    // The translucent layer (docs/DESIGN.md §5.15) over the opaque atlas of `opaque`, with the blended casters'
+    // alphas of `version` (translucent_version_, bumped by set_material).
+    struct TranslucentKey {
+        AtlasKey opaque;
+        std::uint64_t version = 0;
+        bool operator==(const TranslucentKey&) const = default;
+    };
+    std::uint64_t translucent_version_ = 0;
+    std::optional<TranslucentKey> translucent_holds_;
+    gl::Texture static_depth_;  // the static casters' depths, atlas_depth_'s size and format
     int max_viewports_ = 1;
 
     gl::Texture environment_;

@@ -8,10 +8,14 @@
 //   first in the scene (drawn back to front), and not the image of the wrong order.
 // In the rasteriser at the engine's defaults, at the commands' defaults and without a depth pre-pass, and the
 // first two in the reference.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <utility>
+#include <vector>
 
+#include "env/cells.h"
+#include "env/environment.h"
 #include "gl_fixture.h"
 #include "reference/reference.h"
 #include "render/renderer.h"
@@ -208,6 +212,45 @@ TEST_P(AlphaBlendTest, WhatLiesBeforeABlendedCasterIsNotShadowedByIt) {
         EXPECT_GT(upper_pixels, 200);
         EXPECT_LT(largest, 2e-3);
     }
+}
+
+// The translucent layer under the shadow cache (docs/DESIGN.md §5.11, §5.15): over a still scene it is drawn once
+// and kept, and the frames are those of a renderer that draws it every frame; a new alpha of the blended card
+// (set_material) draws it again, and the frame is a fresh renderer's with that alpha.
+TEST_P(AlphaBlendTest, AStillSceneKeepsItsTranslucentLayerUntilAnAlphaChanges) {
+    const Scene scene = card_over_ground(Card::blended, true);
+    const EnvironmentMap map = load_environment(scene.environment.source);
+    const DecomposeOptions cells{.method = Method::lloyd, .lights = 32, .hemisphere = Hemisphere::upper};
+    const std::vector<Cell> lights = decompose(map, cells).cells;
+    const render::CameraView view = render::camera_view(scene, kWidth, kHeight);
+    const auto made = [&](bool cache, const Scene& with) {
+        render::RenderSettings settings;
+        settings.shadow_cache = cache;
+        auto renderer = std::make_unique<render::Renderer>(settings);
+        renderer->set_scene(with);
+        renderer->set_environment(map);
+        renderer->set_lights(lights);
+        return renderer;
+    };
+    const auto translucent_passes = [](const render::FrameStats& stats) {
+        return std::ranges::count_if(stats.passes,
+                                     [](const gl::PassTime& pass) { return pass.pass == "translucent atlas"; });
+    };
+    const auto cached = made(true, scene), uncached = made(false, scene);
+    for (int frame = 0; frame < 3; ++frame) {
+        EXPECT_EQ(translucent_passes(cached->render(0.0, view)), frame == 0 ? 1 : 0) << "frame " << frame;
+        EXPECT_EQ(translucent_passes(uncached->render(0.0, view)), 1) << "frame " << frame;
+        EXPECT_GT(object_psnr(cached->read_back(), uncached->read_back()), 80.0) << "frame " << frame;
+    }
+    Scene clearer = scene;
+    clearer.objects[1].material.base_alpha = 0.2f;
+    const auto fresh = made(true, clearer);
+    fresh->render(0.0, view);
+    const Image expected = fresh->read_back();
+    ASSERT_LT(object_psnr(cached->read_back(), expected), 60.0);  // the alpha shows, in the card and its shadow
+    cached->set_material(1, clearer.objects[1].material);
+    EXPECT_EQ(translucent_passes(cached->render(0.0, view)), 1);
+    EXPECT_GT(object_psnr(cached->read_back(), expected), 80.0);
 }
 
 TEST(AlphaBlendReferenceTest, AHalfTransparentCardShowsAndCastsHalf) {
