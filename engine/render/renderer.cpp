@@ -424,10 +424,7 @@ std::array<GLuint, 4> sample_quarters(const gl::Framebuffer& framebuffer, int sa
     return masks;
 }
 
-}  // namespace
-
-namespace {
-
+// A render target's name in errors: what it is, its size and samples.
 std::string target_name(int width, int height, int samples, const char* what) {
     return std::string(what) + " of " + std::to_string(width) + "x" + std::to_string(height) +
            (samples > 1 ? " at " + std::to_string(samples) + " samples" : "");
@@ -491,26 +488,26 @@ void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
     if (!variant_.translucent_shadows) return;
     // Its depth test reads the opaque layer: kept while that is kept whole (nothing moves) and no blended
     // caster's alpha changed.
-    const bool made = ensure_translucent_layer();
+    ensure_translucent_layer();
     std::optional<TranslucentKey> key;
     if (atlas_holds_static_) key = TranslucentKey{*atlas_holds_static_, translucent_version_};
-    if (!made && key && translucent_holds_ == key) return;
+    if (key && translucent_holds_ == key) return;
     gl::ScopedPass pass(&timer_, "translucent atlas");
     draw_casters(
         plan, [](std::size_t) { return true; }, AtlasStart::cleared, CasterLayer::translucent);
     translucent_holds_ = key;
 }
 
-bool Renderer::ensure_translucent_layer() {
+void Renderer::ensure_translucent_layer() {
     if (atlas_transmittance_ && atlas_transmittance_.width() == atlas_depth_.width() &&
         atlas_transmittance_.height() == atlas_depth_.height())
-        return false;
+        return;
+    translucent_holds_.reset();  // new textures hold nothing yet
     atlas_transmittance_ = gl::Texture::create_2d(GL_R8, atlas_depth_.width(), atlas_depth_.height());
     atlas_translucent_depth_ = gl::Texture::create_2d(GL_R16, atlas_depth_.width(), atlas_depth_.height());
     for (gl::Texture* t : {&atlas_transmittance_, &atlas_translucent_depth_}) t->set_filter(GL_NEAREST, GL_NEAREST);
     atlas_translucent_ =
         two_colour_target(atlas_transmittance_, atlas_translucent_depth_, atlas_depth_, "translucent shadow layer");
-    return true;
 }
 
 void Renderer::draw_opaque_atlas(const FramePlan& plan, FrameStats& stats) {

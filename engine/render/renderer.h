@@ -158,7 +158,7 @@ private:
                       CasterLayer layer = CasterLayer::opaque);
     // The opaque casters into atlas_, through the shadow cache (docs/DESIGN.md §5.11).
     void draw_opaque_atlas(const FramePlan& plan, FrameStats& stats);
-    bool ensure_translucent_layer();  // whether it made the layer's textures anew
+    void ensure_translucent_layer();
     void draw_objects(const FramePlan& plan, const CameraView& view);
     // The objects' depths into the bound framebuffer, timed as `pass`.
     // Into the bound framebuffer of `samples` samples per pixel.

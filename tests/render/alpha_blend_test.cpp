@@ -12,9 +12,7 @@
 #include <cmath>
 #include <memory>
 #include <utility>
-#include <vector>
 
-#include "env/cells.h"
 #include "env/environment.h"
 #include "gl_fixture.h"
 #include "reference/reference.h"
@@ -221,16 +219,11 @@ TEST_P(AlphaBlendTest, AStillSceneKeepsItsTranslucentLayerUntilAnAlphaChanges) {
     const Scene scene = card_over_ground(Card::blended, true);
     const EnvironmentMap map = load_environment(scene.environment.source);
     const DecomposeOptions cells{.method = Method::lloyd, .lights = 32, .hemisphere = Hemisphere::upper};
-    const std::vector<Cell> lights = decompose(map, cells).cells;
     const render::CameraView view = render::camera_view(scene, kWidth, kHeight);
     const auto made = [&](bool cache, const Scene& with) {
         render::RenderSettings settings;
         settings.shadow_cache = cache;
-        auto renderer = std::make_unique<render::Renderer>(settings);
-        renderer->set_scene(with);
-        renderer->set_environment(map);
-        renderer->set_lights(lights);
-        return renderer;
+        return prepared_renderer(with, map, settings, cells);
     };
     const auto translucent_passes = [](const render::FrameStats& stats) {
         return std::ranges::count_if(stats.passes,

@@ -124,11 +124,7 @@ TEST_P(AlphaMaskTest, TheCachedAtlasFollowsWhatCutsTheMaskedCaster) {
     const DecomposeOptions cells{.method = Method::lloyd, .lights = 32, .hemisphere = Hemisphere::upper};
     const render::CameraView view = render::camera_view(scene, kWidth, kHeight);
     const auto made = [&](const render::RenderSettings& settings, const Scene& with) {
-        auto renderer = std::make_unique<render::Renderer>(settings);
-        renderer->set_scene(with);
-        renderer->set_environment(map);
-        renderer->set_lights(decompose(map, cells).cells);
-        return renderer;
+        return prepared_renderer(with, map, settings, cells);
     };
     render::RenderSettings cached;
     ASSERT_TRUE(cached.shadow_cache);

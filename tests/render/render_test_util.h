@@ -105,19 +105,28 @@ inline std::array<ShadingPath, 3> shading_paths(const Material& phong, const Mat
              {"glTF's BRDF in ratio shading", gltf, commands_defaults()}}};
 }
 
-// `scene` drawn by a Renderer with `settings` at width x height: the lights decomposed from `map` with
-// `cells`, the map prefiltered over the same hemisphere for ratio shading (the Phong and the GGX levels).
+// A Renderer with `settings` holding `scene`: the lights decomposed from `map` with `cells`, the map prefiltered
+// over the same hemisphere for ratio shading (the Phong and the GGX levels). For tests that render more than one
+// frame or change it between frames.
+inline std::unique_ptr<render::Renderer> prepared_renderer(const Scene& scene, const EnvironmentMap& map,
+                                                           const render::RenderSettings& settings,
+                                                           const DecomposeOptions& cells) {
+    auto renderer = std::make_unique<render::Renderer>(settings);
+    renderer->set_scene(scene);
+    renderer->set_environment(map);
+    renderer->set_prefiltered(prefilter_environment(map, cells.hemisphere));
+    const CompactSourceSplit split = split_compact_sources(map, cells.hemisphere);
+    renderer->set_ggx_prefiltered(prefilter_environment_ggx(split.rest, cells.hemisphere), split);
+    renderer->set_lights(decompose(map, cells).cells);
+    return renderer;
+}
+
+// `scene` drawn by prepared_renderer at width x height.
 inline Image render_scene(const Scene& scene, const EnvironmentMap& map, const render::RenderSettings& settings,
                           int width, int height, const DecomposeOptions& cells) {
-    render::Renderer renderer(settings);
-    renderer.set_scene(scene);
-    renderer.set_environment(map);
-    renderer.set_prefiltered(prefilter_environment(map, cells.hemisphere));
-    const CompactSourceSplit split = split_compact_sources(map, cells.hemisphere);
-    renderer.set_ggx_prefiltered(prefilter_environment_ggx(split.rest, cells.hemisphere), split);
-    renderer.set_lights(decompose(map, cells).cells);
-    renderer.render(0.0, render::camera_view(scene, width, height));
-    return renderer.read_back();
+    const auto renderer = prepared_renderer(scene, map, settings, cells);
+    renderer->render(0.0, render::camera_view(scene, width, height));
+    return renderer->read_back();
 }
 
 inline Image render_scene(const Scene& scene, const render::RenderSettings& settings, int width, int height,
