@@ -14,7 +14,9 @@
 //   alpha_mask.glsl          ALPHA_TEST (no depth pre-pass): masked surfaces cut out here; ALPHA_BLEND: the
 //                            radiance premultiplied by the alpha, laid over what is behind (draw_blended)
 //   shade_shadowed_fraction.glsl  the ratio split in two passes (docs/DESIGN.md §5.14): SHADOWED_FRACTION_OUT
-//                            writes the fraction, SHADOWED_FRACTION_IN shades with it instead of the loop
+//                            writes the fraction, SHADOWED_FRACTION_IN shades with it instead of the loop;
+//                            SHADOWED_FRACTION_REFINE (with both) writes it per pixel, looked up where the
+//                            per-2x2 fractions agree and from the loop where they do not
 #include "shade_cell_sums.glsl"
 #include "shade_ratio.glsl"
 #include "shade_shadowed_fraction.glsl"
@@ -37,8 +39,16 @@ void main() {
 #if defined(ALPHA_TEST)
     if (cut_out(mask_alpha(u_base_color, v_texcoord))) discard;  // without a depth pre-pass, which keeps them out
 #endif
-#if defined(SHADOWED_FRACTION_IN)
-    vec3 reflected = unshadowed_radiance(s) * fraction_at_fragment(s.normal);
+#if defined(SHADOWED_FRACTION_REFINE)
+    UpsampledFraction upsampled = fraction_at_fragment(s.normal);
+    vec3 fraction = upsampled.fraction;
+    if (upsampled.spread > kRefinedSpread) {
+        CellSums sums = cell_sums(s);
+        fraction = shadowed_fraction(shadowed_sum(sums), sums.whole_lobe);
+    }
+    o_color = fraction_texel(fraction, s.normal);
+#elif defined(SHADOWED_FRACTION_IN)
+    vec3 reflected = unshadowed_radiance(s) * fraction_at_fragment(s.normal).fraction;
     o_color = vec4(reflected * occlusion(s) + emitted_radiance(s), 1.0);
 #else
     CellSums sums = cell_sums(s);

@@ -4,7 +4,9 @@
 // shading normal; texels without an object keep the clear's alpha 0. The shading (SHADOWED_FRACTION_IN,
 // at the image's own samples) takes the fraction from the texels about the fragment whose surface is the
 // fragment's own: its plane's 1/w carried to each texel's centre must meet the texel's, and the normals
-// must agree (where two surfaces meet, as an object standing on the ground, the depths do).
+// must agree (where two surfaces meet, as an object standing on the ground, the depths do). With both
+// (SHADOWED_FRACTION_REFINE, one sample per pixel) the per-2x2 texels are looked up so, and the fraction
+// computed again where they disagree.
 
 #if defined(SHADOWED_FRACTION_OUT)
 layout(location = 1) out vec4 o_fraction_normal;
@@ -46,12 +48,25 @@ float plane_match(FragmentPlane plane, ivec2 t, float texel_w) {
     return texel_w > 0.0 ? exp(-e * e) * pow(facing, kNormalPower) : 0.0;
 }
 
+// SHADOWED_FRACTION_REFINE: the fraction is computed again where the texels on the fragment's surface
+// differ by more than kRefinedSpread (docs/DESIGN.md §5.14); a texel is on it where plane_match exceeds
+// kSameSurfaceMatch.
+const float kRefinedSpread = 0.1;
+const float kSameSurfaceMatch = 0.5;
+
+struct UpsampledFraction {
+    vec3 fraction;
+    // How far apart the fractions (their largest channel) of the four texels on the fragment's surface
+    // lie; 1 where none of the four is on it.
+    float spread;
+};
+
 // The shadowed fraction at this fragment: the fraction texels about it weighted bilinearly and by how well
 // they lie on its plane (a joint bilateral upsampling); where none of the four does (a silhouette the
 // fraction's samples missed), the 3x3 texels about the nearest by the plane alone, and failing that the one
 // nearest in depth. The mean is taken of the shadow 1 - f, so that fractions of exactly 1 (nothing in
 // the way) give exactly 1.
-vec3 fraction_at_fragment(vec3 normal) {
+UpsampledFraction fraction_at_fragment(vec3 normal) {
     FragmentPlane plane;
     plane.normal = normal;
     plane.w = gl_FragCoord.w;
@@ -63,16 +78,23 @@ vec3 fraction_at_fragment(vec3 normal) {
     vec2 f = q - vec2(base);
     vec3 shadow = vec3(0.0);
     float total = 0.0;
+    float lowest = 1.0, highest = 0.0;  // of the texels on the fragment's surface
     for (int k = 0; k < 4; ++k) {
         ivec2 o = ivec2(k & 1, k >> 1);
         ivec2 t = clamp(base + o, ivec2(0), last);
         vec4 texel = texelFetch(u_fraction, t, 0);
         float bilinear = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
-        float weight = bilinear * plane_match(plane, t, texel.a);
-        shadow += weight * (1.0 - texel.rgb);
-        total += weight;
+        float match = plane_match(plane, t, texel.a);
+        shadow += bilinear * match * (1.0 - texel.rgb);
+        total += bilinear * match;
+        if (match > kSameSurfaceMatch) {
+            float largest = max(max(texel.r, texel.g), texel.b);
+            lowest = min(lowest, largest);
+            highest = max(highest, largest);
+        }
     }
-    if (total > 1e-3) return 1.0 - shadow / total;
+    float spread = highest >= lowest ? highest - lowest : 1.0;
+    if (total > 1e-3) return UpsampledFraction(1.0 - shadow / total, spread);
 
     ivec2 nearest = ivec2(floor(q + 0.5));
     vec3 best = vec3(1.0);  // lit where no texel has an object
@@ -92,6 +114,6 @@ vec3 fraction_at_fragment(vec3 normal) {
                 best = texel.rgb;
             }
         }
-    return total > 1e-3 ? 1.0 - shadow / total : best;
+    return UpsampledFraction(total > 1e-3 ? 1.0 - shadow / total : best, 1.0);
 }
 #endif

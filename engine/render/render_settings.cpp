@@ -168,7 +168,8 @@ std::vector<SettingInfo> make_setting_table() {
         choice("shadow-rate", &RenderSettings::shadow_rate, programs,
                "Ratio shading only (no effect with --shading cells): the shadowed fraction evaluated in every "
                "shaded fragment (fragment), once per pixel (pixel) or once per 2x2 pixels (half) in a pass of its "
-               "own, then looked up with depth-aware weights"),
+               "own, then looked up with depth-aware weights; adaptive: per 2x2 pixels, and per pixel where "
+               "those disagree"),
         on_off("background", &RenderSettings::background, frame, "Draw the environment behind the objects"),
         on_off("base-color-texture", &RenderSettings::base_color_texture, frame,
                "Base-colour textures multiply the objects' base colour (off: the material's factors alone)"),

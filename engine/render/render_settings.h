@@ -74,10 +74,14 @@ constexpr std::span<const EnumName<ShadowMode>> enum_names(ShadowMode) {
 // Where ratio shading evaluates the cells' shadowed fraction (docs/DESIGN.md §5.14): in every shaded
 // fragment with its unshadowed part (fragment), or in a pass of its own at one sample per pixel (pixel) or
 // per 2x2 pixels (half), which the shading then looks up beside its surface with depth-aware weights, so
-// that the N-cell loop no longer runs per MSAA sample. The paper's sum (ShadingMode::cells) does not split.
-enum class ShadowRate { fragment, pixel, half };
-inline constexpr EnumName<ShadowRate> kShadowRateNames[] = {
-    {ShadowRate::fragment, "fragment"}, {ShadowRate::pixel, "pixel"}, {ShadowRate::half, "half"}};
+// that the N-cell loop no longer runs per MSAA sample; adaptive: per 2x2 pixels, then once per pixel where
+// the 2x2 samples about it disagree (a shadow's edge narrower than two pixels). The paper's sum
+// (ShadingMode::cells) does not split.
+enum class ShadowRate { fragment, pixel, half, adaptive };
+inline constexpr EnumName<ShadowRate> kShadowRateNames[] = {{ShadowRate::fragment, "fragment"},
+                                                            {ShadowRate::pixel, "pixel"},
+                                                            {ShadowRate::half, "half"},
+                                                            {ShadowRate::adaptive, "adaptive"}};
 constexpr std::span<const EnumName<ShadowRate>> enum_names(ShadowRate) {
     return kShadowRateNames;
 }

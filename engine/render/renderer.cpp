@@ -49,6 +49,18 @@ gl::Framebuffer two_colour_target(const gl::Texture& first, const gl::Texture& s
     target.check_complete(what);
     return target;
 }
+
+// A fraction target before its pass: fraction 1 and alpha 0 (no object), no normal, the far depth.
+void clear_fraction_target(const gl::Framebuffer& target) {
+    const float lit_nothing[4] = {1.0f, 1.0f, 1.0f, 0.0f};
+    const float no_normal[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    const float clear_depth = 1.0f;
+    glDepthMask(GL_TRUE);
+    glClearNamedFramebufferfv(target.id(), GL_COLOR, 0, lit_nothing);
+    glClearNamedFramebufferfv(target.id(), GL_COLOR, 1, no_normal);
+    glClearNamedFramebufferfv(target.id(), GL_DEPTH, 0, &clear_depth);
+}
+
 }  // namespace
 
 Renderer::Renderer(const RenderSettings& settings) : settings_(settings), library_(embedded_shaders()) {
@@ -461,7 +473,15 @@ void Renderer::ensure_target(int width, int height) {
 }
 
 void Renderer::ensure_fraction_target(int width, int height) {
-    const int divisor = settings_.shadow_rate == ShadowRate::half ? 2 : 1;
+    const bool adaptive = settings_.shadow_rate == ShadowRate::adaptive;
+    if (adaptive && !(refined_ && refined_.width() == width && refined_.height() == height)) {
+        refined_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
+        refined_normal_ = gl::Texture::create_2d(GL_RGBA16F, width, height);
+        refined_depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
+        for (gl::Texture* t : {&refined_, &refined_normal_, &refined_depth_}) t->set_filter(GL_NEAREST, GL_NEAREST);
+        refined_target_ = two_colour_target(refined_, refined_normal_, refined_depth_, "refined-fraction target");
+    }
+    const int divisor = settings_.shadow_rate == ShadowRate::pixel ? 1 : 2;
     width = (width + divisor - 1) / divisor;
     height = (height + divisor - 1) / divisor;
     if (fraction_ && fraction_.width() == width && fraction_.height() == height) return;
@@ -811,16 +831,18 @@ bool Renderer::draws_metallic_roughness(const FramePlan& plan) const {
 
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (variant_.fraction_pass) draw_shadowed_fraction(plan, view);
+    if (variant_.fraction_pass && settings_.shadow_rate == ShadowRate::adaptive) draw_refined_fraction(plan, view);
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, samples_, "depth pre-pass");
     if (variant_.fraction_pass) {
         gl::ScopedPass pass(&timer_, "shading");
         const gl::Program& shade = fraction_shading_program(false);
         const gl::Program& shade_gltf = draws_metallic_roughness(plan) ? fraction_shading_program(true) : shade;
+        const gl::Texture& fraction = shading_fraction();
         for (const gl::Program* program : {&shade, &shade_gltf})
-            glProgramUniform2f(program->id(), loc::fraction_scale, float(fraction_.width()) / float(view.width),
-                               float(fraction_.height()) / float(view.height));
-        fraction_.bind(unit::fraction);
-        fraction_normal_.bind(unit::fraction_normal);
+            glProgramUniform2f(program->id(), loc::fraction_scale, float(fraction.width()) / float(view.width),
+                               float(fraction.height()) / float(view.height));
+        fraction.bind(unit::fraction);
+        shading_fraction_normal().bind(unit::fraction_normal);
         shade_objects(plan, view, {&shade, &shade, &shade, &shade_gltf}, screen_tiles_.x, opaque_objects_);
         glBindTextureUnit(unit::fraction, 0);
         glBindTextureUnit(unit::fraction_normal, 0);
@@ -854,13 +876,7 @@ const gl::Program& Renderer::metallic_roughness_program(const FramePlan& plan) {
 void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& view) {
     glBindFramebuffer(GL_FRAMEBUFFER, fraction_target_.id());
     glViewport(0, 0, fraction_.width(), fraction_.height());
-    const float lit_nothing[4] = {1.0f, 1.0f, 1.0f, 0.0f};  // alpha 0: no object
-    const float clear_depth = 1.0f;
-    glDepthMask(GL_TRUE);
-    const float no_normal[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    glClearNamedFramebufferfv(fraction_target_.id(), GL_COLOR, 0, lit_nothing);
-    glClearNamedFramebufferfv(fraction_target_.id(), GL_COLOR, 1, no_normal);
-    glClearNamedFramebufferfv(fraction_target_.id(), GL_DEPTH, 0, &clear_depth);
+    clear_fraction_target(fraction_target_);
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, 1, "fraction pre-pass");
     if (uses_tile_lists(settings_))
         build_tile_lists(plan, view, fraction_depth_, 1, fraction_tile_lists_, fraction_tiles_, "fraction tile lists");
@@ -875,6 +891,52 @@ void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& v
     }
     glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
     glViewport(0, 0, view.width, view.height);
+}
+
+// The refinement (docs/DESIGN.md §5.14): at one sample per pixel into refined_, the per-2x2 fraction looked up
+// as the shading would, and the cells' loop run again where the texels on the fragment's surface disagree.
+void Renderer::draw_refined_fraction(const FramePlan& plan, const CameraView& view) {
+    VariantPrograms& programs = *programs_now_;
+    if (!programs.refine) {
+        std::vector<std::string> defines = shade_defines(variant_);
+        defines.insert(defines.end(), {"SHADOWED_FRACTION_IN", "SHADOWED_FRACTION_REFINE"});
+        const std::vector<gl::ShaderStage> stages = {{GL_VERTEX_SHADER, "shade.vert"},
+                                                     {GL_FRAGMENT_SHADER, "shade.frag"}};
+        programs.refine = library_.build(stages, defines);
+        std::vector<std::string> gltf = defines;
+        gltf.push_back("METALLIC_ROUGHNESS");
+        programs.refine_gltf = library_.build(stages, gltf);
+        defines.push_back("DIFFUSE_ONLY");
+        programs.refine_diffuse = library_.build(stages, defines);
+        defines.push_back("FLAT_RECEIVER");
+        programs.refine_flat = library_.build(stages, defines);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, refined_target_.id());
+    clear_fraction_target(refined_target_);
+    if (settings_.depth_prepass) draw_depth_prepass(plan, view, 1, "refined pre-pass");
+    if (uses_tile_lists(settings_))
+        build_tile_lists(plan, view, refined_depth_, 1, tile_lists_, screen_tiles_, "refined tile lists");
+    gl::ScopedPass pass(&timer_, "refined fraction");
+    for (const gl::Program* program :
+         {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &programs.refine_gltf})
+        glProgramUniform2f(program->id(), loc::fraction_scale, float(fraction_.width()) / float(view.width),
+                           float(fraction_.height()) / float(view.height));
+    fraction_.bind(unit::fraction);
+    fraction_normal_.bind(unit::fraction_normal);
+    const gl::Program& gltf = draws_metallic_roughness(plan) ? programs.refine_gltf : programs.refine;
+    shade_objects(plan, view, {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &gltf},
+                  screen_tiles_.x, opaque_objects_);
+    glBindTextureUnit(unit::fraction, 0);
+    glBindTextureUnit(unit::fraction_normal, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
+}
+
+const gl::Texture& Renderer::shading_fraction() const {
+    return settings_.shadow_rate == ShadowRate::adaptive ? refined_ : fraction_;
+}
+
+const gl::Texture& Renderer::shading_fraction_normal() const {
+    return settings_.shadow_rate == ShadowRate::adaptive ? refined_normal_ : fraction_normal_;
 }
 
 void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x,

@@ -190,6 +190,12 @@ private:
     void set_sides(const ObjectFrame& object, std::size_t i) const;
     // The ratio's shadowed fraction into fraction_ (its own pre-pass and tile lists); leaves target_ bound.
     void draw_shadowed_fraction(const FramePlan& plan, const CameraView& view);
+    // ShadowRate::adaptive: fraction_ per pixel into refined_, computed again where it varies (its own
+    // pre-pass, and the image's tile lists from that); leaves target_ bound.
+    void draw_refined_fraction(const FramePlan& plan, const CameraView& view);
+    // The texture the shading takes the fraction from (fraction_ or refined_).
+    const gl::Texture& shading_fraction() const;
+    const gl::Texture& shading_fraction_normal() const;
     void draw_background(const CameraView& view);
     void draw_blended(const FramePlan& plan, const CameraView& view);
 
@@ -203,6 +209,9 @@ private:
         // ALPHA_BLEND, per fragment (the variant without tile lists and fraction pass), built once drawn with.
         gl::Program blend, blend_diffuse, blend_gltf;
         gl::Program atlas_translucent;  // ALPHA_MASK with shadow_atlas_translucent.frag, built once drawn with
+        // SHADOWED_FRACTION_REFINE (ShadowRate::adaptive) with shade, shade_diffuse, shade_flat and shade_gltf's
+        // defines, built once drawn with.
+        gl::Program refine, refine_diffuse, refine_flat, refine_gltf;
     };
     ShaderSupport support_;
     ShaderVariant variant_;
@@ -323,6 +332,9 @@ private:
     gl::Framebuffer fraction_target_;
     glm::ivec2 fraction_tiles_{0, 0};
     gl::Buffer fraction_tile_lists_;
+    // ShadowRate::adaptive: the fraction at one sample per pixel, as fraction_ (the image's size).
+    gl::Texture refined_, refined_normal_, refined_depth_;
+    gl::Framebuffer refined_target_;
     CasterTiles caster_tiles_;      // draw_casters: each caster's tiles by level, this draw's
     gl::Buffer atlas_tile_buffer_;  // caster_tiles_.tiles (shadow_atlas.vert's instance to tile)
 };

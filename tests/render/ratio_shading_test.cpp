@@ -59,7 +59,7 @@ Image render_ratio(const Scene& scene, const EnvironmentMap& map, int lights,
 }
 
 constexpr render::ShadowRate kRates[] = {render::ShadowRate::fragment, render::ShadowRate::pixel,
-                                         render::ShadowRate::half};
+                                         render::ShadowRate::half, render::ShadowRate::adaptive};
 
 // At every --shadow-rate (docs/DESIGN.md §5.14), with and without MSAA. The fraction is 1, so at one sample
 // per pixel the split passes give the one pass's picture to rounding; with MSAA a silhouette sample may
