@@ -48,24 +48,33 @@ float plane_match(FragmentPlane plane, ivec2 t, float texel_w) {
     return texel_w > 0.0 ? exp(-e * e) * pow(facing, kNormalPower) : 0.0;
 }
 
-// SHADOWED_FRACTION_REFINE: the fraction is computed again where the texels on the fragment's surface
-// differ by more than kRefinedSpread (docs/DESIGN.md §5.14); a texel is on it where plane_match exceeds
-// kSameSurfaceMatch.
+// SHADOWED_FRACTION_REFINE: the fraction is computed again where the texels looked up on the fragment's
+// surface (plane_match over kSameSurfaceMatch) differ by more than kRefinedSpread (docs/DESIGN.md §5.14).
 const float kRefinedSpread = 0.1;
 const float kSameSurfaceMatch = 0.5;
 
+// The texels looked up: a tent of kTentRadius texels over the kTexelsAcross^2 about the fragment. The
+// shading's is the bilinear 2x2; the refinement's, wider, also averages the soft shadows' per-texel disc
+// rotations (their noise).
+#if defined(SHADOWED_FRACTION_REFINE)
+const int kTexelsAcross = 4;
+const float kTentRadius = 1.6;
+#else
+const int kTexelsAcross = 2;
+const float kTentRadius = 1.0;
+#endif
+
 struct UpsampledFraction {
     vec3 fraction;
-    // How far apart the fractions (their largest channel) of the four texels on the fragment's surface
-    // lie; 1 where none of the four is on it.
+    // How far apart the fractions (their largest channel) of the texels on the fragment's surface lie; 1
+    // where none of them is on it.
     float spread;
 };
 
-// The shadowed fraction at this fragment: the fraction texels about it weighted bilinearly and by how well
-// they lie on its plane (a joint bilateral upsampling); where none of the four does (a silhouette the
-// fraction's samples missed), the 3x3 texels about the nearest by the plane alone, and failing that the one
-// nearest in depth. The mean is taken of the shadow 1 - f, so that fractions of exactly 1 (nothing in
-// the way) give exactly 1.
+// The shadowed fraction at this fragment: the fraction texels about it weighted by the tent and by how well
+// they lie on its plane (a joint bilateral upsampling); where none does (a silhouette the fraction's samples
+// missed), the 3x3 texels about the nearest by the plane alone, and failing that the one nearest in depth.
+// The mean is taken of the shadow 1 - f, so that fractions of exactly 1 (nothing in the way) give exactly 1.
 UpsampledFraction fraction_at_fragment(vec3 normal) {
     FragmentPlane plane;
     plane.normal = normal;
@@ -74,20 +83,20 @@ UpsampledFraction fraction_at_fragment(vec3 normal) {
     plane.tolerance = kPlaneToleranceOfDepth * plane.w + abs(plane.slope.x) + abs(plane.slope.y);
     ivec2 last = textureSize(u_fraction, 0) - 1;
     vec2 q = gl_FragCoord.xy * u_fraction_scale - 0.5;  // texel centres at integers
-    ivec2 base = ivec2(floor(q));
-    vec2 f = q - vec2(base);
+    ivec2 base = ivec2(floor(q)) - (kTexelsAcross / 2 - 1);
     vec3 shadow = vec3(0.0);
     float total = 0.0;
     float lowest = 1.0, highest = 0.0;  // of the texels on the fragment's surface
-    for (int k = 0; k < 4; ++k) {
-        ivec2 o = ivec2(k & 1, k >> 1);
-        ivec2 t = clamp(base + o, ivec2(0), last);
+    for (int k = 0; k < kTexelsAcross * kTexelsAcross; ++k) {
+        ivec2 t = base + ivec2(k % kTexelsAcross, k / kTexelsAcross);
+        vec2 d = abs(vec2(t) - q) / kTentRadius;
+        float tent = max(1.0 - d.x, 0.0) * max(1.0 - d.y, 0.0);
+        t = clamp(t, ivec2(0), last);
         vec4 texel = texelFetch(u_fraction, t, 0);
-        float bilinear = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
         float match = plane_match(plane, t, texel.a);
-        shadow += bilinear * match * (1.0 - texel.rgb);
-        total += bilinear * match;
-        if (match > kSameSurfaceMatch) {
+        shadow += tent * match * (1.0 - texel.rgb);
+        total += tent * match;
+        if (tent > 0.0 && match > kSameSurfaceMatch) {
             float largest = max(max(texel.r, texel.g), texel.b);
             lowest = min(lowest, largest);
             highest = max(highest, largest);

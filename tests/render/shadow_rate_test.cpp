@@ -156,7 +156,7 @@ TEST_P(ShadowRateTest, WithMsaaTheReducedRatesFollowTheFragmentRateAndKeepTheSil
             "(worst pixel %.3f)\n",
             std::string(to_string(rate)).c_str(), all, rim, worst);
         // Measured (egl): pixel 0.45% over the objects, 5.7% over the silhouette; half 1.5% and 6.7%;
-        // adaptive, half refined where its texels disagree, 0.48% and 5.8%. A few silhouette pixels still take
+        // adaptive, half refined where its texels disagree, 0.47% and 5.8%. A few silhouette pixels still take
         // the other surface's fraction (the worst several times the one pass's, printed).
         EXPECT_LT(all, rate == ShadowRate::half ? 0.02 : 0.007) << to_string(rate);
         EXPECT_LT(rim, rate == ShadowRate::half ? 0.1 : 0.07) << to_string(rate);
@@ -196,6 +196,7 @@ TEST_P(ShadowRateTest, TheAdaptiveRateRefinesShadowsNarrowerThanTwoPixels) {
     const double pixel = relative_rmse(render_at(scene, sky, ShadowRate::pixel, 4), fragment, objects);
     std::printf("thin shadows, msaa 4, against fragment: half %.4f, adaptive %.4f, pixel %.4f\n", half, adaptive,
                 pixel);
+    // Measured (egl): half 10.4%, adaptive 1.1%, pixel 1.0%.
     EXPECT_GT(half, 0.01);  // the lines are narrower than the half rate resolves
     EXPECT_LT(adaptive, 0.5 * half);
     EXPECT_LT(adaptive, 1.5 * pixel);
