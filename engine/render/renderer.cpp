@@ -897,15 +897,17 @@ void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& v
 // as the shading would, and the cells' loop run again where the texels on the fragment's surface disagree.
 void Renderer::draw_refined_fraction(const FramePlan& plan, const CameraView& view) {
     VariantPrograms& programs = *programs_now_;
+    std::vector<std::string> defines = shade_defines(variant_);
+    defines.insert(defines.end(), {"SHADOWED_FRACTION_IN", "SHADOWED_FRACTION_REFINE"});
+    const std::vector<gl::ShaderStage> stages = {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}};
+    const bool gltf = draws_metallic_roughness(plan);
+    if (gltf && !programs.refine_gltf) {
+        std::vector<std::string> gltf_defines = defines;
+        gltf_defines.push_back("METALLIC_ROUGHNESS");
+        programs.refine_gltf = library_.build(stages, gltf_defines);
+    }
     if (!programs.refine) {
-        std::vector<std::string> defines = shade_defines(variant_);
-        defines.insert(defines.end(), {"SHADOWED_FRACTION_IN", "SHADOWED_FRACTION_REFINE"});
-        const std::vector<gl::ShaderStage> stages = {{GL_VERTEX_SHADER, "shade.vert"},
-                                                     {GL_FRAGMENT_SHADER, "shade.frag"}};
         programs.refine = library_.build(stages, defines);
-        std::vector<std::string> gltf = defines;
-        gltf.push_back("METALLIC_ROUGHNESS");
-        programs.refine_gltf = library_.build(stages, gltf);
         defines.push_back("DIFFUSE_ONLY");
         programs.refine_diffuse = library_.build(stages, defines);
         defines.push_back("FLAT_RECEIVER");
@@ -917,15 +919,15 @@ void Renderer::draw_refined_fraction(const FramePlan& plan, const CameraView& vi
     if (uses_tile_lists(settings_))
         build_tile_lists(plan, view, refined_depth_, 1, tile_lists_, screen_tiles_, "refined tile lists");
     gl::ScopedPass pass(&timer_, "refined fraction");
+    const ShadePrograms refine = {&programs.refine, &programs.refine_diffuse, &programs.refine_flat,
+                                  gltf ? &programs.refine_gltf : &programs.refine};
     for (const gl::Program* program :
-         {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &programs.refine_gltf})
+         {refine.full, refine.diffuse_only, refine.flat_receiver, refine.metallic_roughness})
         glProgramUniform2f(program->id(), loc::fraction_scale, float(fraction_.width()) / float(view.width),
                            float(fraction_.height()) / float(view.height));
     fraction_.bind(unit::fraction);
     fraction_normal_.bind(unit::fraction_normal);
-    const gl::Program& gltf = draws_metallic_roughness(plan) ? programs.refine_gltf : programs.refine;
-    shade_objects(plan, view, {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &gltf},
-                  screen_tiles_.x, opaque_objects_);
+    shade_objects(plan, view, refine, screen_tiles_.x, opaque_objects_);
     glBindTextureUnit(unit::fraction, 0);
     glBindTextureUnit(unit::fraction_normal, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
