@@ -472,26 +472,24 @@ void Renderer::ensure_target(int width, int height) {
     sample_quarters_ = samples_ > 1 ? sample_quarters(target_, samples_) : std::array<GLuint, 4>{1, 1, 1, 1};
 }
 
+Renderer::FractionTarget Renderer::FractionTarget::create(int width, int height, const char* what) {
+    FractionTarget target;
+    target.fraction = gl::Texture::create_2d(GL_RGBA32F, width, height);
+    target.normal = gl::Texture::create_2d(GL_RGBA16F, width, height);
+    target.depth = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);  // read by shadow_tiles.comp
+    for (gl::Texture* t : {&target.fraction, &target.normal, &target.depth}) t->set_filter(GL_NEAREST, GL_NEAREST);
+    target.framebuffer = two_colour_target(target.fraction, target.normal, target.depth, what);
+    return target;
+}
+
 void Renderer::ensure_fraction_target(int width, int height) {
-    const bool adaptive = settings_.shadow_rate == ShadowRate::adaptive;
-    if (adaptive && !(refined_ && refined_.width() == width && refined_.height() == height)) {
-        refined_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
-        refined_normal_ = gl::Texture::create_2d(GL_RGBA16F, width, height);
-        refined_depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
-        for (gl::Texture* t : {&refined_, &refined_normal_, &refined_depth_}) t->set_filter(GL_NEAREST, GL_NEAREST);
-        refined_target_ = two_colour_target(refined_, refined_normal_, refined_depth_, "refined-fraction target");
-    }
+    if (settings_.shadow_rate == ShadowRate::adaptive && !refined_.fits(width, height))
+        refined_ = FractionTarget::create(width, height, "refined-fraction target");
     const int divisor = settings_.shadow_rate == ShadowRate::pixel ? 1 : 2;
     width = (width + divisor - 1) / divisor;
     height = (height + divisor - 1) / divisor;
-    if (fraction_ && fraction_.width() == width && fraction_.height() == height) return;
-    fraction_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
-    fraction_.set_filter(GL_NEAREST, GL_NEAREST);
-    fraction_normal_ = gl::Texture::create_2d(GL_RGBA16F, width, height);
-    fraction_normal_.set_filter(GL_NEAREST, GL_NEAREST);
-    fraction_depth_ = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);
-    fraction_depth_.set_filter(GL_NEAREST, GL_NEAREST);  // read by shadow_tiles.comp
-    fraction_target_ = two_colour_target(fraction_, fraction_normal_, fraction_depth_, "shadowed-fraction target");
+    if (fraction_.fits(width, height)) return;
+    fraction_ = FractionTarget::create(width, height, "shadowed-fraction target");
     fraction_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
                                  (height + size::screen_tile - 1) / size::screen_tile);
     fraction_tile_lists_ = gl::Buffer::create(std::size_t(fraction_tiles_.x) * std::size_t(fraction_tiles_.y) *
@@ -837,15 +835,9 @@ void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
         gl::ScopedPass pass(&timer_, "shading");
         const gl::Program& shade = fraction_shading_program(false);
         const gl::Program& shade_gltf = draws_metallic_roughness(plan) ? fraction_shading_program(true) : shade;
-        const gl::Texture& fraction = shading_fraction();
-        for (const gl::Program* program : {&shade, &shade_gltf})
-            glProgramUniform2f(program->id(), loc::fraction_scale, float(fraction.width()) / float(view.width),
-                               float(fraction.height()) / float(view.height));
-        fraction.bind(unit::fraction);
-        shading_fraction_normal().bind(unit::fraction_normal);
+        bind_fraction_input(shading_fraction(), {&shade, &shade_gltf}, view);
         shade_objects(plan, view, {&shade, &shade, &shade, &shade_gltf}, screen_tiles_.x, opaque_objects_);
-        glBindTextureUnit(unit::fraction, 0);
-        glBindTextureUnit(unit::fraction_normal, 0);
+        unbind_fraction_input();
         return;
     }
     if (uses_tile_lists(settings_))
@@ -874,12 +866,12 @@ const gl::Program& Renderer::metallic_roughness_program(const FramePlan& plan) {
 // The fraction pass (docs/DESIGN.md §5.14): the variant's programs (SHADOWED_FRACTION_OUT) at one sample per
 // texel of fraction_, after a pre-pass and tile lists of its own.
 void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& view) {
-    glBindFramebuffer(GL_FRAMEBUFFER, fraction_target_.id());
-    glViewport(0, 0, fraction_.width(), fraction_.height());
-    clear_fraction_target(fraction_target_);
+    glBindFramebuffer(GL_FRAMEBUFFER, fraction_.framebuffer.id());
+    glViewport(0, 0, fraction_.fraction.width(), fraction_.fraction.height());
+    clear_fraction_target(fraction_.framebuffer);
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, 1, "fraction pre-pass");
     if (uses_tile_lists(settings_))
-        build_tile_lists(plan, view, fraction_depth_, 1, fraction_tile_lists_, fraction_tiles_, "fraction tile lists");
+        build_tile_lists(plan, view, fraction_.depth, 1, fraction_tile_lists_, fraction_tiles_, "fraction tile lists");
     {
         gl::ScopedPass pass(&timer_, "shadowed fraction");
         const VariantPrograms& programs = *programs_now_;
@@ -897,48 +889,56 @@ void Renderer::draw_shadowed_fraction(const FramePlan& plan, const CameraView& v
 // as the shading would, and the cells' loop run again where the texels on the fragment's surface disagree.
 void Renderer::draw_refined_fraction(const FramePlan& plan, const CameraView& view) {
     VariantPrograms& programs = *programs_now_;
-    std::vector<std::string> defines = shade_defines(variant_);
-    defines.insert(defines.end(), {"SHADOWED_FRACTION_IN", "SHADOWED_FRACTION_REFINE"});
-    const std::vector<gl::ShaderStage> stages = {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}};
     const bool gltf = draws_metallic_roughness(plan);
-    if (gltf && !programs.refine_gltf) {
-        std::vector<std::string> gltf_defines = defines;
-        gltf_defines.push_back("METALLIC_ROUGHNESS");
-        programs.refine_gltf = library_.build(stages, gltf_defines);
+    if (!programs.refine || (gltf && !programs.refine_gltf)) {
+        std::vector<std::string> defines = shade_defines(variant_);
+        defines.insert(defines.end(), {"SHADOWED_FRACTION_IN", "SHADOWED_FRACTION_REFINE"});
+        const std::vector<gl::ShaderStage> stages = {{GL_VERTEX_SHADER, "shade.vert"},
+                                                     {GL_FRAGMENT_SHADER, "shade.frag"}};
+        if (gltf && !programs.refine_gltf) {
+            std::vector<std::string> gltf_defines = defines;
+            gltf_defines.push_back("METALLIC_ROUGHNESS");
+            programs.refine_gltf = library_.build(stages, gltf_defines);
+        }
+        if (!programs.refine) {
+            programs.refine = library_.build(stages, defines);
+            defines.push_back("DIFFUSE_ONLY");
+            programs.refine_diffuse = library_.build(stages, defines);
+            defines.push_back("FLAT_RECEIVER");
+            programs.refine_flat = library_.build(stages, defines);
+        }
     }
-    if (!programs.refine) {
-        programs.refine = library_.build(stages, defines);
-        defines.push_back("DIFFUSE_ONLY");
-        programs.refine_diffuse = library_.build(stages, defines);
-        defines.push_back("FLAT_RECEIVER");
-        programs.refine_flat = library_.build(stages, defines);
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, refined_target_.id());
-    clear_fraction_target(refined_target_);
+    glBindFramebuffer(GL_FRAMEBUFFER, refined_.framebuffer.id());
+    clear_fraction_target(refined_.framebuffer);
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, 1, "refined pre-pass");
     if (uses_tile_lists(settings_))
-        build_tile_lists(plan, view, refined_depth_, 1, tile_lists_, screen_tiles_, "refined tile lists");
+        build_tile_lists(plan, view, refined_.depth, 1, tile_lists_, screen_tiles_, "refined tile lists");
     gl::ScopedPass pass(&timer_, "refined fraction");
-    const ShadePrograms refine = {&programs.refine, &programs.refine_diffuse, &programs.refine_flat,
-                                  gltf ? &programs.refine_gltf : &programs.refine};
-    for (const gl::Program* program :
-         {refine.full, refine.diffuse_only, refine.flat_receiver, refine.metallic_roughness})
-        glProgramUniform2f(program->id(), loc::fraction_scale, float(fraction_.width()) / float(view.width),
-                           float(fraction_.height()) / float(view.height));
-    fraction_.bind(unit::fraction);
-    fraction_normal_.bind(unit::fraction_normal);
-    shade_objects(plan, view, refine, screen_tiles_.x, opaque_objects_);
-    glBindTextureUnit(unit::fraction, 0);
-    glBindTextureUnit(unit::fraction_normal, 0);
+    const gl::Program& refine_gltf = gltf ? programs.refine_gltf : programs.refine;
+    bind_fraction_input(fraction_, {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &refine_gltf},
+                        view);
+    shade_objects(plan, view, {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &refine_gltf},
+                  screen_tiles_.x, opaque_objects_);
+    unbind_fraction_input();
     glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
 }
 
-const gl::Texture& Renderer::shading_fraction() const {
+const Renderer::FractionTarget& Renderer::shading_fraction() const {
     return settings_.shadow_rate == ShadowRate::adaptive ? refined_ : fraction_;
 }
 
-const gl::Texture& Renderer::shading_fraction_normal() const {
-    return settings_.shadow_rate == ShadowRate::adaptive ? refined_normal_ : fraction_normal_;
+void Renderer::bind_fraction_input(const FractionTarget& input, std::initializer_list<const gl::Program*> programs,
+                                   const CameraView& view) {
+    for (const gl::Program* program : programs)
+        glProgramUniform2f(program->id(), loc::fraction_scale, float(input.fraction.width()) / float(view.width),
+                           float(input.fraction.height()) / float(view.height));
+    input.fraction.bind(unit::fraction);
+    input.normal.bind(unit::fraction_normal);
+}
+
+void Renderer::unbind_fraction_input() {
+    glBindTextureUnit(unit::fraction, 0);
+    glBindTextureUnit(unit::fraction_normal, 0);
 }
 
 void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x,

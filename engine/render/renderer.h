@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -140,8 +141,22 @@ private:
     void select_lights();
     void ensure_atlas();
     void ensure_target(int width, int height);
-    // The shadowed-fraction pass's target for an image of width x height (RenderSettings::shadow_rate).
+    // A shadowed-fraction pass's output (docs/DESIGN.md §5.14): the fraction (RGB) and 1/w (A, 0: no object),
+    // the shading normal (RGB), and the depth it was drawn with.
+    struct FractionTarget {
+        gl::Texture fraction, normal, depth;
+        gl::Framebuffer framebuffer;
+        static FractionTarget create(int width, int height, const char* what);
+        bool fits(int width, int height) const {
+            return fraction && fraction.width() == width && fraction.height() == height;
+        }
+    };
+    // The shadowed-fraction passes' targets for an image of width x height (RenderSettings::shadow_rate).
     void ensure_fraction_target(int width, int height);
+    // `input`'s textures bound for `programs` (SHADOWED_FRACTION_IN) drawing an image of `view`'s size.
+    static void bind_fraction_input(const FractionTarget& input, std::initializer_list<const gl::Program*> programs,
+                                    const CameraView& view);
+    static void unbind_fraction_input();
     int drawn_samples() const;  // settings_.msaa capped by max_samples_ (a warning, once, where it is)
     const gl::Program& tiles_program(int samples);  // shadow_tiles.comp for a depth of `samples`, built on first use
     // shade.frag SHADOWED_FRACTION_IN (with METALLIC_ROUGHNESS for glTF's BRDF), built on first use.
@@ -193,9 +208,8 @@ private:
     // ShadowRate::adaptive: fraction_ per pixel into refined_, computed again where it varies (its own
     // pre-pass, and the image's tile lists from that); leaves target_ bound.
     void draw_refined_fraction(const FramePlan& plan, const CameraView& view);
-    // The texture the shading takes the fraction from (fraction_ or refined_).
-    const gl::Texture& shading_fraction() const;
-    const gl::Texture& shading_fraction_normal() const;
+    // What the shading takes the fraction from (fraction_ or refined_).
+    const FractionTarget& shading_fraction() const;
     void draw_background(const CameraView& view);
     void draw_blended(const FramePlan& plan, const CameraView& view);
 
@@ -326,15 +340,11 @@ private:
     gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
     gl::Buffer caster_rect_buffer_;  // FramePlan::caster_rects
     // The shadowed-fraction pass (RenderSettings::shadow_rate other than fragment, docs/DESIGN.md §5.14):
-    // one sample per pixel or per 2x2 pixels, fraction_ holding the fraction (RGB) and 1/w (A, 0: no
-    // object), with a depth and tile lists of its own.
-    gl::Texture fraction_, fraction_normal_, fraction_depth_;  // fraction_normal_: the shading normal (RGB)
-    gl::Framebuffer fraction_target_;
+    // one sample per pixel or per 2x2 pixels, with tile lists of its own.
+    FractionTarget fraction_;
     glm::ivec2 fraction_tiles_{0, 0};
     gl::Buffer fraction_tile_lists_;
-    // ShadowRate::adaptive: the fraction at one sample per pixel, as fraction_ (the image's size).
-    gl::Texture refined_, refined_normal_, refined_depth_;
-    gl::Framebuffer refined_target_;
+    FractionTarget refined_;        // ShadowRate::adaptive: fraction_ refined to one sample per pixel
     CasterTiles caster_tiles_;      // draw_casters: each caster's tiles by level, this draw's
     gl::Buffer atlas_tile_buffer_;  // caster_tiles_.tiles (shadow_atlas.vert's instance to tile)
 };
