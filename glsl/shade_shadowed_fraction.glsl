@@ -24,11 +24,7 @@ layout(binding = UNIT_FRACTION) uniform sampler2D u_fraction;                // 
 layout(binding = UNIT_FRACTION_NORMAL) uniform sampler2D u_fraction_normal;  // the shading normal
 layout(location = LOC_FRACTION_SCALE) uniform vec2 u_fraction_scale;         // texels per pixel, x and y
 
-// How far a texel's 1/w may lie from the fragment's plane and still be its surface: a sliver of the depth
-// (a curved surface leaves its tangent plane within a pixel or two) and the plane's change over a pixel.
-const float kPlaneToleranceOfDepth = 0.005;
-// The normals' agreement: (n.n')^16, a half at 16 degrees apart, under 1% beyond 37.
-const float kNormalPower = 16.0;
+#include "fraction_surface.glsl"
 
 // The fragment's plane: 1/w at the fragment and its change per pixel; its shading normal.
 struct FragmentPlane {

@@ -169,8 +169,11 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
     if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) {
         bool changed = false;
         changed |= setting_combo("shading", "shading", settings);
-        if (settings.shading == render::ShadingMode::ratio)
+        if (settings.shading == render::ShadingMode::ratio) {
             changed |= setting_combo("shadowed fraction per", "shadow-rate", settings);
+            if (settings.shadow_rate == render::ShadowRate::half || settings.shadow_rate == render::ShadowRate::pixel)
+                changed |= ImGui::Checkbox("filter the fraction's noise", &settings.fraction_filter);
+        }
         changed |= setting_combo("specular", "specular", settings);
         changed |= setting_combo("cap radius", "cap", settings);
         changed |= setting_combo("diffuse", "diffuse", settings);

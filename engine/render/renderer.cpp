@@ -89,6 +89,8 @@ Renderer::Renderer(const RenderSettings& settings) : settings_(settings), librar
     prepass_program_ = library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
     background_program_ =
         library_.build({{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
+    fraction_filter_program_ =
+        library_.build({{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "fraction_filter.frag"}});
     select_programs();
 }
 
@@ -490,6 +492,11 @@ void Renderer::ensure_fraction_target(int width, int height) {
     height = (height + divisor - 1) / divisor;
     if (fraction_.fits(width, height)) return;
     fraction_ = FractionTarget::create(width, height, "shadowed-fraction target");
+    fraction_filtered_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
+    fraction_filtered_.set_filter(GL_NEAREST, GL_NEAREST);
+    fraction_filter_target_ = gl::Framebuffer::create();
+    fraction_filter_target_.attach(GL_COLOR_ATTACHMENT0, fraction_filtered_);
+    fraction_filter_target_.check_complete("filtered-fraction target");
     fraction_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
                                  (height + size::screen_tile - 1) / size::screen_tile);
     fraction_tile_lists_ = gl::Buffer::create(std::size_t(fraction_tiles_.x) * std::size_t(fraction_tiles_.y) *
@@ -830,6 +837,8 @@ bool Renderer::draws_metallic_roughness(const FramePlan& plan) const {
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (variant_.fraction_pass) draw_shadowed_fraction(plan, view);
     if (variant_.fraction_pass && settings_.shadow_rate == ShadowRate::adaptive) draw_refined_fraction(plan, view);
+    if (variant_.fraction_pass && settings_.shadow_rate != ShadowRate::adaptive && settings_.fraction_filter)
+        filter_fraction(view);
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, samples_, "depth pre-pass");
     if (variant_.fraction_pass) {
         gl::ScopedPass pass(&timer_, "shading");
@@ -915,19 +924,38 @@ void Renderer::draw_refined_fraction(const FramePlan& plan, const CameraView& vi
         build_tile_lists(plan, view, refined_.depth, 1, tile_lists_, screen_tiles_, "refined tile lists");
     gl::ScopedPass pass(&timer_, "refined fraction");
     const gl::Program& refine_gltf = gltf ? programs.refine_gltf : programs.refine;
-    bind_fraction_input(fraction_, {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &refine_gltf},
-                        view);
+    bind_fraction_input({fraction_.fraction, fraction_.normal},
+                        {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &refine_gltf}, view);
     shade_objects(plan, view, {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &refine_gltf},
                   screen_tiles_.x, opaque_objects_);
     unbind_fraction_input();
     glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
 }
 
-const Renderer::FractionTarget& Renderer::shading_fraction() const {
-    return settings_.shadow_rate == ShadowRate::adaptive ? refined_ : fraction_;
+// The filter (docs/DESIGN.md §5.14): each texel of fraction_ the mean of the 3x3 about it on its surface, which
+// averages the soft shadows' per-texel disc rotations.
+void Renderer::filter_fraction(const CameraView& view) {
+    gl::ScopedPass pass(&timer_, "fraction filter");
+    glBindFramebuffer(GL_FRAMEBUFFER, fraction_filter_target_.id());
+    glViewport(0, 0, fraction_filtered_.width(), fraction_filtered_.height());
+    glDisable(GL_DEPTH_TEST);
+    fraction_filter_program_.use();
+    fraction_.fraction.bind(unit::fraction);
+    fraction_.normal.bind(unit::fraction_normal);
+    empty_vertex_array_.bind();
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    unbind_fraction_input();
+    glEnable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, target_.id());
+    glViewport(0, 0, view.width, view.height);
 }
 
-void Renderer::bind_fraction_input(const FractionTarget& input, std::initializer_list<const gl::Program*> programs,
+Renderer::FractionInput Renderer::shading_fraction() const {
+    if (settings_.shadow_rate == ShadowRate::adaptive) return {refined_.fraction, refined_.normal};
+    return {settings_.fraction_filter ? fraction_filtered_ : fraction_.fraction, fraction_.normal};
+}
+
+void Renderer::bind_fraction_input(FractionInput input, std::initializer_list<const gl::Program*> programs,
                                    const CameraView& view) {
     for (const gl::Program* program : programs)
         glProgramUniform2f(program->id(), loc::fraction_scale, float(input.fraction.width()) / float(view.width),

@@ -151,10 +151,15 @@ private:
             return fraction && fraction.width() == width && fraction.height() == height;
         }
     };
+    // A fraction and the normals of its texels, as the shading and the refinement read them.
+    struct FractionInput {
+        const gl::Texture& fraction;
+        const gl::Texture& normal;
+    };
     // The shadowed-fraction passes' targets for an image of width x height (RenderSettings::shadow_rate).
     void ensure_fraction_target(int width, int height);
     // `input`'s textures bound for `programs` (SHADOWED_FRACTION_IN) drawing an image of `view`'s size.
-    static void bind_fraction_input(const FractionTarget& input, std::initializer_list<const gl::Program*> programs,
+    static void bind_fraction_input(FractionInput input, std::initializer_list<const gl::Program*> programs,
                                     const CameraView& view);
     static void unbind_fraction_input();
     int drawn_samples() const;  // settings_.msaa capped by max_samples_ (a warning, once, where it is)
@@ -208,8 +213,10 @@ private:
     // ShadowRate::adaptive: fraction_ per pixel into refined_, computed again where it varies (its own
     // pre-pass, and the image's tile lists from that); leaves target_ bound.
     void draw_refined_fraction(const FramePlan& plan, const CameraView& view);
-    // What the shading takes the fraction from (fraction_ or refined_).
-    const FractionTarget& shading_fraction() const;
+    // fraction_ filtered over its surfaces into fraction_filtered_ (glsl/fraction_filter.frag).
+    void filter_fraction(const CameraView& view);
+    // What the shading takes the fraction from: refined_, or fraction_ filtered.
+    FractionInput shading_fraction() const;
     void draw_background(const CameraView& view);
     void draw_blended(const FramePlan& plan, const CameraView& view);
 
@@ -344,6 +351,9 @@ private:
     FractionTarget fraction_;
     glm::ivec2 fraction_tiles_{0, 0};
     gl::Buffer fraction_tile_lists_;
+    gl::Texture fraction_filtered_;  // fraction_'s fraction and 1/w, filtered (ShadowRate::half and pixel)
+    gl::Framebuffer fraction_filter_target_;
+    gl::Program fraction_filter_program_;
     FractionTarget refined_;        // ShadowRate::adaptive: fraction_ refined to one sample per pixel
     CasterTiles caster_tiles_;      // draw_casters: each caster's tiles by level, this draw's
     gl::Buffer atlas_tile_buffer_;  // caster_tiles_.tiles (shadow_atlas.vert's instance to tile)

@@ -91,7 +91,7 @@ namespace envshadow::render::shader {
     X(unit, specular_upper, 5)                                                                         \
     X(unit, atlas_depth, 6) /* shade.frag SOFT_SHADOWS: the atlas as depths (blocker search) */        \
     X(unit, base_color, 7)  /* shade.frag, masked casters: base-colour texture (white without one) */  \
-    /* shade.frag SHADOWED_FRACTION_IN: the fraction pass's fraction and 1/w, normals */               \
+    /* shade.frag SHADOWED_FRACTION_IN, fraction_filter.frag: the fraction and 1/w, normals */         \
     X(unit, fraction, 8)                                                                               \
     X(unit, fraction_normal, 9)                                                                        \
     X(unit, dfg, 10)               /* shade.frag METALLIC_ROUGHNESS: env/dfg_table.h's table */        \

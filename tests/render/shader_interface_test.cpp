@@ -67,6 +67,7 @@ std::vector<BuiltProgram> engine_programs() {
     add("shade (blended, translucent shadows, soft, ratio)", shade,
         {"ALPHA_BLEND", "TRANSLUCENT_SHADOWS", "SOFT_SHADOWS", "SHADING_RATIO"});
     add("background", {{GL_VERTEX_SHADER, "background.vert"}, {GL_FRAGMENT_SHADER, "background.frag"}});
+    add("fraction filter", {{GL_VERTEX_SHADER, "present.vert"}, {GL_FRAGMENT_SHADER, "fraction_filter.frag"}});
     add("shadow_tiles.comp", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}}, {"LIGHTS_UNIFORM_BLOCK"});
     add("shadow_tiles.comp (MSAA depth)", {{GL_COMPUTE_SHADER, "shadow_tiles.comp"}},
         {"LIGHTS_UNIFORM_BLOCK", "DEPTH_SAMPLES 4"});
