@@ -23,9 +23,9 @@ struct Sums {
     float weight;
 };
 
-// The pair at +-offset about `centre` (fraction f, 1/w w, shading normal n), of binomial weight `weight` each.
-void add_pair(inout Sums sums, ivec2 centre, ivec2 offset, float weight, vec3 f, float w, vec3 n) {
-    ivec2 last = textureSize(u_fraction, 0) - 1;
+// The pair at +-offset about `centre` (fraction f, 1/w w, shading normal n), of binomial weight `weight` each;
+// `last` is the texture's last texel.
+void add_pair(inout Sums sums, ivec2 centre, ivec2 offset, ivec2 last, float weight, vec3 f, float w, vec3 n) {
     ivec2 a = clamp(centre + offset, ivec2(0), last), b = clamp(centre - offset, ivec2(0), last);
     vec4 ta = texelFetch(u_fraction, a, 0), tb = texelFetch(u_fraction, b, 0);
     if (ta.a <= 0.0 || tb.a <= 0.0) return;
@@ -48,9 +48,10 @@ void main() {
     }
     vec3 normal = texelFetch(u_fraction_normal, centre, 0).xyz;
     Sums sums = Sums(4.0 * (1.0 - texel.rgb), 4.0);
-    add_pair(sums, centre, ivec2(1, 0), 2.0, texel.rgb, texel.a, normal);
-    add_pair(sums, centre, ivec2(0, 1), 2.0, texel.rgb, texel.a, normal);
-    add_pair(sums, centre, ivec2(1, 1), 1.0, texel.rgb, texel.a, normal);
-    add_pair(sums, centre, ivec2(1, -1), 1.0, texel.rgb, texel.a, normal);
+    ivec2 last = textureSize(u_fraction, 0) - 1;
+    add_pair(sums, centre, ivec2(1, 0), last, 2.0, texel.rgb, texel.a, normal);
+    add_pair(sums, centre, ivec2(0, 1), last, 2.0, texel.rgb, texel.a, normal);
+    add_pair(sums, centre, ivec2(1, 1), last, 1.0, texel.rgb, texel.a, normal);
+    add_pair(sums, centre, ivec2(1, -1), last, 1.0, texel.rgb, texel.a, normal);
     o_fraction = vec4(1.0 - sums.shadow / sums.weight, texel.a);
 }

@@ -490,17 +490,26 @@ void Renderer::ensure_fraction_target(int width, int height) {
     const int divisor = settings_.shadow_rate == ShadowRate::pixel ? 1 : 2;
     width = (width + divisor - 1) / divisor;
     height = (height + divisor - 1) / divisor;
-    if (fraction_.fits(width, height)) return;
-    fraction_ = FractionTarget::create(width, height, "shadowed-fraction target");
+    if (!fraction_.fits(width, height)) {
+        fraction_ = FractionTarget::create(width, height, "shadowed-fraction target");
+        fraction_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
+                                     (height + size::screen_tile - 1) / size::screen_tile);
+        fraction_tile_lists_ = gl::Buffer::create(std::size_t(fraction_tiles_.x) * std::size_t(fraction_tiles_.y) *
+                                                  std::size_t(size::max_lights + 1) * sizeof(std::uint32_t));
+    }
+    const bool filtered_fits =
+        fraction_filtered_ && fraction_filtered_.width() == width && fraction_filtered_.height() == height;
+    if (!filters_fraction() || filtered_fits) return;
     fraction_filtered_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
     fraction_filtered_.set_filter(GL_NEAREST, GL_NEAREST);
     fraction_filter_target_ = gl::Framebuffer::create();
     fraction_filter_target_.attach(GL_COLOR_ATTACHMENT0, fraction_filtered_);
     fraction_filter_target_.check_complete("filtered-fraction target");
-    fraction_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
-                                 (height + size::screen_tile - 1) / size::screen_tile);
-    fraction_tile_lists_ = gl::Buffer::create(std::size_t(fraction_tiles_.x) * std::size_t(fraction_tiles_.y) *
-                                              std::size_t(size::max_lights + 1) * sizeof(std::uint32_t));
+}
+
+// Whether the fraction pass's texels are filtered before the shading reads them (adaptive averages its own).
+bool Renderer::filters_fraction() const {
+    return settings_.fraction_filter && settings_.shadow_rate != ShadowRate::adaptive;
 }
 
 void Renderer::upload(const FramePlan& plan) {
@@ -837,8 +846,7 @@ bool Renderer::draws_metallic_roughness(const FramePlan& plan) const {
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (variant_.fraction_pass) draw_shadowed_fraction(plan, view);
     if (variant_.fraction_pass && settings_.shadow_rate == ShadowRate::adaptive) draw_refined_fraction(plan, view);
-    if (variant_.fraction_pass && settings_.shadow_rate != ShadowRate::adaptive && settings_.fraction_filter)
-        filter_fraction(view);
+    if (variant_.fraction_pass && filters_fraction()) filter_fraction(view);
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, samples_, "depth pre-pass");
     if (variant_.fraction_pass) {
         gl::ScopedPass pass(&timer_, "shading");
@@ -952,7 +960,7 @@ void Renderer::filter_fraction(const CameraView& view) {
 
 Renderer::FractionInput Renderer::shading_fraction() const {
     if (settings_.shadow_rate == ShadowRate::adaptive) return {refined_.fraction, refined_.normal};
-    return {settings_.fraction_filter ? fraction_filtered_ : fraction_.fraction, fraction_.normal};
+    return {filters_fraction() ? fraction_filtered_ : fraction_.fraction, fraction_.normal};
 }
 
 void Renderer::bind_fraction_input(FractionInput input, std::initializer_list<const gl::Program*> programs,

@@ -213,6 +213,7 @@ private:
     // ShadowRate::adaptive: fraction_ per pixel into refined_, computed again where it varies (its own
     // pre-pass, and the image's tile lists from that); leaves target_ bound.
     void draw_refined_fraction(const FramePlan& plan, const CameraView& view);
+    bool filters_fraction() const;
     // fraction_ filtered over its surfaces into fraction_filtered_ (glsl/fraction_filter.frag).
     void filter_fraction(const CameraView& view);
     // What the shading takes the fraction from: refined_, or fraction_ filtered.
@@ -351,7 +352,7 @@ private:
     FractionTarget fraction_;
     glm::ivec2 fraction_tiles_{0, 0};
     gl::Buffer fraction_tile_lists_;
-    gl::Texture fraction_filtered_;  // fraction_'s fraction and 1/w, filtered (ShadowRate::half and pixel)
+    gl::Texture fraction_filtered_;  // fraction_'s fraction and 1/w, filtered; made when filters_fraction()
     gl::Framebuffer fraction_filter_target_;
     gl::Program fraction_filter_program_;
     FractionTarget refined_;        // ShadowRate::adaptive: fraction_ refined to one sample per pixel
