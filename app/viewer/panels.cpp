@@ -171,7 +171,7 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
         changed |= setting_combo("shading", "shading", settings);
         if (settings.shading == render::ShadingMode::ratio) {
             changed |= setting_combo("shadowed fraction per", "shadow-rate", settings);
-            if (settings.shadow_rate == render::ShadowRate::half || settings.shadow_rate == render::ShadowRate::pixel)
+            if (settings.shadow_rate != render::ShadowRate::fragment)
                 changed |= ImGui::Checkbox("filter the fraction's noise", &settings.fraction_filter);
         }
         changed |= setting_combo("specular", "specular", settings);

@@ -171,8 +171,8 @@ std::vector<SettingInfo> make_setting_table() {
                "own, then looked up with depth-aware weights; adaptive: per 2x2 pixels, and per pixel where "
                "those disagree"),
         on_off("fraction-filter", &RenderSettings::fraction_filter, frame,
-               "With --shadow-rate half or pixel: the shadowed fraction's texels averaged over the 3x3 about them on "
-               "their surface, where they differ little (the soft shadows' noise), before the shading looks them up"),
+               "With --shadow-rate half, pixel or adaptive: the shadowed fraction's texels averaged over the 3x3 about "
+               "them on their surface, where they differ little (the soft shadows' noise), before they are looked up"),
         on_off("background", &RenderSettings::background, frame, "Draw the environment behind the objects"),
         on_off("base-color-texture", &RenderSettings::base_color_texture, frame,
                "Base-colour textures multiply the objects' base colour (off: the material's factors alone)"),

@@ -133,8 +133,8 @@ struct RenderSettings {
     ShadingMode shading = ShadingMode::cells;
     ShadowMode shadows = ShadowMode::hard;
     ShadowRate shadow_rate = ShadowRate::fragment;  // ShadingMode::ratio only
-    // ShadowRate::half and pixel: the fraction's texels filtered over their surface (glsl/fraction_filter.frag),
-    // which averages the soft shadows' per-texel disc rotations.
+    // ShadowRate::half, pixel and adaptive: the fraction's texels filtered over their surface
+    // (glsl/fraction_filter.frag), which averages the soft shadows' per-texel disc rotations.
     bool fraction_filter = true;
     bool background = true;
     // Objects' base-colour textures (glTF's baseColorTexture) multiply their base colour; off: the

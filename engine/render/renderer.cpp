@@ -507,9 +507,9 @@ void Renderer::ensure_fraction_target(int width, int height) {
     fraction_filter_target_.check_complete("filtered-fraction target");
 }
 
-// Whether the fraction pass's texels are filtered before the shading reads them (adaptive averages its own).
+// Whether the fraction pass's texels are filtered before the shading (or, at adaptive, the refinement) reads them.
 bool Renderer::filters_fraction() const {
-    return settings_.fraction_filter && settings_.shadow_rate != ShadowRate::adaptive;
+    return settings_.fraction_filter;
 }
 
 void Renderer::upload(const FramePlan& plan) {
@@ -845,8 +845,8 @@ bool Renderer::draws_metallic_roughness(const FramePlan& plan) const {
 
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (variant_.fraction_pass) draw_shadowed_fraction(plan, view);
-    if (variant_.fraction_pass && settings_.shadow_rate == ShadowRate::adaptive) draw_refined_fraction(plan, view);
     if (variant_.fraction_pass && filters_fraction()) filter_fraction(view);
+    if (variant_.fraction_pass && settings_.shadow_rate == ShadowRate::adaptive) draw_refined_fraction(plan, view);
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, samples_, "depth pre-pass");
     if (variant_.fraction_pass) {
         gl::ScopedPass pass(&timer_, "shading");
@@ -932,7 +932,7 @@ void Renderer::draw_refined_fraction(const FramePlan& plan, const CameraView& vi
         build_tile_lists(plan, view, refined_.depth, 1, tile_lists_, screen_tiles_, "refined tile lists");
     gl::ScopedPass pass(&timer_, "refined fraction");
     const gl::Program& refine_gltf = gltf ? programs.refine_gltf : programs.refine;
-    bind_fraction_input({fraction_.fraction, fraction_.normal},
+    bind_fraction_input({filters_fraction() ? fraction_filtered_ : fraction_.fraction, fraction_.normal},
                         {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &refine_gltf}, view);
     shade_objects(plan, view, {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &refine_gltf},
                   screen_tiles_.x, opaque_objects_);

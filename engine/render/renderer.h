@@ -210,8 +210,8 @@ private:
     void set_sides(const ObjectFrame& object, std::size_t i) const;
     // The ratio's shadowed fraction into fraction_ (its own pre-pass and tile lists); leaves target_ bound.
     void draw_shadowed_fraction(const FramePlan& plan, const CameraView& view);
-    // ShadowRate::adaptive: fraction_ per pixel into refined_, computed again where it varies (its own
-    // pre-pass, and the image's tile lists from that); leaves target_ bound.
+    // ShadowRate::adaptive: fraction_ (filtered when filters_fraction()) per pixel into refined_, computed again
+    // where it varies (its own pre-pass, and the image's tile lists from that); leaves target_ bound.
     void draw_refined_fraction(const FramePlan& plan, const CameraView& view);
     bool filters_fraction() const;
     // fraction_ filtered over its surfaces into fraction_filtered_ (glsl/fraction_filter.frag).
