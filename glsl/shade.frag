@@ -17,10 +17,14 @@
 //                            writes the fraction, SHADOWED_FRACTION_IN shades with it instead of the loop;
 //                            SHADOWED_FRACTION_REFINE (with both) writes it per pixel, looked up where the
 //                            per-2x2 fractions agree and from the loop where they do not
+//   shade_sun_per_pixel.glsl the sun's shadow looked up again at each pixel (SUN_PER_PIXEL)
 #include "shade_cell_sums.glsl"
 #include "shade_ratio.glsl"
 #include "shade_shadowed_fraction.glsl"
 #include "shade_surface.glsl"
+#if defined(SUN_PER_PIXEL)
+#include "shade_sun_per_pixel.glsl"
+#endif
 
 // centroid: with MSAA, interpolated inside the triangle (at a covered sample) rather than at the pixel
 // centre, which may lie beyond a silhouette edge; the same as the centre at one sample per pixel.
@@ -48,12 +52,21 @@ void main() {
     }
     o_color = fraction_texel(fraction, s.normal);
 #elif defined(SHADOWED_FRACTION_IN)
-    vec3 reflected = unshadowed_radiance(s) * fraction_at_fragment(s.normal).fraction;
+    UpsampledFraction upsampled = fraction_at_fragment(s.normal);
+    vec3 fraction = upsampled.fraction;
+#if defined(SUN_PER_PIXEL)
+    if (sun_looked_up(s))
+        fraction = clamp(fraction + upsampled.sun_share * sun_visibility(s) - upsampled.sun_lit, 0.0, 1.0);
+#endif
+    vec3 reflected = unshadowed_radiance(s) * fraction;
     o_color = vec4(reflected * occlusion(s) + emitted_radiance(s), 1.0);
 #else
     CellSums sums = cell_sums(s);
 #if defined(SHADOWED_FRACTION_OUT)
     o_color = fraction_texel(shadowed_fraction(shadowed_sum(sums), sums.whole_lobe), s.normal);
+#if defined(SUN_PER_PIXEL)
+    write_sun_texel(s, sums.whole_lobe);
+#endif
 #else
     vec3 reflected = reflected_radiance(s, shadowed_sum(sums), sums.whole_lobe);
     vec3 radiance = reflected * occlusion(s) + emitted_radiance(s);

@@ -23,6 +23,9 @@ vec4 fraction_texel(vec3 fraction, vec3 normal) {
 layout(binding = UNIT_FRACTION) uniform sampler2D u_fraction;                // the fraction, 1/w
 layout(binding = UNIT_FRACTION_NORMAL) uniform sampler2D u_fraction_normal;  // the shading normal
 layout(location = LOC_FRACTION_SCALE) uniform vec2 u_fraction_scale;         // texels per pixel, x and y
+#if defined(SUN_PER_PIXEL)
+layout(binding = UNIT_FRACTION_SUN) uniform sampler2D u_fraction_sun;  // the sun's share, its V (shade_sun_per_pixel.glsl)
+#endif
 
 #include "fraction_surface.glsl"
 
@@ -65,7 +68,25 @@ struct UpsampledFraction {
     // How far apart the fractions (their largest channel) of the texels on the fragment's surface lie; 1
     // where none of them is on it.
     float spread;
+    // SUN_PER_PIXEL, from the same texels with the same weights: the sun's share (RGB) and its share of the
+    // fraction, share x V (the products averaged: where the texels straddle its terminator, those under the
+    // plane have share 0 and V 1).
+    vec3 sun_share, sun_lit;
 };
+
+// The sun's texel t (SUN_PER_PIXEL): its share and V; or nothing of a sun.
+vec4 sun_texel(ivec2 t) {
+#if defined(SUN_PER_PIXEL)
+    return texelFetch(u_fraction_sun, t, 0);
+#else
+    return vec4(0.0, 0.0, 0.0, 1.0);
+#endif
+}
+
+// A sun texel's share and share x V, to be averaged.
+mat2x3 sun_terms(vec4 texel) {
+    return mat2x3(texel.rgb, texel.rgb * texel.a);
+}
 
 // The shadowed fraction at this fragment: the fraction texels about it weighted by the tent and by how well
 // they lie on its plane (a joint bilateral upsampling); where none does (a silhouette the fraction's samples
@@ -81,6 +102,7 @@ UpsampledFraction fraction_at_fragment(vec3 normal) {
     vec2 q = gl_FragCoord.xy * u_fraction_scale - 0.5;  // texel centres at integers
     ivec2 base = ivec2(floor(q)) - (kTexelsAcross / 2 - 1);
     vec3 shadow = vec3(0.0);
+    mat2x3 sun = mat2x3(0.0);
     float total = 0.0;
     float lowest = 1.0, highest = 0.0;  // of the texels on the fragment's surface
     for (int k = 0; k < kTexelsAcross * kTexelsAcross; ++k) {
@@ -91,6 +113,7 @@ UpsampledFraction fraction_at_fragment(vec3 normal) {
         vec4 texel = texelFetch(u_fraction, t, 0);
         float match = plane_match(plane, t, texel.a);
         shadow += tent * match * (1.0 - texel.rgb);
+        sun += tent * match * sun_terms(sun_texel(t));
         total += tent * match;
         if (tent > 0.0 && match > kSameSurfaceMatch) {
             float largest = max(max(texel.r, texel.g), texel.b);
@@ -99,12 +122,14 @@ UpsampledFraction fraction_at_fragment(vec3 normal) {
         }
     }
     float spread = highest >= lowest ? highest - lowest : 1.0;
-    if (total > 1e-3) return UpsampledFraction(1.0 - shadow / total, spread);
+    if (total > 1e-3) return UpsampledFraction(1.0 - shadow / total, spread, sun[0] / total, sun[1] / total);
 
     ivec2 nearest = ivec2(floor(q + 0.5));
     vec3 best = vec3(1.0);  // lit where no texel has an object
+    mat2x3 best_sun = mat2x3(0.0);
     float best_distance = 1e30;
     shadow = vec3(0.0);
+    sun = mat2x3(0.0);
     total = 0.0;
     for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x) {
@@ -112,13 +137,16 @@ UpsampledFraction fraction_at_fragment(vec3 normal) {
             vec4 texel = texelFetch(u_fraction, t, 0);
             float weight = plane_match(plane, t, texel.a);
             shadow += weight * (1.0 - texel.rgb);
+            sun += weight * sun_terms(sun_texel(t));
             total += weight;
             float distance = abs(texel.a - plane.w);
             if (texel.a > 0.0 && distance < best_distance) {
                 best_distance = distance;
                 best = texel.rgb;
+                best_sun = sun_terms(sun_texel(t));
             }
         }
-    return UpsampledFraction(total > 1e-3 ? 1.0 - shadow / total : best, 1.0);
+    if (total > 1e-3) return UpsampledFraction(1.0 - shadow / total, 1.0, sun[0] / total, sun[1] / total);
+    return UpsampledFraction(best, 1.0, best_sun[0], best_sun[1]);
 }
 #endif

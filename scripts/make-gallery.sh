@@ -29,11 +29,11 @@ if [ -f "$box" ]; then
       --out "screenshots/gallery/box_shadows_$shadows.png" | sed "s/^/box_shadows_$shadows: /"
   done
 fi
-# The shadowed fraction's rate where its shadows are thinner than two pixels: the window frame's lines at 480x270,
-# the default half rate against adaptive (docs/DESIGN.md §5.14).
-for rate in half adaptive; do
+# The half rate's fraction where the sun's shadows are thinner than two pixels: the window frame's lines at
+# 480x270, with the sun's shadow taken from the fraction's texels and looked up per pixel (docs/DESIGN.md §5.14).
+for sun in off on; do
   "$envshadow" render --scene assets/scenes/glass_pane.json --width 480 --height 270 --lights 128 --tile 256 \
-    --shadow-rate "$rate" --out "screenshots/gallery/glass_pane_$rate.png" | sed "s/^/glass_pane_$rate: /"
+    --sun-per-pixel "$sun" --out "screenshots/gallery/glass_pane_sun_$sun.png" | sed "s/^/glass_pane_sun_$sun: /"
 done
 # glTF animation: animated.json at four times side by side (the skin bending, the cube morphing, their
 # shadows following).

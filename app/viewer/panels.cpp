@@ -173,6 +173,8 @@ void Panels::settings_panel(ViewerControls& controls, const PanelInputs& in, Pan
             changed |= setting_combo("shadowed fraction per", "shadow-rate", settings);
             if (settings.shadow_rate != render::ShadowRate::fragment)
                 changed |= ImGui::Checkbox("filter the fraction's noise", &settings.fraction_filter);
+            if (settings.shadow_rate == render::ShadowRate::half)
+                changed |= ImGui::Checkbox("the sun's shadow per pixel", &settings.sun_per_pixel);
         }
         changed |= setting_combo("specular", "specular", settings);
         changed |= setting_combo("cap radius", "cap", settings);

@@ -102,4 +102,18 @@ std::vector<LightNeighbourhood> light_neighbourhoods(std::span<const WorldLight>
     return neighbourhoods;
 }
 
+int sun_light(std::span<const LightRecord> lights) {
+    int brightest = -1;
+    double most = 0.0, total = 0.0;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const double l = latlong::luminance(glm::dvec3(lights[i].radiance));
+        total += l;
+        if (l > most) {
+            most = l;
+            brightest = int(i);
+        }
+    }
+    return most > 0.0 && most * double(lights.size()) >= kSunShare * total ? brightest : -1;
+}
+
 }  // namespace envshadow::render

@@ -87,4 +87,10 @@ struct LightNeighbourhood {
 // there. At most kMaxLights lights (std::invalid_argument).
 std::vector<LightNeighbourhood> light_neighbourhoods(std::span<const WorldLight> lights);
 
+// The sun among the lights (docs/DESIGN.md §5.14, the sun per pixel): the index of the record of greatest
+// luminance of L~ if it holds at least kSunShare times an even share of all of them, else -1 (no light
+// stands out: a uniform or overcast sky).
+inline constexpr double kSunShare = 2.0;
+int sun_light(std::span<const LightRecord> lights);
+
 }  // namespace envshadow::render

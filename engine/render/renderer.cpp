@@ -37,27 +37,32 @@ bool changes(SettingEffect effect, const RenderSettings& a, const RenderSettings
 // Viewports used per batch in AtlasMode::viewport_array (GL_MAX_VIEWPORTS is 16 on most drivers).
 constexpr int kMaxViewports = 64;
 
-// A framebuffer drawing into `first` and `second` (attachments 0 and 1) over `depth`; `what` names it in errors.
-gl::Framebuffer two_colour_target(const gl::Texture& first, const gl::Texture& second, const gl::Texture& depth,
-                                  const char* what) {
+// A framebuffer drawing into `colours` (attachments 0, 1, ...) over `depth`; `what` names it in errors.
+gl::Framebuffer colour_target(std::initializer_list<const gl::Texture*> colours, const gl::Texture& depth,
+                              const char* what) {
     gl::Framebuffer target = gl::Framebuffer::create();
-    target.attach(GL_COLOR_ATTACHMENT0, first);
-    target.attach(GL_COLOR_ATTACHMENT1, second);
-    const GLenum draw_buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(target.id(), 2, draw_buffers);
+    std::vector<GLenum> draw_buffers;
+    for (const gl::Texture* colour : colours) {
+        draw_buffers.push_back(GLenum(GL_COLOR_ATTACHMENT0 + draw_buffers.size()));
+        target.attach(draw_buffers.back(), *colour);
+    }
+    glNamedFramebufferDrawBuffers(target.id(), GLsizei(draw_buffers.size()), draw_buffers.data());
     target.attach(GL_DEPTH_ATTACHMENT, depth);
     target.check_complete(what);
     return target;
 }
 
-// A fraction target before its pass: fraction 1 and alpha 0 (no object), no normal, the far depth.
+// A fraction target before its pass: fraction 1 and alpha 0 (no object), no normal, no sun (share 0, V 1;
+// a target without the sun's attachment ignores it), the far depth.
 void clear_fraction_target(const gl::Framebuffer& target) {
     const float lit_nothing[4] = {1.0f, 1.0f, 1.0f, 0.0f};
     const float no_normal[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    const float no_sun[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     const float clear_depth = 1.0f;
     glDepthMask(GL_TRUE);
     glClearNamedFramebufferfv(target.id(), GL_COLOR, 0, lit_nothing);
     glClearNamedFramebufferfv(target.id(), GL_COLOR, 1, no_normal);
+    glClearNamedFramebufferfv(target.id(), GL_COLOR, 2, no_sun);
     glClearNamedFramebufferfv(target.id(), GL_DEPTH, 0, &clear_depth);
 }
 
@@ -132,8 +137,19 @@ const gl::Program& Renderer::tiles_program(int samples) {
 }
 
 // The shading with the fraction pass's output: no shadows, so of the variant's key only the alpha test
-// matters, and for glTF's BRDF how it reads the lights (its compact lights' correction).
+// matters, and for glTF's BRDF how it reads the lights (its compact lights' correction); with the sun per
+// pixel, which looks the sun's shadow up, the whole variant.
 const gl::Program& Renderer::fraction_shading_program(bool metallic_roughness) {
+    if (variant_.sun_per_pixel) {  // it looks the sun's shadow up: the variant's visibility, per variant
+        gl::Program& program = metallic_roughness ? programs_now_->shade_sun_gltf : programs_now_->shade_sun;
+        if (!program) {
+            std::vector<std::string> defines = shade_defines(variant_);
+            defines.push_back("SHADOWED_FRACTION_IN");
+            if (metallic_roughness) defines.push_back("METALLIC_ROUGHNESS");
+            program = library_.build({{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "shade.frag"}}, defines);
+        }
+        return program;
+    }
     const bool lights_block = metallic_roughness && variant_.lights_uniform_block;
     gl::Program& program = fraction_shading_programs_[{metallic_roughness, variant_.alpha_test, lights_block}];
     if (!program) {
@@ -474,24 +490,30 @@ void Renderer::ensure_target(int width, int height) {
     sample_quarters_ = samples_ > 1 ? sample_quarters(target_, samples_) : std::array<GLuint, 4>{1, 1, 1, 1};
 }
 
-Renderer::FractionTarget Renderer::FractionTarget::create(int width, int height, const char* what) {
+Renderer::FractionTarget Renderer::FractionTarget::create(int width, int height, bool sun, const char* what) {
     FractionTarget target;
     target.fraction = gl::Texture::create_2d(GL_RGBA32F, width, height);
     target.normal = gl::Texture::create_2d(GL_RGBA16F, width, height);
     target.depth = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, width, height);  // read by shadow_tiles.comp
     for (gl::Texture* t : {&target.fraction, &target.normal, &target.depth}) t->set_filter(GL_NEAREST, GL_NEAREST);
-    target.framebuffer = two_colour_target(target.fraction, target.normal, target.depth, what);
+    if (!sun) {
+        target.framebuffer = colour_target({&target.fraction, &target.normal}, target.depth, what);
+        return target;
+    }
+    target.sun = gl::Texture::create_2d(GL_RGBA16F, width, height);
+    target.sun.set_filter(GL_NEAREST, GL_NEAREST);
+    target.framebuffer = colour_target({&target.fraction, &target.normal, &target.sun}, target.depth, what);
     return target;
 }
 
 void Renderer::ensure_fraction_target(int width, int height) {
     if (settings_.shadow_rate == ShadowRate::adaptive && !refined_.fits(width, height))
-        refined_ = FractionTarget::create(width, height, "refined-fraction target");
+        refined_ = FractionTarget::create(width, height, false, "refined-fraction target");
     const int divisor = settings_.shadow_rate == ShadowRate::pixel ? 1 : 2;
     width = (width + divisor - 1) / divisor;
     height = (height + divisor - 1) / divisor;
     if (!fraction_.fits(width, height)) {
-        fraction_ = FractionTarget::create(width, height, "shadowed-fraction target");
+        fraction_ = FractionTarget::create(width, height, true, "shadowed-fraction target");
         fraction_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
                                      (height + size::screen_tile - 1) / size::screen_tile);
         fraction_tile_lists_ = gl::Buffer::create(std::size_t(fraction_tiles_.x) * std::size_t(fraction_tiles_.y) *
@@ -541,7 +563,7 @@ void Renderer::ensure_translucent_layer() {
     atlas_translucent_depth_ = gl::Texture::create_2d(GL_R16, atlas_depth_.width(), atlas_depth_.height());
     for (gl::Texture* t : {&atlas_transmittance_, &atlas_translucent_depth_}) t->set_filter(GL_NEAREST, GL_NEAREST);
     atlas_translucent_ =
-        two_colour_target(atlas_transmittance_, atlas_translucent_depth_, atlas_depth_, "translucent shadow layer");
+        colour_target({&atlas_transmittance_, &atlas_translucent_depth_}, atlas_depth_, "translucent shadow layer");
 }
 
 void Renderer::draw_opaque_atlas(const FramePlan& plan, FrameStats& stats) {
@@ -960,7 +982,8 @@ void Renderer::filter_fraction(const CameraView& view) {
 
 Renderer::FractionInput Renderer::shading_fraction() const {
     if (settings_.shadow_rate == ShadowRate::adaptive) return {refined_.fraction, refined_.normal};
-    return {filters_fraction() ? fraction_filtered_ : fraction_.fraction, fraction_.normal};
+    return {filters_fraction() ? fraction_filtered_ : fraction_.fraction, fraction_.normal,
+            variant_.sun_per_pixel ? &fraction_.sun : nullptr};
 }
 
 void Renderer::bind_fraction_input(FractionInput input, std::initializer_list<const gl::Program*> programs,
@@ -970,11 +993,13 @@ void Renderer::bind_fraction_input(FractionInput input, std::initializer_list<co
                            float(input.fraction.height()) / float(view.height));
     input.fraction.bind(unit::fraction);
     input.normal.bind(unit::fraction_normal);
+    if (input.sun) input.sun->bind(unit::fraction_sun);
 }
 
 void Renderer::unbind_fraction_input() {
     glBindTextureUnit(unit::fraction, 0);
     glBindTextureUnit(unit::fraction_normal, 0);
+    glBindTextureUnit(unit::fraction_sun, 0);
 }
 
 void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, const ShadePrograms& programs, int tiles_x,
@@ -989,6 +1014,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         glProgramUniform2f(program, loc::atlas_texel, 1.0f / float(layout_.width()), 1.0f / float(layout_.height()));
         glProgramUniform1f(program, loc::slope_bias, settings_.slope_bias);
         glProgramUniform1ui(program, loc::tiles_x, GLuint(tiles_x));
+        if (variant_.sun_per_pixel && !blending) glProgramUniform1i(program, loc::sun_cell, sun_light(plan.lights));
     }
     atlas_depth_.bind(unit::atlas_depth);
     atlas_depth_sampler_.bind(unit::atlas_depth);

@@ -142,19 +142,22 @@ private:
     void ensure_atlas();
     void ensure_target(int width, int height);
     // A shadowed-fraction pass's output (docs/DESIGN.md §5.14): the fraction (RGB) and 1/w (A, 0: no object),
-    // the shading normal (RGB), and the depth it was drawn with.
+    // the shading normal (RGB), the sun's share and visibility (SUN_PER_PIXEL), and the depth it was drawn with.
     struct FractionTarget {
-        gl::Texture fraction, normal, depth;
+        gl::Texture fraction, normal, sun, depth;
         gl::Framebuffer framebuffer;
-        static FractionTarget create(int width, int height, const char* what);
+        // `sun`: with the sun's attachment (the fraction pass's; the refinement has none).
+        static FractionTarget create(int width, int height, bool sun, const char* what);
         bool fits(int width, int height) const {
             return fraction && fraction.width() == width && fraction.height() == height;
         }
     };
-    // A fraction and the normals of its texels, as the shading and the refinement read them.
+    // A fraction and the normals of its texels, as the shading and the refinement read them; with
+    // SUN_PER_PIXEL, the sun's share and visibility.
     struct FractionInput {
         const gl::Texture& fraction;
         const gl::Texture& normal;
+        const gl::Texture* sun = nullptr;
     };
     // The shadowed-fraction passes' targets for an image of width x height (RenderSettings::shadow_rate).
     void ensure_fraction_target(int width, int height);
@@ -234,6 +237,8 @@ private:
         // SHADOWED_FRACTION_REFINE (ShadowRate::adaptive) with shade, shade_diffuse, shade_flat and shade_gltf's
         // defines, built once drawn with.
         gl::Program refine, refine_diffuse, refine_flat, refine_gltf;
+        // SUN_PER_PIXEL: the shading (SHADOWED_FRACTION_IN) with the variant's visibility, built once drawn with.
+        gl::Program shade_sun, shade_sun_gltf;
     };
     ShaderSupport support_;
     ShaderVariant variant_;

@@ -60,6 +60,7 @@ namespace envshadow::render::shader {
     X(loc, normal_scale, 55)        /* shade.frag: Material::normal_scale, 0 without a normal map */   \
     X(loc, compact_directions, 56)  /* world direction, cos radius (vec4[4]: 56-59) */                 \
     X(loc, compact_radiances, 60)   /* integral of L dw (vec4[4]: 60-63) */                            \
+    X(loc, sun_cell, 64)            /* SUN_PER_PIXEL: the sun's cell (sun_light), -1: none */          \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
@@ -94,6 +95,7 @@ namespace envshadow::render::shader {
     /* shade.frag SHADOWED_FRACTION_IN, fraction_filter.frag: the fraction and 1/w, normals */         \
     X(unit, fraction, 8)                                                                               \
     X(unit, fraction_normal, 9)                                                                        \
+    X(unit, fraction_sun, 1)       /* SUN_PER_PIXEL: the brightest cell's share and visibility */      \
     X(unit, dfg, 10)               /* shade.frag METALLIC_ROUGHNESS: env/dfg_table.h's table */        \
     X(unit, emission_texture, 11)  /* shade.frag: the material's emission (white without one) */       \
     X(unit, occlusion_texture, 12) /* shade.frag: the material's occlusion (R, linear; white) */       \

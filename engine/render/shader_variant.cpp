@@ -17,6 +17,7 @@ ShaderVariant shader_variant(const RenderSettings& settings, const ShaderSupport
     variant.ratio = settings.shading == ShadingMode::ratio;
     variant.soft_shadows = settings.shadows == ShadowMode::soft;
     variant.fraction_pass = variant.ratio && settings.shadow_rate != ShadowRate::fragment;
+    variant.sun_per_pixel = variant.fraction_pass && settings.shadow_rate == ShadowRate::half && settings.sun_per_pixel;
     variant.alpha_test = !settings.depth_prepass;
     return variant;
 }
@@ -39,6 +40,7 @@ std::vector<std::string> shade_defines(const ShaderVariant& variant) {
     if (variant.ratio) defines.push_back("SHADING_RATIO");
     if (variant.soft_shadows) defines.push_back("SOFT_SHADOWS");
     if (variant.fraction_pass) defines.push_back("SHADOWED_FRACTION_OUT");
+    if (variant.sun_per_pixel) defines.push_back("SUN_PER_PIXEL");
     if (variant.alpha_test) defines.push_back("ALPHA_TEST");
     if (variant.translucent_shadows) defines.push_back("TRANSLUCENT_SHADOWS");
     return defines;

@@ -27,6 +27,7 @@ struct ShaderVariant {
     bool ratio = false;                           // SHADING_RATIO
     bool soft_shadows = false;                    // SOFT_SHADOWS
     bool fraction_pass = false;                   // SHADOWED_FRACTION_OUT: ratio at a reduced shadow rate
+    bool sun_per_pixel = false;                   // SUN_PER_PIXEL: with the fraction at ShadowRate::half
     bool alpha_test = false;  // ALPHA_TEST: no depth pre-pass, so shade.frag cuts masked surfaces out itself
     // TRANSLUCENT_SHADOWS: the scene has blended casters, in the atlas's translucent layer (the renderer sets it
     // from the frame, not from the settings).
@@ -41,7 +42,7 @@ ShaderVariant shader_variant(const RenderSettings& settings, const ShaderSupport
 // The defines of glsl/shadow_atlas.vert, and of glsl/shade.frag (whose diffuse-only and flat-receiver
 // programs add DIFFUSE_ONLY and FLAT_RECEIVER), for `variant`. With fraction_pass these are the programs
 // of the shadowed-fraction pass; the shading then draws with one program for every variant
-// (SHADOWED_FRACTION_IN, Renderer's fraction_shading_program()).
+// (SHADOWED_FRACTION_IN, Renderer's fraction_shading_program()), or with sun_per_pixel one per variant.
 std::vector<std::string> atlas_defines(const ShaderVariant& variant);
 std::vector<std::string> shade_defines(const ShaderVariant& variant);
 

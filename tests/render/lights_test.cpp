@@ -36,6 +36,22 @@ TEST(WorldFromMap, RotatesAboutYRightHanded) {
     EXPECT_NEAR(glm::length(back - d), 0.0f, 1e-6f);
 }
 
+// The sun per pixel (docs/DESIGN.md §5.14) follows one light only where it stands out from the rest.
+TEST(SunLight, IsTheBrightestOnlyWhereItStandsOut) {
+    std::vector<LightRecord> lights(16);
+    for (LightRecord& light : lights) light.radiance = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
+    EXPECT_EQ(sun_light(lights), -1);  // an even sky: none
+    lights[5].radiance = glm::vec4(1.5f, 1.5f, 1.5f, 0.0f);
+    EXPECT_EQ(sun_light(lights), -1);  // 1.5 / 16.5 of the light: short of two even shares (2 / 16)
+    lights[5].radiance = glm::vec4(3.0f, 3.0f, 3.0f, 0.0f);
+    EXPECT_EQ(sun_light(lights), 5);                          // 3 / 18
+    lights[9].radiance = glm::vec4(0.0f, 10.0f, 0.0f, 0.0f);  // green counts by its luminance, 7.15
+    EXPECT_EQ(sun_light(lights), 9);
+    EXPECT_EQ(sun_light({}), -1);
+    std::vector<LightRecord> dark(4);
+    EXPECT_EQ(sun_light(dark), -1);
+}
+
 TEST(SelectLights, KeepsEverythingWhenNotSkipping) {
     const std::vector<Cell> cells = {make_cell({0, 1, 0}, glm::vec3(1)), make_cell({0, -1, 0}, glm::vec3(0))};
     const LightSelection s = select_lights(cells, world_from_map(0.0f), true, false);

@@ -60,6 +60,11 @@ std::vector<BuiltProgram> engine_programs() {
     add("shade (shading from the shadowed fraction)", shade, {"SHADOWED_FRACTION_IN"});
     add("shade (shading from the shadowed fraction, glTF's BRDF)", shade,
         {"SHADOWED_FRACTION_IN", "METALLIC_ROUGHNESS"});
+    add("shade (shadowed fraction pass, soft, the sun per pixel)", shade,
+        {"SHADING_RATIO", "SOFT_SHADOWS", "SHADOW_TILE_LISTS", "SHADOWED_FRACTION_OUT", "SUN_PER_PIXEL"});
+    add("shade (shading from the shadowed fraction, soft, the sun per pixel, glTF's BRDF)", shade,
+        {"SHADING_RATIO", "SOFT_SHADOWS", "SHADOW_TILE_LISTS", "SHADOWED_FRACTION_OUT", "SUN_PER_PIXEL",
+         "SHADOWED_FRACTION_IN", "METALLIC_ROUGHNESS"});
     add("depth pre-pass", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}});
     add("depth pre-pass, alpha-masked", {{GL_VERTEX_SHADER, "shade.vert"}, {GL_FRAGMENT_SHADER, "depth_prepass.frag"}},
         {"ALPHA_MASK"});

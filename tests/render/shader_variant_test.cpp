@@ -19,13 +19,16 @@ std::vector<std::string> values_of(const SettingInfo& setting) {
     return {setting.kind == SettingKind::integer ? std::to_string(int(setting.min)) : std::to_string(setting.min)};
 }
 
-// From the defaults and from ratio shading (where --shadow-rate picks the programs).
+// From the defaults, from ratio shading (where --shadow-rate picks the programs) and from its half rate
+// (where --sun-per-pixel does).
 TEST(ShaderVariant, OnlyTheProgramSettingsChangeTheKey) {
     RenderSettings ratio;
     ratio.shading = ShadingMode::ratio;
+    RenderSettings half = ratio;
+    half.shadow_rate = ShadowRate::half;
     for (const SettingInfo& setting : setting_table()) {
         bool key_changed = false;
-        for (const RenderSettings& start : {RenderSettings{}, ratio}) {
+        for (const RenderSettings& start : {RenderSettings{}, ratio, half}) {
             const ShaderVariant base = shader_variant(start, kEverything);
             for (const std::string& value : values_of(setting)) {
                 RenderSettings s = start;
