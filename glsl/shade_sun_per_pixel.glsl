@@ -6,6 +6,7 @@
 // share x V by their mean share times the fragment's own V, so the edge lies where the fragment's lookup
 // puts it, and a shadow narrower than the texels is not lost between them.
 #include "cells.glsl"
+#include "shade_ratio.glsl"
 #include "shade_reflectivity.glsl"
 #include "shade_surface.glsl"
 #include "shade_visibility.glsl"
@@ -42,15 +43,14 @@ float sun_visibility(Surface s) {
 #if defined(SHADOWED_FRACTION_OUT)
 layout(location = 2) out vec4 o_sun;
 
-// The fraction pass's third target: the sun's share of the fraction (RGB) and its visibility (A); share 0
-// where there is no sun or no cell reflects.
+// The fraction pass's third target: the sun's share of the fraction (RGB, shadowed_fraction's rule: 0 where
+// no cell reflects) and its visibility (A); share 0 where there is no sun.
 void write_sun_texel(Surface s, vec3 whole_lobe) {
     if (u_sun_cell < 0) {
         o_sun = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
     vec3 light = lights[u_sun_cell].radiance.rgb * reflectivity(s, u_sun_cell).kept;
-    vec3 share = mix(vec3(0.0), light / max(whole_lobe, vec3(1e-30)), greaterThan(whole_lobe, vec3(0.0)));
-    o_sun = vec4(clamp(share, 0.0, 1.0), sun_visibility(s));
+    o_sun = vec4(shadowed_fraction(light, whole_lobe), sun_visibility(s));
 }
 #endif

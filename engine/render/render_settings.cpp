@@ -174,8 +174,8 @@ std::vector<SettingInfo> make_setting_table() {
                "With --shadow-rate half, pixel or adaptive: the shadowed fraction's texels averaged over the 3x3 about "
                "them on their surface, where they differ little (the soft shadows' noise), before they are looked up"),
         on_off("sun-per-pixel", &RenderSettings::sun_per_pixel, programs,
-               "With --shadow-rate half: the brightest cell's shadow (a sun's) looked up again at each pixel, so "
-               "that its edges lie where a per-pixel fraction puts them"),
+               "With --shadow-rate half: the sun's shadow (the brightest cell, where it stands out) looked up again "
+               "at each pixel, so that its edges lie where a per-pixel fraction puts them"),
         on_off("background", &RenderSettings::background, frame, "Draw the environment behind the objects"),
         on_off("base-color-texture", &RenderSettings::base_color_texture, frame,
                "Base-colour textures multiply the objects' base colour (off: the material's factors alone)"),

@@ -136,8 +136,8 @@ struct RenderSettings {
     // ShadowRate::half, pixel and adaptive: the fraction's texels filtered over their surface
     // (glsl/fraction_filter.frag), which averages the soft shadows' per-texel disc rotations.
     bool fraction_filter = true;
-    // ShadowRate::half: the brightest cell's shadow looked up again at each pixel (glsl/shade_sun_per_pixel.glsl),
-    // so that a sun's shadow edges are placed per pixel, not per 2x2.
+    // ShadowRate::half: the sun's shadow (render::sun_light) looked up again at each pixel
+    // (glsl/shade_sun_per_pixel.glsl), so that its edges are placed per pixel, not per 2x2.
     bool sun_per_pixel = true;
     bool background = true;
     // Objects' base-colour textures (glTF's baseColorTexture) multiply their base colour; off: the

@@ -507,13 +507,13 @@ Renderer::FractionTarget Renderer::FractionTarget::create(int width, int height,
 }
 
 void Renderer::ensure_fraction_target(int width, int height) {
-    if (settings_.shadow_rate == ShadowRate::adaptive && !refined_.fits(width, height))
+    if (settings_.shadow_rate == ShadowRate::adaptive && !refined_.fits(width, height, false))
         refined_ = FractionTarget::create(width, height, false, "refined-fraction target");
     const int divisor = settings_.shadow_rate == ShadowRate::pixel ? 1 : 2;
     width = (width + divisor - 1) / divisor;
     height = (height + divisor - 1) / divisor;
-    if (!fraction_.fits(width, height)) {
-        fraction_ = FractionTarget::create(width, height, true, "shadowed-fraction target");
+    if (!fraction_.fits(width, height, variant_.sun_per_pixel)) {
+        fraction_ = FractionTarget::create(width, height, variant_.sun_per_pixel, "shadowed-fraction target");
         fraction_tiles_ = glm::ivec2((width + size::screen_tile - 1) / size::screen_tile,
                                      (height + size::screen_tile - 1) / size::screen_tile);
         fraction_tile_lists_ = gl::Buffer::create(std::size_t(fraction_tiles_.x) * std::size_t(fraction_tiles_.y) *
@@ -521,7 +521,7 @@ void Renderer::ensure_fraction_target(int width, int height) {
     }
     const bool filtered_fits =
         fraction_filtered_ && fraction_filtered_.width() == width && fraction_filtered_.height() == height;
-    if (!filters_fraction() || filtered_fits) return;
+    if (!settings_.fraction_filter || filtered_fits) return;
     fraction_filtered_ = gl::Texture::create_2d(GL_RGBA32F, width, height);
     fraction_filtered_.set_filter(GL_NEAREST, GL_NEAREST);
     fraction_filter_target_ = gl::Framebuffer::create();
@@ -529,14 +529,10 @@ void Renderer::ensure_fraction_target(int width, int height) {
     fraction_filter_target_.check_complete("filtered-fraction target");
 }
 
-// Whether the fraction pass's texels are filtered before the shading (or, at adaptive, the refinement) reads them.
-bool Renderer::filters_fraction() const {
-    return settings_.fraction_filter;
-}
-
 void Renderer::upload(const FramePlan& plan) {
     caster_rect_buffer_.upload_resizing(plan.caster_rects.data(), plan.caster_rects.size() * sizeof(glm::vec4));
     light_buffer_.upload(plan.lights.data(), plan.lights.size() * sizeof(LightRecord));
+    sun_cell_ = sun_light(plan.lights);
 }
 
 void Renderer::draw_atlas(const FramePlan& plan, FrameStats& stats) {
@@ -867,7 +863,7 @@ bool Renderer::draws_metallic_roughness(const FramePlan& plan) const {
 
 void Renderer::draw_objects(const FramePlan& plan, const CameraView& view) {
     if (variant_.fraction_pass) draw_shadowed_fraction(plan, view);
-    if (variant_.fraction_pass && filters_fraction()) filter_fraction(view);
+    if (variant_.fraction_pass && settings_.fraction_filter) filter_fraction(view);
     if (variant_.fraction_pass && settings_.shadow_rate == ShadowRate::adaptive) draw_refined_fraction(plan, view);
     if (settings_.depth_prepass) draw_depth_prepass(plan, view, samples_, "depth pre-pass");
     if (variant_.fraction_pass) {
@@ -954,7 +950,7 @@ void Renderer::draw_refined_fraction(const FramePlan& plan, const CameraView& vi
         build_tile_lists(plan, view, refined_.depth, 1, tile_lists_, screen_tiles_, "refined tile lists");
     gl::ScopedPass pass(&timer_, "refined fraction");
     const gl::Program& refine_gltf = gltf ? programs.refine_gltf : programs.refine;
-    bind_fraction_input({filters_fraction() ? fraction_filtered_ : fraction_.fraction, fraction_.normal},
+    bind_fraction_input({settings_.fraction_filter ? fraction_filtered_ : fraction_.fraction, fraction_.normal},
                         {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &refine_gltf}, view);
     shade_objects(plan, view, {&programs.refine, &programs.refine_diffuse, &programs.refine_flat, &refine_gltf},
                   screen_tiles_.x, opaque_objects_);
@@ -982,7 +978,7 @@ void Renderer::filter_fraction(const CameraView& view) {
 
 Renderer::FractionInput Renderer::shading_fraction() const {
     if (settings_.shadow_rate == ShadowRate::adaptive) return {refined_.fraction, refined_.normal};
-    return {filters_fraction() ? fraction_filtered_ : fraction_.fraction, fraction_.normal,
+    return {settings_.fraction_filter ? fraction_filtered_ : fraction_.fraction, fraction_.normal,
             variant_.sun_per_pixel ? &fraction_.sun : nullptr};
 }
 
@@ -1014,7 +1010,7 @@ void Renderer::shade_objects(const FramePlan& plan, const CameraView& view, cons
         glProgramUniform2f(program, loc::atlas_texel, 1.0f / float(layout_.width()), 1.0f / float(layout_.height()));
         glProgramUniform1f(program, loc::slope_bias, settings_.slope_bias);
         glProgramUniform1ui(program, loc::tiles_x, GLuint(tiles_x));
-        if (variant_.sun_per_pixel && !blending) glProgramUniform1i(program, loc::sun_cell, sun_light(plan.lights));
+        if (variant_.sun_per_pixel && !blending) glProgramUniform1i(program, loc::sun_cell, sun_cell_);
     }
     atlas_depth_.bind(unit::atlas_depth);
     atlas_depth_sampler_.bind(unit::atlas_depth);

@@ -146,10 +146,10 @@ private:
     struct FractionTarget {
         gl::Texture fraction, normal, sun, depth;
         gl::Framebuffer framebuffer;
-        // `sun`: with the sun's attachment (the fraction pass's; the refinement has none).
+        // `sun`: with the sun's attachment (the fraction pass's with SUN_PER_PIXEL; the refinement has none).
         static FractionTarget create(int width, int height, bool sun, const char* what);
-        bool fits(int width, int height) const {
-            return fraction && fraction.width() == width && fraction.height() == height;
+        bool fits(int width, int height, bool with_sun) const {
+            return fraction && fraction.width() == width && fraction.height() == height && bool(sun) == with_sun;
         }
     };
     // A fraction and the normals of its texels, as the shading and the refinement read them; with
@@ -213,10 +213,9 @@ private:
     void set_sides(const ObjectFrame& object, std::size_t i) const;
     // The ratio's shadowed fraction into fraction_ (its own pre-pass and tile lists); leaves target_ bound.
     void draw_shadowed_fraction(const FramePlan& plan, const CameraView& view);
-    // ShadowRate::adaptive: fraction_ (filtered when filters_fraction()) per pixel into refined_, computed again
+    // ShadowRate::adaptive: fraction_ (filtered with fraction_filter) per pixel into refined_, computed again
     // where it varies (its own pre-pass, and the image's tile lists from that); leaves target_ bound.
     void draw_refined_fraction(const FramePlan& plan, const CameraView& view);
-    bool filters_fraction() const;
     // fraction_ filtered over its surfaces into fraction_filtered_ (glsl/fraction_filter.frag).
     void filter_fraction(const CameraView& view);
     // What the shading takes the fraction from: refined_, or fraction_ filtered.
@@ -355,9 +354,10 @@ private:
     // The shadowed-fraction pass (RenderSettings::shadow_rate other than fragment, docs/DESIGN.md §5.14):
     // one sample per pixel or per 2x2 pixels, with tile lists of its own.
     FractionTarget fraction_;
+    int sun_cell_ = -1;  // sun_light() of the lights uploaded this frame (SUN_PER_PIXEL)
     glm::ivec2 fraction_tiles_{0, 0};
     gl::Buffer fraction_tile_lists_;
-    gl::Texture fraction_filtered_;  // fraction_'s fraction and 1/w, filtered; made when filters_fraction()
+    gl::Texture fraction_filtered_;  // fraction_'s fraction and 1/w, filtered; made with fraction_filter
     gl::Framebuffer fraction_filter_target_;
     gl::Program fraction_filter_program_;
     FractionTarget refined_;        // ShadowRate::adaptive: fraction_ refined to one sample per pixel

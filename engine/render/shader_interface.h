@@ -95,7 +95,7 @@ namespace envshadow::render::shader {
     /* shade.frag SHADOWED_FRACTION_IN, fraction_filter.frag: the fraction and 1/w, normals */         \
     X(unit, fraction, 8)                                                                               \
     X(unit, fraction_normal, 9)                                                                        \
-    X(unit, fraction_sun, 1)       /* SUN_PER_PIXEL: the brightest cell's share and visibility */      \
+    X(unit, fraction_sun, 1)       /* SUN_PER_PIXEL: the sun's share and visibility */                 \
     X(unit, dfg, 10)               /* shade.frag METALLIC_ROUGHNESS: env/dfg_table.h's table */        \
     X(unit, emission_texture, 11)  /* shade.frag: the material's emission (white without one) */       \
     X(unit, occlusion_texture, 12) /* shade.frag: the material's occlusion (R, linear; white) */       \
