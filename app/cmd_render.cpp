@@ -1,4 +1,5 @@
-// `envshadow render`: one frame of a scene offscreen (EGL or OSMesa) to PNG and/or EXR. Prints the
+// `envshadow render`: an image of a scene offscreen (EGL or OSMesa) to PNG and/or EXR, the mean of --accumulate
+// frames with their samples moved within the pixel (docs/DESIGN.md §5.16). Prints the
 // decomposition time, the frame's GPU time per pass and the shadow atlas's size. With --frames F
 // the times are medians over F frames (after one warm-up frame); with --atlas all every frame is
 // drawn once per way of drawing the atlas, interleaved, so their times compare in one run.
@@ -31,11 +32,17 @@ constexpr ExtraValue kEveryAtlasMode{"atlas", "all", "each of them, interleaved,
 
 constexpr const char* kSamplingWall = "sampling wall";  // the per-frame light source's, among the passes
 
+// Frames averaged into the image, each with its samples moved within the pixel by render::subpixel_jitter
+// (docs/DESIGN.md §5.16): edges against a bright sky resolved in finer steps than one frame's samples; past
+// eight, little more.
+constexpr int kDefaultAccumulate = 8;
+
 struct RenderOptions {
     CommonOptions common;     // --scene, --env, --lights, --method, --seed, --width, --height, --backend
     SettingOptions settings;  // --tile, --pcf, --shading, ... (render::setting_table()), --baseline
     std::string out, exr;
     int frames = 1;
+    int accumulate = kDefaultAccumulate;
     std::string tonemap = "aces";
     double time = 0.0;
     std::string pass_timing = "auto";
@@ -87,7 +94,9 @@ int run_render(const RenderOptions& o) {
         method.kind == render::LightSourceKind::gpu_fs ? fs_sampler_options(c.fs_importance, map)
                                                        : render::FsSamplerOptions{});
     lights.attach(session.renderer());
-    const render::CameraView view = render::camera_view(scene, c.width, c.height, o.time);
+    const std::vector<glm::vec2> jitter = render::subpixel_jitter(o.accumulate, session.renderer().sample_positions());
+    render::CameraView view = render::camera_view(scene, c.width, c.height, o.time);
+    view.jitter = jitter.front();
 
     // Per mode and pass, the GPU milliseconds of every measured frame.
     std::map<render::AtlasMode, std::map<std::string, std::vector<double>>> times;
@@ -108,6 +117,18 @@ int run_render(const RenderOptions& o) {
             }
             if (!image) image = session.renderer().read_back();  // the first mode's first frame
         }
+    // The image: the mean of the first frame and one more per further point of the jitter, in linear HDR.
+    if (o.accumulate > 1) {
+        settings.atlas = modes.front();
+        session.set_settings(settings);
+        for (std::size_t k = 1; k < jitter.size(); ++k) {
+            view.jitter = jitter[k];
+            session.render(lights, o.time, view);
+            const Image frame = session.renderer().read_back();
+            for (std::size_t i = 0; i < image->pixels.size(); ++i) image->pixels[i] += frame.pixels[i];
+        }
+        for (glm::vec4& pixel : image->pixels) pixel /= float(jitter.size());
+    }
 
     std::printf("scene %s, %dx%d, %s on %s\n", c.scene.c_str(), c.width, c.height,
                 std::string(gl::to_string(context->backend())).c_str(), context->renderer().c_str());
@@ -130,7 +151,9 @@ int run_render(const RenderOptions& o) {
                 std::string(to_string(settings.shading)).c_str(), std::string(to_string(settings.specular)).c_str(),
                 std::string(to_string(settings.cap)).c_str(), std::string(to_string(settings.diffuse)).c_str(),
                 std::string(to_string(settings.shadows)).c_str());
-    std::printf("msaa: %d samples per pixel\n", session.renderer().samples());
+    std::printf("msaa: %d samples per pixel", session.renderer().samples());
+    if (o.accumulate > 1) std::printf(", %d frames jittered within the pixel averaged", o.accumulate);
+    std::printf("\n");
     std::printf("lights: %d drawn, %d below the ground and %d negligible skipped\n", stats.lights,
                 stats.lights_below_ground, stats.lights_negligible);
     const bool uniform_tiles = stats.atlas.sizing == render::TileSizing::uniform;
@@ -175,7 +198,7 @@ int run_render(const RenderOptions& o) {
 
 Command add_render_command(CLI::App& parent) {
     auto o = std::make_shared<RenderOptions>();
-    CLI::App* app = parent.add_subcommand("render", "Render one frame offscreen to PNG and/or EXR");
+    CLI::App* app = parent.add_subcommand("render", "Render an image offscreen to PNG and/or EXR");
     add_common_options(app, &o->common, CommonOptionSet{});
     add_pass_timing_option(app, &o->pass_timing);
     add_time_option(app, &o->time);
@@ -187,6 +210,11 @@ Command add_render_command(CLI::App& parent) {
     app->add_flag("--no-background", o->no_background, "Short for --background off: transparent black");
     app->add_option("--frames", o->frames, "Frames to render; GPU times are their medians")
         ->check(CLI::Range(1, 10000));
+    app->add_option("--accumulate", o->accumulate,
+                    "Frames averaged into the image, the pixel's samples moved within it from one to the next "
+                    "(1: one frame)")
+        ->check(CLI::Range(1, 32))
+        ->capture_default_str();
     return {app, [o] { return run_render(*o); }};
 }
 

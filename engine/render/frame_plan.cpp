@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -36,6 +37,45 @@ CameraView camera_view(const Scene& scene, int width, int height, double time) {
     const float near_plane = std::max(distance - radius, far_plane * 1e-4f);
     view.clip_from_view = scene.camera.clip_from_view(float(width) / float(height), near_plane, far_plane);
     return view;
+}
+
+CameraView shifted_by_pixels(const CameraView& view, glm::vec2 pixels) {
+    glm::mat4 shift(1.0f);
+    shift[3][0] = 2.0f * pixels.x / float(view.width);  // clip x spans 2 over the width
+    shift[3][1] = 2.0f * pixels.y / float(view.height);
+    CameraView shifted = view;
+    shifted.clip_from_view = shift * view.clip_from_view;
+    return shifted;
+}
+
+glm::vec2 sample_margin(std::span<const glm::vec2> sample_positions) {
+    glm::vec2 margin(0.5f);
+    for (const glm::vec2 p : sample_positions) margin = glm::min(margin, glm::min(p, 1.0f - p));
+    return glm::max(margin, glm::vec2(0.0f));
+}
+
+std::vector<glm::vec2> subpixel_jitter(int count, std::span<const glm::vec2> sample_positions) {
+    if (count < 1 || sample_positions.empty()) return {};
+    const glm::vec2 margin = sample_margin(sample_positions);
+    // Shift k at ((k + 1/2) / count, ((g k mod count) + 1/2) / count) of the box [-margin, margin]^2, for the
+    // generator g coprime to count that keeps the shifts farthest apart on its torus: a rank-1 lattice.
+    const auto point = [count](int k, int g) {
+        return glm::vec2((float(k) + 0.5f) / float(count), (float((g * k) % count) + 0.5f) / float(count));
+    };
+    int best = 1;
+    float best_spacing = -1.0f;
+    for (int g = 1; g < count; ++g) {
+        if (std::gcd(g, count) != 1) continue;
+        float spacing = std::numeric_limits<float>::max();  // a lattice: every point's nearest is as near as 0's
+        for (int k = 1; k < count; ++k) {
+            const glm::vec2 d = glm::abs(point(k, g) - point(0, g));
+            spacing = std::min(spacing, glm::length(glm::min(d, 1.0f - d)));
+        }
+        if (spacing > best_spacing + 1e-6f) best = g, best_spacing = spacing;
+    }
+    std::vector<glm::vec2> shifts;
+    for (int k = 0; k < count; ++k) shifts.push_back((2.0f * point(k, best) - 1.0f) * margin);
+    return shifts;
 }
 
 glm::vec2 penumbra_texels_per_depth(const glm::mat4& clip_from_world, int tile_size, float cos_radius) {

@@ -12,6 +12,7 @@
 
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
@@ -29,10 +30,29 @@ struct CameraView {
     glm::vec3 eye{0.0f};
     int width = 0;
     int height = 0;
+    // The image moved by this many pixels (x right, y up), no farther than keeps every sample in its pixel
+    // (sample_margin; Renderer::render clamps it). Frames moved by subpixel_jitter()'s shifts and averaged
+    // resolve edges in finer steps than one frame's samples (docs/DESIGN.md §5.16).
+    glm::vec2 jitter{0.0f};
 };
 
 // The scene's camera for an image of width x height (near and far planes from the scene bounds).
 CameraView camera_view(const Scene& scene, int width, int height, double time = 0.0);
+
+// `view` with its image moved by `pixels` (x right, y up): the projection followed by that shift.
+CameraView shifted_by_pixels(const CameraView& view, glm::vec2 pixels);
+
+// How far (pixels, along x and y) samples at these positions in the pixel ([0, 1]^2) can all move either way and
+// stay in their pixel: 1/2 for one sample at the centre, 1/8 for GL's standard four.
+glm::vec2 sample_margin(std::span<const glm::vec2> sample_positions);
+
+// `count` shifts for frames averaged into one image (docs/DESIGN.md §5.16): a rank-1 lattice over the box of
+// sample_margin, its generator the one that keeps the shifts farthest apart. Each sample then sweeps a box
+// about its own position, one shift in each of `count` strata along either axis; where the frame's samples hold
+// one each of `samples` strata along x and along y (GL's standard patterns), the frames' hold one each of
+// count x samples: an edge along either axis is resolved in steps of 1 / (count x samples). The shifts' mean is
+// 0. One frame: no shift.
+std::vector<glm::vec2> subpixel_jitter(int count, std::span<const glm::vec2> sample_positions);
 
 // Texels between the casters and a tile's border (whatever the tile's size, its texels are the
 // atlas's): the wide PCF reaches 1.5 texels from its centre.

@@ -6,9 +6,11 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 #include <glm/matrix.hpp>
 
@@ -428,15 +430,19 @@ int Renderer::drawn_samples() const {
 
 namespace {
 
-// Which of the pixel's quarters each of the framebuffer's sample positions lies in (GL's positions are
-// implementation-defined); a quarter holding none takes the bit of the sample nearest its centre, so that a
-// fragment covering that sample covers it.
-std::array<GLuint, 4> sample_quarters(const gl::Framebuffer& framebuffer, int samples) {
-    std::array<glm::vec2, 32> positions{};
-    const int count = std::min(samples, int(positions.size()));
+// The framebuffer's sample positions in the pixel ([0, 1]^2; GL's positions are implementation-defined).
+std::vector<glm::vec2> query_sample_positions(const gl::Framebuffer& framebuffer, int samples) {
+    std::vector<glm::vec2> positions(std::size_t(std::max(samples, 0)));
     framebuffer.bind();
-    for (int k = 0; k < count; ++k) glGetMultisamplefv(GL_SAMPLE_POSITION, GLuint(k), &positions[std::size_t(k)].x);
+    for (int k = 0; k < samples; ++k) glGetMultisamplefv(GL_SAMPLE_POSITION, GLuint(k), &positions[std::size_t(k)].x);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return positions;
+}
+
+// Which of the pixel's quarters each sample position lies in; a quarter holding none takes the bit of the
+// sample nearest its centre, so that a fragment covering that sample covers it.
+std::array<GLuint, 4> sample_quarters(std::span<const glm::vec2> positions) {
+    const int count = std::min(int(positions.size()), 32);
     std::array<GLuint, 4> masks{};
     for (int k = 0; k < count; ++k) {
         const glm::vec2 p = positions[std::size_t(k)];
@@ -486,8 +492,11 @@ void Renderer::ensure_target(int width, int height) {
                                      std::size_t(size::max_lights + 1) * sizeof(std::uint32_t));
     target_.attach(GL_DEPTH_ATTACHMENT, depth_);
     target_.check_complete(target_name(width, height, samples_, "render target"));
-    // At one sample that sample stands for the whole pixel.
-    sample_quarters_ = samples_ > 1 ? sample_quarters(target_, samples_) : std::array<GLuint, 4>{1, 1, 1, 1};
+    // At one sample that sample stands for the whole pixel, and sits at its centre.
+    const std::vector<glm::vec2> positions =
+        samples_ > 1 ? query_sample_positions(target_, samples_) : std::vector<glm::vec2>{glm::vec2(0.5f)};
+    sample_quarters_ = samples_ > 1 ? sample_quarters(positions) : std::array<GLuint, 4>{1, 1, 1, 1};
+    sample_margin_ = sample_margin(positions);
 }
 
 Renderer::FractionTarget Renderer::FractionTarget::create(int width, int height, bool sun, const char* what) {
@@ -1196,10 +1205,13 @@ void Renderer::draw_background(const CameraView& view) {
     glDepthFunc(GL_LESS);
 }
 
-FrameStats Renderer::render(double time, const CameraView& view) {
-    if (view.width < 1 || view.height < 1) throw UsageError("render: image size must be positive");
+FrameStats Renderer::render(double time, const CameraView& unjittered) {
+    if (unjittered.width < 1 || unjittered.height < 1) throw UsageError("render: image size must be positive");
     ensure_atlas();
-    ensure_target(view.width, view.height);
+    ensure_target(unjittered.width, unjittered.height);
+    // The jitter moves the samples no farther than keeps each in its pixel: the resolve's mean stays the pixel's.
+    const glm::vec2 shift = glm::clamp(unjittered.jitter, -sample_margin_, sample_margin_);
+    const CameraView view = shift == glm::vec2(0.0f) ? unjittered : shifted_by_pixels(unjittered, shift);
     if (variant_.fraction_pass) ensure_fraction_target(view.width, view.height);
     // Deforming objects (glTF skins and morphs): the pose at `time` into their vertex buffers and their
     // boxes into the plan, before the atlas and the shading draw them (both see this pose).
@@ -1262,6 +1274,15 @@ FrameStats Renderer::render(double time, const CameraView& view) {
     stats.atlas = layout_;
     stats.atlas_triangles = atlas_triangles_;
     return stats;
+}
+
+std::vector<glm::vec2> Renderer::sample_positions() const {
+    if (samples_ == 1) return {glm::vec2(0.5f)};
+    const gl::Texture colour = gl::Texture::create_2d_multisample(GL_RGBA32F, 1, 1, samples_);
+    gl::Framebuffer framebuffer = gl::Framebuffer::create();
+    framebuffer.attach(GL_COLOR_ATTACHMENT0, colour);
+    framebuffer.check_complete(target_name(1, 1, samples_, "sample-position probe"));
+    return query_sample_positions(framebuffer, samples_);
 }
 
 Image Renderer::read_back() const {

@@ -132,6 +132,9 @@ public:
     const gl::Framebuffer& framebuffer() const { return samples_ > 1 ? resolved_ : target_; }
     // Samples per pixel drawn: RenderSettings::msaa, capped by the driver's maximum.
     int samples() const { return samples_; }
+    // Where in the pixel those samples lie ([0, 1]^2 from the lower left; GL's are implementation-defined):
+    // what subpixel_jitter() spreads.
+    std::vector<glm::vec2> sample_positions() const;
     const AtlasLayout& atlas_layout() const { return layout_; }
     std::size_t atlas_bytes() const { return layout_.bytes(settings_.depth_bits); }
     int light_count() const { return int(lights_.kept.size()); }
@@ -348,6 +351,7 @@ private:
     // Bit k of quarter q's mask: target_'s sample k lies in the pixel's quarter q (x = q & 1, y = q >> 1, from
     // the lower left); which quarters a fragment covers, for lobes taken over the pixel (glsl/pixel_footprint.glsl).
     std::array<GLuint, 4> sample_quarters_{1, 1, 1, 1};
+    glm::vec2 sample_margin_{0.5f};  // how far target_'s samples can move and stay in their pixel
     glm::ivec2 screen_tiles_{0, 0};  // shader::size::screen_tile^2-pixel tiles of the target
     gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
     gl::Buffer caster_rect_buffer_;  // FramePlan::caster_rects

@@ -118,9 +118,11 @@ TEST(CmdRender, BadFilesAreInputErrors) {
     EXPECT_FALSE(fs::exists(png));
 }
 
-// --msaa: a box against the background. At 4 samples per pixel the silhouette's pixels are partly covered
-// (alpha strictly between 0 and 1 in the EXR) and their colour lies between the box's and the
-// background's; at 1 sample every pixel is one or the other. A count outside 1, 2, 4, 8 is bad usage.
+// --msaa: a box against the background, one frame (--accumulate 1). At 4 samples per pixel the silhouette's
+// pixels are partly covered (alpha strictly between 0 and 1 in the EXR) and their colour lies between the box's
+// and the background's; at 1 sample every pixel is one or the other, unless frames with their sample moved in
+// the pixel are averaged (the default --accumulate). A count outside 1, 2, 4, 8 is bad usage, and so is an
+// --accumulate outside 1-32.
 TEST(CmdRender, MultisamplingBlendsTheSilhouetteAndOneSampleDoesNot) {
     const fs::path scene_file = kOutput / "msaa_box.json";
     {
@@ -131,19 +133,19 @@ TEST(CmdRender, MultisamplingBlendsTheSilhouetteAndOneSampleDoesNot) {
                    "objects": [{"name": "box", "mesh": {"type": "box", "size": [1, 1, 1]},
                                 "transform": {"rotation": [0, 25, 0]}, "material": {"diffuse": 0.2}}]})";
     }
-    const auto frame = [&](int samples) {
+    const auto frame = [&](int samples, const std::string& accumulate) {
         const fs::path exr = kOutput / ("msaa_" + std::to_string(samples) + ".exr");
         fs::remove(exr);
         const CommandResult run = render("--scene '" + scene_file.string() + "' " + kSmall + " --msaa " +
-                                         std::to_string(samples) + " --exr '" + exr.string() + "'");
+                                         std::to_string(samples) + accumulate + " --exr '" + exr.string() + "'");
         EXPECT_EQ(run.status, 0) << run.output;
         EXPECT_NE(run.output.find("msaa: " + std::to_string(samples) + " samples per pixel"), std::string::npos)
             << run.output;
         return read_exr(exr).image;
     };
-    const float background = 1.0f;  // builtin:constant
-    for (int samples : {1, 4}) {
-        const Image image = frame(samples);
+    const float background = 1.0f;   // builtin:constant
+    for (int samples : {1, 4, 0}) {  // 0: one sample, the default --accumulate
+        const Image image = samples == 0 ? frame(1, "") : frame(samples, " --accumulate 1");
         float box_brightest = 0.0f;  // the box's fully covered pixels
         for (const glm::vec4& p : image.pixels)
             if (p.a == 1.0f) box_brightest = std::max(box_brightest, p.r);
@@ -160,7 +162,7 @@ TEST(CmdRender, MultisamplingBlendsTheSilhouetteAndOneSampleDoesNot) {
         }
         if (samples == 1) {
             EXPECT_EQ(partial, 0);
-        } else {
+        } else {  // four samples, or the frames' samples at one a frame
             EXPECT_GT(partial, 40) << "a box's outline at 64x48 crosses that many pixels";
             EXPECT_EQ(between, partial);
         }
@@ -173,6 +175,14 @@ TEST(CmdRender, MultisamplingBlendsTheSilhouetteAndOneSampleDoesNot) {
     EXPECT_NE(bad.output.find("--msaa"), std::string::npos) << bad.output;
     EXPECT_EQ(std::count(bad.output.begin(), bad.output.end(), '\n'), 1) << bad.output;  // one line
     EXPECT_FALSE(fs::exists(png));
+    for (const char* count : {"0", "33"}) {
+        const CommandResult bad_count =
+            render(scene("spheres.json") + " " + kSmall + " --accumulate " + count + " --out '" + png.string() + "'");
+        EXPECT_EQ(bad_count.status, 2) << bad_count.output;
+        EXPECT_NE(bad_count.output.find("--accumulate"), std::string::npos) << bad_count.output;
+        EXPECT_EQ(std::count(bad_count.output.begin(), bad_count.output.end(), '\n'), 1) << bad_count.output;
+        EXPECT_FALSE(fs::exists(png));
+    }
 }
 
 // Each --tonemap value renders a different PNG of the same frame; linear clips (a channel brighter

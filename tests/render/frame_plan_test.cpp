@@ -2,10 +2,13 @@
 // the flat receivers' unshadowed sum against one written out by hand, which shade.frag variant
 // each object gets.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <span>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -450,6 +453,57 @@ TEST(FramePlan, FlyoversAnimationFitKeepsMostOfTheTexelDensity) {
                 lowest);
     EXPECT_GT(mean, 0.3);  // measured 0.373
     EXPECT_LT(mean, 0.9) << "the flying figure's loop must widen the fits";
+}
+
+// The samples of frames moved by subpixel_jitter(), each where it lies in its pixel.
+std::vector<glm::vec2> jittered_samples(std::span<const glm::vec2> shifts, std::span<const glm::vec2> positions) {
+    std::vector<glm::vec2> samples;
+    for (const glm::vec2 shift : shifts)
+        for (const glm::vec2 p : positions) samples.push_back(p - shift - glm::floor(p - shift));
+    return samples;
+}
+
+// GL's standard 4-sample pattern (and llvmpipe's): one sample in each quarter of x and of y.
+const std::vector<glm::vec2> kFourSamples{{0.375f, 0.125f}, {0.875f, 0.375f}, {0.125f, 0.625f}, {0.625f, 0.875f}};
+
+TEST(SubpixelJitter, SamplesMoveAsFarAsTheNearestToThePixelsBorderAllows) {
+    EXPECT_EQ(sample_margin(kFourSamples), glm::vec2(0.125f));
+    EXPECT_EQ(sample_margin(std::vector<glm::vec2>{glm::vec2(0.5f)}), glm::vec2(0.5f));
+    const glm::vec2 uneven = sample_margin(std::vector<glm::vec2>{{0.3f, 0.5f}, {0.5f, 0.9f}});
+    EXPECT_NEAR(uneven.x, 0.3f, 1e-6f);
+    EXPECT_NEAR(uneven.y, 0.1f, 1e-6f);
+}
+
+TEST(SubpixelJitter, OneFrameIsNotMoved) {
+    EXPECT_EQ(subpixel_jitter(1, kFourSamples), std::vector<glm::vec2>{glm::vec2(0.0f)});
+    EXPECT_TRUE(subpixel_jitter(0, kFourSamples).empty());
+}
+
+TEST(SubpixelJitter, TheFramesSamplesHoldOneStratumEachOfEitherAxisAboutTheCentre) {
+    const std::vector<glm::vec2> centre{glm::vec2(0.5f)};
+    for (const auto& positions : {kFourSamples, centre})
+        for (int count : {2, 4, 8, 16, 32}) {
+            SCOPED_TRACE(std::to_string(positions.size()) + " samples, " + std::to_string(count) + " frames");
+            const std::vector<glm::vec2> shifts = subpixel_jitter(count, positions);
+            ASSERT_EQ(shifts.size(), std::size_t(count));
+            const glm::vec2 margin = sample_margin(positions);
+            for (const glm::vec2 s : shifts) {
+                EXPECT_LT(std::max(std::abs(s.x) - margin.x, std::abs(s.y) - margin.y), 0.0f) << "out of its pixel";
+            }
+            const std::vector<glm::vec2> samples = jittered_samples(shifts, positions);
+            const int strata = int(samples.size());
+            std::vector<int> in_x(std::size_t(strata), 0), in_y(std::size_t(strata), 0);
+            glm::dvec2 mean(0.0);
+            for (const glm::vec2 q : samples) {
+                ++in_x[std::size_t(std::min(int(q.x * float(strata)), strata - 1))];
+                ++in_y[std::size_t(std::min(int(q.y * float(strata)), strata - 1))];
+                mean += glm::dvec2(q) / double(strata);
+            }
+            EXPECT_EQ(std::ranges::count(in_x, 1), strata);
+            EXPECT_EQ(std::ranges::count(in_y, 1), strata);
+            EXPECT_NEAR(mean.x, 0.5, 1e-4);
+            EXPECT_NEAR(mean.y, 0.5, 1e-4);
+        }
 }
 
 }  // namespace
