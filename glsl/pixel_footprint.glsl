@@ -8,6 +8,9 @@
 layout(location = LOC_PIXEL_FOOTPRINT) uniform bool u_pixel_footprint;
 // Bit k of component q: the target's sample k lies in the pixel's quarter q (Renderer::sample_quarters_).
 layout(location = LOC_SAMPLE_QUARTERS) uniform uvec4 u_sample_quarters;
+// The frame's image moved by this many pixels (CameraView::jitter): the footprint is taken about the unmoved
+// pixel's centre, which lies this far from the moved one's, so that each frame's lobes are the pixel's own.
+layout(location = LOC_FOOTPRINT_SHIFT) uniform vec2 u_footprint_shift;
 
 struct PixelFootprint {
     vec3 normal, view;          // the shading normal and the view at the pixel's centre
@@ -36,6 +39,8 @@ PixelFootprint pixel_footprint(vec3 normal, vec3 normal_at_centre, vec3 view_at_
     p.view_dy = u_pixel_footprint ? dv_dy : vec3(0.0);
     p.mirror_dx = u_pixel_footprint ? dr_dx : vec3(0.0);
     p.mirror_dy = u_pixel_footprint ? dr_dy : vec3(0.0);
+    p.normal = normalize(normal + p.normal_dx * u_footprint_shift.x + p.normal_dy * u_footprint_shift.y);
+    p.view = normalize(view_at_centre + p.view_dx * u_footprint_shift.x + p.view_dy * u_footprint_shift.y);
     p.quarters = 0u;
     for (int q = 0; q < 4; ++q)
         if ((uint(gl_SampleMaskIn[0]) & u_sample_quarters[q]) != 0u) p.quarters |= 1u << uint(q);
@@ -49,6 +54,7 @@ bool covers_quarter(PixelFootprint p, int q) {
 
 // Whether the fragment covers the quarter that `offset` from the pixel's centre (in pixels) lies in.
 bool covers(PixelFootprint p, vec2 offset) {
+    offset += u_footprint_shift;
     return covers_quarter(p, (offset.x >= 0.0 ? 1 : 0) + (offset.y >= 0.0 ? 2 : 0));
 }
 

@@ -1123,6 +1123,7 @@ void Renderer::bind_unshadowed_levels(GLuint program, const ObjectFrame& object,
     // shininess, interpolated in log lobe width.
     glProgramUniform1i(program, loc::pixel_footprint, samples_ > 1 ? 1 : 0);
     glProgramUniform4uiv(program, loc::sample_quarters, 1, sample_quarters_.data());
+    glProgramUniform2f(program, loc::footprint_shift, frame_shift_.x, frame_shift_.y);
     if (gltf) {
         glProgramUniform1i(program, loc::upper_only, ggx_hemisphere_ == Hemisphere::upper ? 1 : 0);
         const MetallicRoughness& m = *object.metallic_roughness;
@@ -1212,6 +1213,7 @@ FrameStats Renderer::render(double time, const CameraView& unjittered) {
     // The jitter moves the samples no farther than keeps each in its pixel: the resolve's mean stays the pixel's.
     const glm::vec2 shift = glm::clamp(unjittered.jitter, -sample_margin_, sample_margin_);
     const CameraView view = shift == glm::vec2(0.0f) ? unjittered : shifted_by_pixels(unjittered, shift);
+    frame_shift_ = shift;
     if (variant_.fraction_pass) ensure_fraction_target(view.width, view.height);
     // Deforming objects (glTF skins and morphs): the pose at `time` into their vertex buffers and their
     // boxes into the plan, before the atlas and the shading draw them (both see this pose).

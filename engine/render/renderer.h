@@ -352,6 +352,7 @@ private:
     // the lower left); which quarters a fragment covers, for lobes taken over the pixel (glsl/pixel_footprint.glsl).
     std::array<GLuint, 4> sample_quarters_{1, 1, 1, 1};
     glm::vec2 sample_margin_{0.5f};  // how far target_'s samples can move and stay in their pixel
+    glm::vec2 frame_shift_{0.0f};    // this frame's CameraView::jitter, clamped (pixels)
     glm::ivec2 screen_tiles_{0, 0};  // shader::size::screen_tile^2-pixel tiles of the target
     gl::Buffer tile_lists_;          // per screen tile: light count, light indices (shadow_tiles.comp)
     gl::Buffer caster_rect_buffer_;  // FramePlan::caster_rects

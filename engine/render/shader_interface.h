@@ -61,6 +61,7 @@ namespace envshadow::render::shader {
     X(loc, compact_directions, 56)  /* world direction, cos radius (vec4[4]: 56-59) */                 \
     X(loc, compact_radiances, 60)   /* integral of L dw (vec4[4]: 60-63) */                            \
     X(loc, sun_cell, 64)            /* SUN_PER_PIXEL: the sun's cell (sun_light), -1: none */          \
+    X(loc, footprint_shift, 65)     /* pixel_footprint.glsl: the frame's CameraView::jitter */         \
     /* background.frag */                                                                              \
     X(loc, direction_from_clip, 0)                                                                     \
     X(loc, map_from_world, 4)                                                                          \
