@@ -119,8 +119,10 @@ int run_render(const RenderOptions& o) {
         }
     // The image: the mean of the first frame and one more per further point of the jitter, in linear HDR.
     if (o.accumulate > 1) {
-        settings.atlas = modes.front();
-        session.set_settings(settings);
+        if (modes.size() > 1) {  // --atlas all left the last mode set: the image is the first's
+            settings.atlas = modes.front();
+            session.set_settings(settings);
+        }
         for (std::size_t k = 1; k < jitter.size(); ++k) {
             view.jitter = jitter[k];
             session.render(lights, o.time, view);

@@ -1212,7 +1212,7 @@ FrameStats Renderer::render(double time, const CameraView& unjittered) {
     ensure_target(unjittered.width, unjittered.height);
     // The jitter moves the samples no farther than keeps each in its pixel: the resolve's mean stays the pixel's.
     const glm::vec2 shift = glm::clamp(unjittered.jitter, -sample_margin_, sample_margin_);
-    const CameraView view = shift == glm::vec2(0.0f) ? unjittered : shifted_by_pixels(unjittered, shift);
+    const CameraView view = shifted_by_pixels(unjittered, shift);
     frame_shift_ = shift;
     if (variant_.fraction_pass) ensure_fraction_target(view.width, view.height);
     // Deforming objects (glTF skins and morphs): the pose at `time` into their vertex buffers and their
